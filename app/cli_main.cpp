@@ -1,0 +1,189 @@
+// laptrainer-cli: the headless command line (ARCHITECTURE.md "Stable command-line contracts").
+// No Qt or VTK here: it must run on machines without a display.
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "haptics/mesh_generators.h"
+#include "haptics/mesh_repair.h"
+#include "haptics/mesh_validation.h"
+#include "sim/load_error.h"
+#include "sim/mesh_loader.h"
+#include "sim/scene.h"
+#include "sim/scenario_loader.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kExitOk = 0;
+constexpr int kExitProblems = 2;  // the input has problems (validate contract)
+constexpr int kExitUsage = 64;
+
+const char* const kUsage =
+    "usage: laptrainer-cli COMMAND [options]\n"
+    "commands:\n"
+    "  validate --scenario FILE [--allow-path DIR]...\n"
+    "      check a scenario and its meshes; prints file:line: field: problem; exit 2 on problems\n"
+    "  mesh-info --mesh FILE [--scale S] [--repair] [--out FILE.obj]\n"
+    "      diagnose a mesh (and optionally repair it and write the result)\n"
+    "  generate-assets --out DIR\n"
+    "      write the project's generated stand-in organ meshes (OBJ) into DIR\n";
+
+// Parses --key value pairs and bare --flags after the command.
+struct Args {
+  std::multimap<std::string, std::string> values;
+  std::vector<std::string> errors;
+
+  Args(int argc, char** argv, const std::vector<std::string>& flags) {
+    for (int i = 2; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a.rfind("--", 0) != 0) {
+        errors.push_back("unexpected argument '" + a + "'");
+        continue;
+      }
+      if (std::find(flags.begin(), flags.end(), a) != flags.end()) {
+        values.emplace(a, "");
+      } else if (i + 1 < argc) {
+        values.emplace(a, argv[++i]);
+      } else {
+        errors.push_back("option " + a + " needs a value");
+      }
+    }
+  }
+  [[nodiscard]] bool has(const std::string& k) const { return values.count(k) > 0; }
+  [[nodiscard]] std::string get(const std::string& k, const std::string& fallback = "") const {
+    const auto it = values.find(k);
+    return it == values.end() ? fallback : it->second;
+  }
+  [[nodiscard]] std::vector<std::string> all(const std::string& k) const {
+    std::vector<std::string> out;
+    for (auto [it, end] = values.equal_range(k); it != end; ++it) out.push_back(it->second);
+    return out;
+  }
+  bool only(const std::vector<std::string>& allowed) {
+    for (const auto& [k, v] : values) {
+      if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
+        errors.push_back("unknown option " + k);
+      }
+    }
+    return errors.empty();
+  }
+};
+
+int usage_error(const Args& args) {
+  for (const auto& e : args.errors) std::cerr << "laptrainer-cli: " << e << "\n";
+  std::cerr << kUsage;
+  return kExitUsage;
+}
+
+int cmd_validate(int argc, char** argv) {
+  Args args(argc, argv, {});
+  if (!args.only({"--scenario", "--allow-path"}) || !args.has("--scenario")) {
+    if (!args.has("--scenario")) args.errors.push_back("validate needs --scenario FILE");
+    return usage_error(args);
+  }
+  lap::sim::ScenarioLoadSettings settings;
+  for (const auto& p : args.all("--allow-path")) settings.allowed_paths.emplace_back(p);
+  const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"), settings);
+  if (!r.ok()) {
+    for (const auto& p : r.problems) std::cerr << p.to_string() << "\n";
+    std::cerr << r.problems.size() << (r.problems.size() == 1 ? " problem" : " problems")
+              << " found\n";
+    return kExitProblems;
+  }
+  std::cout << args.get("--scenario") << ": ok\n" << lap::sim::describe_scene(r.scene);
+  return kExitOk;
+}
+
+int cmd_mesh_info(int argc, char** argv) {
+  Args args(argc, argv, {"--repair"});
+  if (!args.only({"--mesh", "--scale", "--repair", "--out"}) || !args.has("--mesh")) {
+    if (!args.has("--mesh")) args.errors.push_back("mesh-info needs --mesh FILE");
+    return usage_error(args);
+  }
+  lap::sim::MeshLoadSettings load;
+  try {
+    load.scale = std::stod(args.get("--scale", "1"));
+  } catch (const std::exception&) {
+    args.errors.push_back("--scale expects a positive number");
+    return usage_error(args);
+  }
+  try {
+    lap::haptics::TriangleMesh mesh = lap::sim::load_mesh(args.get("--mesh"), load);
+    auto print = [](const lap::haptics::TriangleMesh& m, const char* label) {
+      const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(m);
+      std::printf("%s: %d vertices, %d triangles, %d components, area %.6g m^2, volume %.6g m^3\n",
+                  label, m.vertex_count(), m.triangle_count(), d.component_count,
+                  m.surface_area(), m.signed_volume());
+      std::printf("  boundary edges %zu, non-manifold edges %zu, non-manifold vertices %zu, "
+                  "degenerate %zu, duplicate %zu, orientation conflicts %zu, flipped %zu, "
+                  "fragments %zu, inward components %zu, non-finite %zu\n",
+                  d.boundary_edges.size(), d.non_manifold_edges.size(),
+                  d.non_manifold_vertices.size(), d.degenerate_triangles.size(),
+                  d.duplicate_triangles.size(), d.orientation_conflict_edges.size(),
+                  d.flipped_triangles.size(), d.sliver_fragments.size(),
+                  d.inward_components.size(), d.non_finite_vertices.size());
+      for (const auto& line : d.describe()) std::printf("  - %s\n", line.c_str());
+      std::printf("  %s\n", d.clean() ? "clean: closed, oriented, outward-facing manifold"
+                                      : "NOT clean");
+      return d.clean();
+    };
+    bool clean = print(mesh, args.get("--mesh").c_str());
+    if (args.has("--repair")) {
+      const auto report = lap::haptics::repair_mesh(mesh);
+      std::printf("repair: %s\n", report.summary().c_str());
+      clean = print(mesh, "after repair");
+    }
+    if (args.has("--out")) lap::sim::save_obj(mesh, args.get("--out"));
+    return clean ? kExitOk : kExitProblems;
+  } catch (const lap::sim::LoadError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitProblems;
+  }
+}
+
+int cmd_generate_assets(int argc, char** argv) {
+  Args args(argc, argv, {});
+  if (!args.only({"--out"}) || !args.has("--out")) {
+    if (!args.has("--out")) args.errors.push_back("generate-assets needs --out DIR");
+    return usage_error(args);
+  }
+  const fs::path dir = args.get("--out");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  try {
+    lap::sim::save_obj(lap::haptics::make_stand_in_liver(), dir / "liver.obj");
+    lap::sim::save_obj(lap::haptics::make_stand_in_gallbladder(), dir / "gallbladder.obj");
+    lap::sim::save_obj(lap::haptics::make_stand_in_cystic_duct(), dir / "cystic_duct.obj");
+  } catch (const lap::sim::LoadError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitProblems;
+  }
+  std::cout << "wrote liver.obj, gallbladder.obj, cystic_duct.obj to " << dir.string() << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    std::cout << kUsage;
+    return argc < 2 ? kExitUsage : kExitOk;
+  }
+  const std::string cmd = argv[1];
+  try {
+    if (cmd == "validate") return cmd_validate(argc, argv);
+    if (cmd == "mesh-info") return cmd_mesh_info(argc, argv);
+    if (cmd == "generate-assets") return cmd_generate_assets(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "laptrainer-cli " << cmd << ": " << e.what() << "\n";
+    return 1;
+  }
+  std::cerr << "laptrainer-cli: unknown command '" << cmd << "'\n" << kUsage;
+  return kExitUsage;
+}

@@ -1,0 +1,145 @@
+#include "haptics/mesh_generators.h"
+
+#include <cmath>
+
+#include "haptics/mesh_repair.h"
+
+namespace lap::haptics {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+TriangleMesh make_mapped_sphere(int32_t stacks, int32_t slices,
+                                const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& f) {
+  TriangleMesh m;
+  // Poles on the y axis (y up).
+  m.positions.push_back(f(Eigen::Vector3d(0, 1, 0)));
+  for (int32_t i = 1; i < stacks; ++i) {
+    const double theta = kPi * i / stacks;
+    for (int32_t j = 0; j < slices; ++j) {
+      const double phi = 2.0 * kPi * j / slices;
+      const Eigen::Vector3d u(std::sin(theta) * std::cos(phi), std::cos(theta),
+                              -std::sin(theta) * std::sin(phi));
+      m.positions.push_back(f(u));
+    }
+  }
+  m.positions.push_back(f(Eigen::Vector3d(0, -1, 0)));
+  const int32_t south = m.vertex_count() - 1;
+  auto ring = [slices](int32_t i, int32_t j) { return 1 + (i - 1) * slices + (j % slices); };
+  for (int32_t j = 0; j < slices; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
+  for (int32_t i = 1; i + 1 < stacks; ++i) {
+    for (int32_t j = 0; j < slices; ++j) {
+      const int32_t a = ring(i, j), b = ring(i, j + 1), c = ring(i + 1, j), d = ring(i + 1, j + 1);
+      m.triangles.push_back({a, c, d});
+      m.triangles.push_back({a, d, b});
+    }
+  }
+  for (int32_t j = 0; j < slices; ++j) {
+    m.triangles.push_back({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
+  }
+  m.compute_vertex_normals();
+  return m;
+}
+
+TriangleMesh make_uv_sphere(double radius, int32_t stacks, int32_t slices) {
+  return make_mapped_sphere(stacks, slices,
+                            [radius](const Eigen::Vector3d& u) { return Eigen::Vector3d(radius * u); });
+}
+
+TriangleMesh make_box(const Eigen::Vector3d& size, int32_t n) {
+  TriangleMesh m;
+  const Eigen::Vector3d h = 0.5 * size;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int sign = -1; sign <= 1; sign += 2) {
+      // In-plane axes u, v with u x v along the outward normal.
+      int u = (axis + 1) % 3;
+      int v = (axis + 2) % 3;
+      if (sign < 0) std::swap(u, v);
+      const int32_t base = m.vertex_count();
+      for (int32_t i = 0; i <= n; ++i) {
+        for (int32_t j = 0; j <= n; ++j) {
+          Eigen::Vector3d p;
+          p[axis] = sign * h[axis];
+          p[u] = (static_cast<double>(i) / n - 0.5) * size[u];
+          p[v] = (static_cast<double>(j) / n - 0.5) * size[v];
+          m.positions.push_back(p);
+        }
+      }
+      for (int32_t i = 0; i < n; ++i) {
+        for (int32_t j = 0; j < n; ++j) {
+          const int32_t a = base + i * (n + 1) + j, b = a + (n + 1), c = a + 1, d = b + 1;
+          m.triangles.push_back({a, b, d});
+          m.triangles.push_back({a, d, c});
+        }
+      }
+    }
+  }
+  // Faces meet at shared edge vertices, computed identically from both faces.
+  weld_vertices(m, 1e-12 * size.norm());
+  m.compute_vertex_normals();
+  return m;
+}
+
+TriangleMesh make_cylinder(double radius, double length, int32_t slices, int32_t rings) {
+  TriangleMesh m;
+  for (int32_t r = 0; r <= rings; ++r) {
+    const double y = length * r / rings;
+    for (int32_t j = 0; j < slices; ++j) {
+      const double phi = 2.0 * kPi * j / slices;
+      m.positions.emplace_back(radius * std::cos(phi), y, -radius * std::sin(phi));
+    }
+  }
+  auto at = [slices](int32_t r, int32_t j) { return r * slices + (j % slices); };
+  for (int32_t r = 0; r < rings; ++r) {
+    for (int32_t j = 0; j < slices; ++j) {
+      const int32_t a = at(r, j), b = at(r, j + 1), c = at(r + 1, j), d = at(r + 1, j + 1);
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  }
+  const int32_t bottom = m.vertex_count();
+  m.positions.emplace_back(0.0, 0.0, 0.0);
+  const int32_t top = m.vertex_count();
+  m.positions.emplace_back(0.0, length, 0.0);
+  for (int32_t j = 0; j < slices; ++j) {
+    m.triangles.push_back({bottom, at(0, j + 1), at(0, j)});
+    m.triangles.push_back({top, at(rings, j), at(rings, j + 1)});
+  }
+  m.compute_vertex_normals();
+  return m;
+}
+
+TriangleMesh make_stand_in_liver() {
+  // An ellipsoid flattened underneath with a right-lobe bulge: about 18 x 9 x 14 cm, centred
+  // above the gallbladder fossa. Gross dimensions follow adult liver anatomy.
+  return make_mapped_sphere(48, 96, [](const Eigen::Vector3d& u) {
+    Eigen::Vector3d p(0.09 * u.x(), 0.045 * u.y(), 0.07 * u.z());
+    if (p.y() < 0.0) p.y() *= 0.55;                                  // flatter visceral face
+    p.y() += 0.012 * std::exp(-std::pow((u.x() + 0.4) / 0.45, 2));   // right lobe dome
+    p.z() *= 1.0 - 0.25 * std::max(0.0, u.x());                      // tapering left lobe
+    return Eigen::Vector3d(p + Eigen::Vector3d(0.0, 0.06, 0.0));
+  });
+}
+
+TriangleMesh make_stand_in_gallbladder() {
+  // Pear-shaped sac about 8 cm long, 3 cm wide, lying under the liver, fundus forward (+z).
+  return make_mapped_sphere(32, 48, [](const Eigen::Vector3d& u) {
+    const double along = u.z();                   // -1 neck ... +1 fundus
+    const double width = 0.015 * (0.75 + 0.25 * along);
+    Eigen::Vector3d p(width * u.x(), width * u.y(), 0.04 * along);
+    return Eigen::Vector3d(p + Eigen::Vector3d(-0.02, 0.02, 0.03));
+  });
+}
+
+TriangleMesh make_stand_in_cystic_duct() {
+  // Closed tube, 4.5 mm radius (9 mm outer diameter) and 3 cm long, leaving the gallbladder neck
+  // backwards (-z) and down. The modal-shell model replaces this surface in a later issue.
+  TriangleMesh m = make_cylinder(0.0045, 0.03, 24, 12);
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  T.translate(Eigen::Vector3d(-0.02, 0.02, -0.005));
+  T.rotate(Eigen::AngleAxisd(-0.5 * kPi - 0.3, Eigen::Vector3d::UnitX()));
+  m.transform(T);
+  return m;
+}
+
+}  // namespace lap::haptics

@@ -1,0 +1,25 @@
+#pragma once
+/// \file
+/// The device specifications accepted on the command line (ARCHITECTURE.md `run --left DEV`):
+/// `simulated`, `scripted:FILE`, `replay:FILE`, `phantom` or `phantom:NAME`.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace lap::hardware {
+
+/// Which driver serves a tool.
+enum class DeviceKind { kSimulated, kScripted, kReplay, kPhantom };
+
+/// A parsed DEV argument.
+struct DeviceSpec {
+  DeviceKind kind = DeviceKind::kSimulated;
+  std::string argument;  ///< file for scripted/replay, device name for phantom (may be empty)
+};
+
+/// Parses DEV; on failure returns nullopt and sets *error to what was expected.
+[[nodiscard]] std::optional<DeviceSpec> parse_device_spec(std::string_view text,
+                                                          std::string* error);
+
+}  // namespace lap::hardware

@@ -1,0 +1,23 @@
+#pragma once
+/// \file
+/// The kinds of physical model an organ or object can have (thesis §6.4, §6.5, §7.7).
+
+#include <optional>
+#include <string_view>
+
+namespace lap::models {
+
+/// How an object responds to contact.
+enum class ModelKind {
+  kRigid,       ///< moves as a rigid body, does not deform (§6.4)
+  kLocal,       ///< local deformation within an influence radius (§6.5)
+  kModalShell,  ///< modal-reduced shell finite elements, for the cystic duct (§7.7(2))
+  kMassSpring,  ///< mass-spring-damper chain, for the catheter (§7.7(3))
+};
+
+/// Scenario spelling of each kind: rigid, local, modal-shell, mass-spring.
+[[nodiscard]] std::string_view to_string(ModelKind kind);
+/// Parses the scenario spelling; nullopt if unknown.
+[[nodiscard]] std::optional<ModelKind> parse_model_kind(std::string_view text);
+
+}  // namespace lap::models

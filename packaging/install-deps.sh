@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs every build, run and test dependency of laptrainer from Debian 12 packages.
+# Idempotent: packages already present are skipped, and `apt-get update` runs at most once per call.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git
+  # libraries (see ARCHITECTURE.md for which folder may use which)
+  libeigen3-dev libopenmesh-dev libspectra-dev
+  libyaml-cpp-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libsqlite3-dev
+  libusb-1.0-0-dev
+  qt6-base-dev libqt6opengl6-dev qt6-charts-dev libvtk9-dev
+  # tests and benchmarks
+  googletest libgtest-dev libgmock-dev libbenchmark-dev
+  # headless display for GUI tests and screenshots
+  xvfb xauth libgl1-mesa-dri mesa-utils
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ "${#missing[@]}" -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "install-deps: missing packages: ${missing[*]}" >&2
+    echo "install-deps: run this script as root (or install sudo) to install them" >&2
+    exit 1
+  fi
+fi
+
+echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update
+$SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+echo "install-deps: done"

@@ -1,0 +1,16 @@
+#include "sim/scenario.h"
+
+namespace lap::sim {
+
+Eigen::Affine3d OrganSpec::transform() const {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  T.translate(translation_m);
+  // Fixed-axis x, then y, then z: R = Rz * Ry * Rx.
+  T.rotate(Eigen::AngleAxisd(rotation_deg.z() * kDeg, Eigen::Vector3d::UnitZ()) *
+           Eigen::AngleAxisd(rotation_deg.y() * kDeg, Eigen::Vector3d::UnitY()) *
+           Eigen::AngleAxisd(rotation_deg.x() * kDeg, Eigen::Vector3d::UnitX()));
+  return T;
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,113 @@
+#pragma once
+/// \file
+/// A scenario v1 as loaded from YAML: plain data in SI units, paths already resolved. The schema
+/// is documented in scenarios/README.md.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "models/model_kind.h"
+
+namespace lap::sim {
+
+/// Surface texture of a material (thesis §6.3); rendered by a later issue.
+struct TextureSpec {
+  enum class Kind { kNone, kImage, kProcedural };
+  Kind kind = Kind::kNone;
+  std::filesystem::path image;   ///< kImage: PNG/JPEG height map
+  std::string function;          ///< kProcedural: perlin, fbm, worley, fourier
+  double amplitude_m = 0.0;      ///< peak height of the texture [m]
+  double wavelength_m = 0.0;     ///< spatial period or feature size [m]
+};
+
+/// Haptic and mechanical material of an organ.
+struct MaterialSpec {
+  double stiffness_n_per_m = 0.0;   ///< contact spring [N/m]
+  double damping_n_s_per_m = 0.0;   ///< contact damper [N s/m]
+  double friction_static = 0.0;     ///< coefficient, dimensionless
+  double friction_dynamic = 0.0;    ///< coefficient, dimensionless, <= static
+  TextureSpec texture;
+};
+
+/// One organ: a mesh placed in the world with a material and a model kind.
+struct OrganSpec {
+  std::string name;
+  std::filesystem::path mesh;              ///< resolved, absolute
+  double scale = 1.0;                      ///< file units to metres
+  bool repair = false;                     ///< opt-in mesh repair at load
+  Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_deg = Eigen::Vector3d::Zero();  ///< about fixed x, then y, then z
+  Eigen::Vector3d color = Eigen::Vector3d(0.8, 0.5, 0.45);  ///< RGB in [0, 1]
+  models::ModelKind model = models::ModelKind::kRigid;
+  MaterialSpec material;
+  int line = 0;  ///< where the organ starts in the file, for later messages
+
+  /// Mesh frame to world frame.
+  [[nodiscard]] Eigen::Affine3d transform() const;
+};
+
+/// A trocar port on the abdominal wall through which one tool pivots (thesis §7.6.2).
+struct TrocarSpec {
+  std::string name;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+};
+
+/// A laparoscopic tool: a shaft and two jaws, entering through a trocar.
+struct ToolSpec {
+  enum class Side { kLeft, kRight };
+  std::string name;
+  Side side = Side::kLeft;
+  std::string trocar;
+  std::string kind = "grasper";      ///< grasper, dissector, clip-applier, scissors
+  double shaft_length_m = 0.36;
+  double shaft_radius_m = 0.0025;
+  double jaw_length_m = 0.02;
+};
+
+/// The virtual laparoscope.
+struct CameraSpec {
+  Eigen::Vector3d position_m = Eigen::Vector3d(0.0, 0.25, 0.35);
+  Eigen::Vector3d focal_point_m = Eigen::Vector3d(0.0, 0.03, 0.0);
+  Eigen::Vector3d view_up = Eigen::Vector3d::UnitY();
+  double view_angle_deg = 30.0;
+};
+
+/// The catheter inserted into the cystic duct (thesis §7.7(3)).
+struct CatheterSpec {
+  double length_m = 0.3;
+  double diameter_m = 0.0025;
+  int particles = 64;
+  double mass_kg = 0.01;
+  double bending_stiffness_n_m2 = 1.0e-4;  ///< EI [N m^2]
+};
+
+/// What the resident must do.
+struct TaskSpec {
+  std::string kind = "catheter-insertion";
+  std::string target;               ///< organ name (the duct)
+  double insertion_depth_m = 0.01;  ///< depth counted as success
+  double time_limit_s = 600.0;
+};
+
+/// A whole scenario file.
+struct Scenario {
+  std::filesystem::path file;  ///< the scenario file itself
+  int version = 1;
+  std::string name;
+  std::string description;
+  std::vector<std::filesystem::path> allowed_paths;  ///< resolved
+  CameraSpec camera;
+  std::vector<OrganSpec> organs;
+  std::vector<TrocarSpec> trocars;
+  std::vector<ToolSpec> tools;
+  std::optional<CatheterSpec> catheter;
+  std::optional<TaskSpec> task;
+};
+
+}  // namespace lap::sim

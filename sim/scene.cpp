@@ -1,0 +1,93 @@
+#include "sim/scene.h"
+
+#include <sstream>
+
+#include "haptics/mesh_repair.h"
+#include "sim/load_error.h"
+#include "sim/mesh_loader.h"
+
+namespace lap::sim {
+
+Eigen::AlignedBox3d Scene::bounds() const {
+  Eigen::AlignedBox3d box;
+  for (const Organ& o : organs) box.extend(o.mesh.bounds());
+  return box;
+}
+
+int64_t Scene::triangle_count() const {
+  int64_t n = 0;
+  for (const Organ& o : organs) n += o.mesh.triangle_count();
+  return n;
+}
+
+SceneLoadResult load_scene(const Scenario& scenario) {
+  SceneLoadResult result;
+  result.scene.scenario = scenario;
+  for (size_t i = 0; i < scenario.organs.size(); ++i) {
+    const OrganSpec& spec = scenario.organs[i];
+    const std::string field = "organs[" + std::to_string(i) + "].mesh";
+    Organ organ;
+    organ.name = spec.name;
+    organ.color = spec.color;
+    organ.material = spec.material;
+    organ.model = spec.model;
+    try {
+      MeshLoadSettings load;
+      load.scale = spec.scale;
+      organ.mesh = load_mesh(spec.mesh, load);
+    } catch (const LoadError& e) {
+      result.problems.push_back({scenario.file.string(), spec.line, field, e.what()});
+      continue;
+    }
+    if (spec.repair) {
+      organ.repair_summary = haptics::repair_mesh(organ.mesh).summary();
+    }
+    const haptics::MeshDiagnostics d = haptics::validate_mesh(organ.mesh);
+    if (!d.clean()) {
+      std::string what;
+      for (const std::string& line : d.describe()) what += (what.empty() ? "" : "; ") + line;
+      result.problems.push_back(
+          {scenario.file.string(), spec.line, field,
+           spec.mesh.string() + " is not a closed, oriented, outward-facing manifold: " + what +
+               (spec.repair ? " (left after repair)" : " (fix the mesh or set repair: true)")});
+      continue;
+    }
+    organ.mesh.transform(spec.transform());
+    if (organ.mesh.normals.size() != organ.mesh.positions.size()) organ.mesh.compute_vertex_normals();
+    result.scene.organs.push_back(std::move(organ));
+  }
+  return result;
+}
+
+SceneLoadResult load_scene_file(const std::filesystem::path& file,
+                                const ScenarioLoadSettings& settings) {
+  ScenarioLoadResult scenario = load_scenario(file, settings);
+  if (!scenario.ok()) {
+    SceneLoadResult r;
+    r.problems = std::move(scenario.problems);
+    return r;
+  }
+  return load_scene(scenario.scenario);
+}
+
+std::string describe_scene(const Scene& scene) {
+  std::ostringstream s;
+  s << "scenario: " << scene.scenario.name << " (" << scene.scenario.file.string() << ")\n";
+  s << "organs: " << scene.organs.size() << ", triangles: " << scene.triangle_count() << "\n";
+  for (const Organ& o : scene.organs) {
+    const Eigen::AlignedBox3d b = o.mesh.bounds();
+    const Eigen::Vector3d size = b.sizes() * 1000.0;
+    s.precision(1);
+    s << std::fixed << "  " << o.name << ": " << o.mesh.triangle_count() << " triangles, "
+      << size.x() << " x " << size.y() << " x " << size.z() << " mm, model "
+      << models::to_string(o.model) << ", stiffness " << o.material.stiffness_n_per_m << " N/m";
+    if (!o.repair_summary.empty()) s << ", repaired: " << o.repair_summary;
+    s << "\n";
+  }
+  s << "tools: " << scene.scenario.tools.size() << ", trocars: " << scene.scenario.trocars.size();
+  if (scene.scenario.task) s << ", task: " << scene.scenario.task->kind;
+  s << "\n";
+  return s.str();
+}
+
+}  // namespace lap::sim

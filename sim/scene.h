@@ -1,0 +1,52 @@
+#pragma once
+/// \file
+/// A scenario with its meshes loaded, checked (and repaired where asked) and placed in the world.
+
+#include <string>
+#include <vector>
+
+#include "haptics/mesh_validation.h"
+#include "haptics/triangle_mesh.h"
+#include "sim/scenario.h"
+#include "sim/scenario_loader.h"
+
+namespace lap::sim {
+
+/// One organ ready for rendering and haptics.
+struct Organ {
+  std::string name;
+  haptics::TriangleMesh mesh;  ///< world frame [m], closed and outward-oriented
+  Eigen::Vector3d color;
+  MaterialSpec material;
+  models::ModelKind model = models::ModelKind::kRigid;
+  std::string repair_summary;  ///< what repair did, empty when not asked
+};
+
+/// The loaded scene.
+struct Scene {
+  Scenario scenario;
+  std::vector<Organ> organs;
+  /// Bounds of all organs in the world [m].
+  [[nodiscard]] Eigen::AlignedBox3d bounds() const;
+  [[nodiscard]] int64_t triangle_count() const;
+};
+
+/// The scene and the problems met while loading its meshes.
+struct SceneLoadResult {
+  Scene scene;
+  std::vector<ScenarioProblem> problems;
+  [[nodiscard]] bool ok() const { return problems.empty(); }
+};
+
+/// Loads every organ mesh of a checked scenario. A mesh that is not a closed, oriented,
+/// outward-facing manifold is a problem unless the organ asks for repair and repair succeeds.
+[[nodiscard]] SceneLoadResult load_scene(const Scenario& scenario);
+
+/// Loads scenario then scene, all problems together.
+[[nodiscard]] SceneLoadResult load_scene_file(const std::filesystem::path& file,
+                                              const ScenarioLoadSettings& settings = {});
+
+/// A few lines describing the scene, for headless runs and the status bar.
+[[nodiscard]] std::string describe_scene(const Scene& scene);
+
+}  // namespace lap::sim
