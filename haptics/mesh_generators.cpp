@@ -132,12 +132,14 @@ TriangleMesh make_stand_in_gallbladder() {
 }
 
 TriangleMesh make_stand_in_cystic_duct() {
-  // Closed tube, 4.5 mm radius (9 mm outer diameter) and 3 cm long, leaving the gallbladder neck
-  // backwards (-z) and down. The modal-shell model replaces this surface in a later issue.
-  TriangleMesh m = make_cylinder(0.0045, 0.03, 24, 12);
+  // Closed tube, 4.5 mm radius (9 mm outer diameter) and 3.5 cm long, leaving the gallbladder
+  // neck medially (+x), backwards and down towards the common bile duct. The modal-shell model
+  // replaces this surface in a later issue.
+  TriangleMesh m = make_cylinder(0.0045, 0.035, 24, 14);
   Eigen::Affine3d T = Eigen::Affine3d::Identity();
-  T.translate(Eigen::Vector3d(-0.02, 0.02, -0.005));
-  T.rotate(Eigen::AngleAxisd(-0.5 * kPi - 0.3, Eigen::Vector3d::UnitX()));
+  T.translate(Eigen::Vector3d(-0.018, 0.018, -0.004));
+  T.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(),
+                                              Eigen::Vector3d(0.85, -0.3, -0.45).normalized()));
   m.transform(T);
   return m;
 }

@@ -1,0 +1,147 @@
+#include "app/main_window.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QElapsedTimer>
+#include <QFileDialog>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QStatusBar>
+#include <QTimer>
+
+#include <vtkActor.h>
+#include <vtkActorCollection.h>
+#include <vtkLight.h>
+#include <vtkProperty.h>
+
+#include "app/mesh_actor.h"
+
+namespace lap::app {
+
+MainWindow::MainWindow() {
+  setWindowTitle("laptrainer");
+  resize(1024, 720);
+  view_ = new VtkView(this);
+  setCentralWidget(view_);
+
+  QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("&Open Scenario...", QKeySequence::Open, this, &MainWindow::open_dialog);
+  file->addAction("Save &Screenshot...", QKeySequence("Ctrl+P"), this,
+                  &MainWindow::screenshot_dialog);
+  file->addSeparator();
+  file->addAction("&Quit", QKeySequence::Quit, qApp, &QApplication::quit);
+
+  QMenu* view = menuBar()->addMenu("&View");
+  view->addAction("&Reset Camera", QKeySequence("R"), view_, &VtkView::reset_camera);
+  QAction* wire = view->addAction("&Wireframe", QKeySequence("Ctrl+W"), this, [this] {
+    wireframe_ = !wireframe_;
+    vtkActorCollection* actors = view_->renderer()->GetActors();
+    actors->InitTraversal();
+    while (vtkActor* a = actors->GetNextActor()) {
+      if (wireframe_) {
+        a->GetProperty()->SetRepresentationToWireframe();
+      } else {
+        a->GetProperty()->SetRepresentationToSurface();
+      }
+    }
+    view_->render();
+  });
+  wire->setCheckable(true);
+
+  QMenu* help = menuBar()->addMenu("&Help");
+  help->addAction("&Controls", this, [this] {
+    QMessageBox::information(
+        this, "Controls",
+        "Mouse: left drag orbits, middle drag (or Shift+left) pans, right drag or wheel zooms.\n"
+        "Keys: arrows orbit, +/- zoom, W/A/S/D pan, R resets the camera.");
+  });
+  help->addAction("&About laptrainer", this, [this] {
+    QMessageBox::about(this, "About laptrainer",
+                       "laptrainer: laparoscopic cholecystectomy training simulator.\n"
+                       "Haptic rendering after Ho & Srinivasan, MIT 1999.");
+  });
+
+  scene_label_ = new QLabel(this);
+  fps_label_ = new QLabel(this);
+  statusBar()->addWidget(scene_label_, 1);
+  statusBar()->addPermanentWidget(fps_label_);
+
+  // Frame rate shown in the status bar once a second.
+  auto* timer = new QTimer(this);
+  auto* clock = new QElapsedTimer;
+  clock->start();
+  auto last_frames = std::make_shared<long>(0);
+  connect(timer, &QTimer::timeout, this, [this, clock, last_frames] {
+    const double s = clock->restart() / 1000.0;
+    const long f = view_->frames();
+    fps_label_->setText(QString("%1 frames/s").arg((f - *last_frames) / std::max(s, 1e-3), 0, 'f', 0));
+    *last_frames = f;
+  });
+  timer->start(1000);
+}
+
+bool MainWindow::open_scenario(const QString& file, QStringList* problems) {
+  sim::SceneLoadResult r = sim::load_scene_file(file.toStdString());
+  if (!r.ok()) {
+    QStringList lines;
+    for (const auto& p : r.problems) lines << QString::fromStdString(p.to_string());
+    if (problems != nullptr) *problems = lines;
+    return false;
+  }
+  scene_ = std::move(r.scene);
+  show_scene(scene_);
+  return true;
+}
+
+void MainWindow::show_scene(const sim::Scene& scene) {
+  vtkRenderer* ren = view_->renderer();
+  ren->RemoveAllViewProps();
+  for (const sim::Organ& o : scene.organs) {
+    const double rgb[3] = {o.color.x(), o.color.y(), o.color.z()};
+    ren->AddActor(make_mesh_actor(o.mesh, rgb));
+  }
+  // A headlight, like the laparoscope's own light source.
+  ren->RemoveAllLights();
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToHeadlight();
+  light->SetIntensity(1.0);
+  ren->AddLight(light);
+  CameraPose pose;
+  const sim::CameraSpec& c = scene.scenario.camera;
+  for (int i = 0; i < 3; ++i) {
+    pose.position[i] = c.position_m[i];
+    pose.focal_point[i] = c.focal_point_m[i];
+    pose.view_up[i] = c.view_up[i];
+  }
+  pose.view_angle_deg = c.view_angle_deg;
+  view_->set_home_camera(pose);
+  setWindowTitle(QString("laptrainer - %1").arg(QString::fromStdString(scene.scenario.name)));
+  update_status();
+}
+
+void MainWindow::update_status() {
+  scene_label_->setText(QString("%1: %2 organs, %3 triangles")
+                            .arg(QString::fromStdString(scene_.scenario.name))
+                            .arg(scene_.organs.size())
+                            .arg(scene_.triangle_count()));
+}
+
+void MainWindow::open_dialog() {
+  const QString file =
+      QFileDialog::getOpenFileName(this, "Open scenario", QString(), "Scenarios (*.yaml *.yml)");
+  if (file.isEmpty()) return;
+  QStringList problems;
+  if (!open_scenario(file, &problems)) {
+    QMessageBox::warning(this, "Scenario not loaded", problems.join("\n"));
+  }
+}
+
+void MainWindow::screenshot_dialog() {
+  const QString file = QFileDialog::getSaveFileName(this, "Save screenshot", "laptrainer.png",
+                                                    "PNG images (*.png)");
+  if (file.isEmpty()) return;
+  QString error;
+  if (!view_->save_png(file, &error)) QMessageBox::warning(this, "Screenshot", error);
+}
+
+}  // namespace lap::app

@@ -1,0 +1,36 @@
+#pragma once
+/// \file
+/// The trainee's main window: menus File/View/Help, a status bar, and the 3D view of the scene.
+
+#include <QLabel>
+#include <QMainWindow>
+#include <QString>
+
+#include "app/vtk_view.h"
+#include "sim/scene.h"
+
+namespace lap::app {
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+
+ public:
+  MainWindow();
+  /// Loads a scenario; on failure shows the problems and keeps the current scene.
+  bool open_scenario(const QString& file, QStringList* problems = nullptr);
+  VtkView* view() { return view_; }
+
+ private:
+  void show_scene(const sim::Scene& scene);
+  void open_dialog();
+  void screenshot_dialog();
+  void update_status();
+
+  VtkView* view_ = nullptr;
+  QLabel* scene_label_ = nullptr;
+  QLabel* fps_label_ = nullptr;
+  sim::Scene scene_;
+  bool wireframe_ = false;
+};
+
+}  // namespace lap::app

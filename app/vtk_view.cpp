@@ -1,0 +1,181 @@
+#include "app/vtk_view.h"
+
+#include <cmath>
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QWheelEvent>
+
+#include <Eigen/Geometry>
+#include <vtkCamera.h>
+#include <vtkPNGWriter.h>
+#include <vtkWindowToImageFilter.h>
+
+namespace lap::app {
+
+VtkView::VtkView(QWidget* parent) : QWidget(parent) {
+  // VTK draws into this widget's own X window; Qt must neither paint it nor share it.
+  setAttribute(Qt::WA_NativeWindow);
+  setAttribute(Qt::WA_PaintOnScreen);
+  setAttribute(Qt::WA_NoSystemBackground);
+  setAttribute(Qt::WA_OpaquePaintEvent);
+  setFocusPolicy(Qt::StrongFocus);
+  setMouseTracking(false);
+  setMinimumSize(320, 240);
+  render_window_ = vtkSmartPointer<vtkRenderWindow>::New();
+  render_window_->AddRenderer(renderer_);
+  render_window_->SetMultiSamples(0);
+  renderer_->SetBackground(0.07, 0.05, 0.05);
+  renderer_->SetBackground2(0.22, 0.14, 0.13);
+  renderer_->GradientBackgroundOn();
+}
+
+VtkView::~VtkView() {
+  if (attached_) render_window_->Finalize();
+}
+
+void VtkView::attach() {
+  if (attached_) return;
+  // The native window id is only valid once Qt created the window. The size is set first:
+  // vtkXOpenGLRenderWindow resizes the X window on SetSize once it has a window id, and it opens
+  // its display connection only in the first Render().
+  const qreal dpr = devicePixelRatioF();
+  render_window_->SetSize(static_cast<int>(width() * dpr), static_cast<int>(height() * dpr));
+  render_window_->SetWindowId(reinterpret_cast<void*>(winId()));
+  attached_ = true;
+}
+
+void VtkView::render() {
+  if (!isVisible()) return;
+  if (attached_) {
+    const qreal dpr = devicePixelRatioF();
+    render_window_->SetSize(static_cast<int>(width() * dpr), static_cast<int>(height() * dpr));
+  } else {
+    attach();
+  }
+  render_window_->Render();
+  ++frames_;
+  emit frame_rendered();
+}
+
+void VtkView::set_home_camera(const CameraPose& pose) {
+  home_ = pose;
+  reset_camera();
+}
+
+void VtkView::reset_camera() {
+  vtkCamera* cam = renderer_->GetActiveCamera();
+  cam->SetPosition(home_.position);
+  cam->SetFocalPoint(home_.focal_point);
+  cam->SetViewUp(home_.view_up);
+  cam->SetViewAngle(home_.view_angle_deg);
+  cam->OrthogonalizeViewUp();
+  renderer_->ResetCameraClippingRange();
+  render();
+}
+
+bool VtkView::save_png(const QString& file, QString* error) {
+  render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(render_window_);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(file.toLocal8Bit().constData());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0) {
+    if (error != nullptr) *error = "could not write " + file;
+    return false;
+  }
+  return true;
+}
+
+void VtkView::paintEvent(QPaintEvent*) { render(); }
+void VtkView::resizeEvent(QResizeEvent*) { render(); }
+void VtkView::showEvent(QShowEvent*) { render(); }
+
+void VtkView::orbit(double azimuth_deg, double elevation_deg) {
+  vtkCamera* cam = renderer_->GetActiveCamera();
+  cam->Azimuth(azimuth_deg);
+  cam->Elevation(elevation_deg);
+  cam->OrthogonalizeViewUp();
+  renderer_->ResetCameraClippingRange();
+  render();
+}
+
+void VtkView::pan(double dx_px, double dy_px) {
+  vtkCamera* cam = renderer_->GetActiveCamera();
+  double pos[3], fp[3], up[3];
+  cam->GetPosition(pos);
+  cam->GetFocalPoint(fp);
+  cam->GetViewUp(up);
+  const Eigen::Vector3d p(pos[0], pos[1], pos[2]);
+  const Eigen::Vector3d f(fp[0], fp[1], fp[2]);
+  const Eigen::Vector3d u = Eigen::Vector3d(up[0], up[1], up[2]).normalized();
+  const Eigen::Vector3d forward = (f - p).normalized();
+  const Eigen::Vector3d right = forward.cross(u).normalized();
+  // Metres per pixel at the focal distance, so the scene follows the cursor.
+  const double dist = (f - p).norm();
+  const double m_per_px = 2.0 * dist * std::tan(0.5 * cam->GetViewAngle() * M_PI / 180.0) /
+                          std::max(1, height());
+  const Eigen::Vector3d shift = (-dx_px * right + dy_px * u) * m_per_px;
+  const Eigen::Vector3d np = p + shift;
+  const Eigen::Vector3d nf = f + shift;
+  cam->SetPosition(np.x(), np.y(), np.z());
+  cam->SetFocalPoint(nf.x(), nf.y(), nf.z());
+  renderer_->ResetCameraClippingRange();
+  render();
+}
+
+void VtkView::zoom(double factor) {
+  renderer_->GetActiveCamera()->Dolly(factor);
+  renderer_->ResetCameraClippingRange();
+  render();
+}
+
+void VtkView::mousePressEvent(QMouseEvent* e) {
+  last_mouse_ = e->position().toPoint();
+  buttons_ = e->buttons();
+}
+
+void VtkView::mouseMoveEvent(QMouseEvent* e) {
+  const QPoint p = e->position().toPoint();
+  const QPoint d = p - last_mouse_;
+  last_mouse_ = p;
+  const bool shift = (e->modifiers() & Qt::ShiftModifier) != 0;
+  if ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift)) {
+    pan(d.x(), d.y());
+  } else if (buttons_ & Qt::LeftButton) {
+    orbit(-0.4 * d.x(), 0.4 * d.y());
+  } else if (buttons_ & Qt::RightButton) {
+    zoom(std::pow(1.01, -d.y()));
+  }
+}
+
+void VtkView::mouseReleaseEvent(QMouseEvent* e) { buttons_ = e->buttons(); }
+
+void VtkView::wheelEvent(QWheelEvent* e) {
+  zoom(std::pow(1.1, e->angleDelta().y() / 120.0));
+}
+
+void VtkView::keyPressEvent(QKeyEvent* e) {
+  switch (e->key()) {
+    case Qt::Key_Left: orbit(5.0, 0.0); break;
+    case Qt::Key_Right: orbit(-5.0, 0.0); break;
+    case Qt::Key_Up: orbit(0.0, 5.0); break;
+    case Qt::Key_Down: orbit(0.0, -5.0); break;
+    case Qt::Key_Plus:
+    case Qt::Key_Equal: zoom(1.1); break;
+    case Qt::Key_Minus: zoom(1.0 / 1.1); break;
+    case Qt::Key_W: pan(0.0, -20.0); break;
+    case Qt::Key_S: pan(0.0, 20.0); break;
+    case Qt::Key_A: pan(-20.0, 0.0); break;
+    case Qt::Key_D: pan(20.0, 0.0); break;
+    case Qt::Key_R: reset_camera(); break;
+    default: QWidget::keyPressEvent(e);
+  }
+}
+
+}  // namespace lap::app
