@@ -295,7 +295,9 @@ void append_primitive(const GltfReader& reader, const tinygltf::Primitive& prim,
   if (T.linear().determinant() < 0.0) {
     for (auto& t : part.triangles) std::swap(t[1], t[2]);
   }
-  if (part.normals.size() != part.positions.size()) part.normals.clear();
+  // A primitive without normals gets angle-weighted ones, so that a file mixing primitives with
+  // and without normals keeps the ones it has (append() keeps an array only if all parts have it).
+  if (part.normals.size() != part.positions.size()) part.compute_vertex_normals();
   if (part.uvs.size() != part.positions.size()) part.uvs.clear();
   if (out.positions.empty()) {
     out = std::move(part);

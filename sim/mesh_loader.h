@@ -21,7 +21,9 @@ struct MeshLoadSettings {
 };
 
 /// Loads a mesh file; throws LoadError naming the file and the problem. Polygons with more than
-/// three corners are fanned into triangles; glTF node transforms are applied.
+/// three corners are fanned into triangles; glTF node transforms are applied, glTF primitives
+/// without normals get computed ones, and texture coordinates are kept only when every part has
+/// them. OpenMesh's text readers parse coordinates in single precision (about 6 nm at 0.1 m).
 [[nodiscard]] haptics::TriangleMesh load_mesh(const std::filesystem::path& file,
                                               const MeshLoadSettings& settings = {});
 

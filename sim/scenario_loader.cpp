@@ -200,7 +200,7 @@ class Parser {
   void parse(const YAML::Node& root) {
     Scenario& s = out_.scenario;
     if (!root.IsMap()) {
-      problem(root ? line_of(root) : 1, "(document)",
+      problem(std::max(1, line_of(root)), "(document)",
               "expected a mapping with version, name and organs, got " + describe(root));
       return;
     }

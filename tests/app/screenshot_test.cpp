@@ -1,0 +1,128 @@
+// Runs the real application under Xvfb (ctest wraps this binary in xvfb-run), asks it for a
+// screenshot of the default scenario, and checks the picture: not blank, and each organ's colour
+// where a pinhole projection of the scenario's camera says the organ is.
+
+#include <gtest/gtest.h>
+
+#include <QColor>
+#include <QImage>
+
+#include <cmath>
+#include <set>
+
+#include "sim/scene.h"
+#include "tests/test_support.h"
+
+namespace lap::test {
+namespace {
+
+struct Pixel {
+  double col;
+  double row;
+};
+
+// VTK's perspective camera: vertical view angle, image aspect ratio, y up in the image.
+Pixel project(const sim::CameraSpec& cam, const Eigen::Vector3d& p, int width, int height) {
+  const Eigen::Vector3d forward = (cam.focal_point_m - cam.position_m).normalized();
+  const Eigen::Vector3d right = forward.cross(cam.view_up).normalized();
+  const Eigen::Vector3d up = right.cross(forward);
+  const Eigen::Vector3d d = p - cam.position_m;
+  const double depth = d.dot(forward);
+  const double t = std::tan(0.5 * cam.view_angle_deg * M_PI / 180.0);
+  const double aspect = static_cast<double>(width) / height;
+  const double x_ndc = d.dot(right) / depth / (t * aspect);
+  const double y_ndc = d.dot(up) / depth / t;
+  return {(x_ndc + 1.0) * 0.5 * width, (1.0 - y_ndc) * 0.5 * height};
+}
+
+// Which organ colour (by chromaticity, so shading does not matter) a pixel is closest to; -1 for
+// dark background.
+int classify(const QColor& c, const std::vector<Eigen::Vector3d>& organ_colours) {
+  const Eigen::Vector3d rgb(c.redF(), c.greenF(), c.blueF());
+  if (rgb.sum() < 0.15) return -1;
+  const Eigen::Vector3d chroma = rgb / rgb.sum();
+  int best = -1;
+  double best_d = 0.08;  // must be reasonably close to some organ
+  for (size_t i = 0; i < organ_colours.size(); ++i) {
+    const double d = (chroma - organ_colours[i] / organ_colours[i].sum()).norm();
+    if (d < best_d) {
+      best_d = d;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  TempDir dir;
+  const auto png = dir.path() / "shot.png";
+  const auto scenario = source_dir() / "scenarios/default.yaml";
+  const CommandResult r = run_command((bin_dir() / "laptrainer").string() + " --scenario " +
+                                      scenario.string() + " --screenshot " + png.string() +
+                                      " --frames 5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+
+  QImage image(QString::fromStdString(png.string()));
+  ASSERT_FALSE(image.isNull()) << "the PNG could not be read";
+  ASSERT_GT(image.width(), 300);
+  ASSERT_GT(image.height(), 200);
+
+  // Not blank: luminance varies and many distinct colours appear.
+  double sum = 0.0;
+  double sum2 = 0.0;
+  std::set<QRgb> colours;
+  for (int y = 0; y < image.height(); y += 2) {
+    for (int x = 0; x < image.width(); x += 2) {
+      const QRgb p = image.pixel(x, y);
+      const double l = 0.299 * qRed(p) + 0.587 * qGreen(p) + 0.114 * qBlue(p);
+      sum += l;
+      sum2 += l * l;
+      colours.insert(p);
+    }
+  }
+  const double n = (image.width() / 2.0) * (image.height() / 2.0);
+  const double stddev = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+  EXPECT_GT(stddev, 10.0);
+  EXPECT_GT(colours.size(), 200U);
+
+  const sim::SceneLoadResult scene = sim::load_scene_file(scenario);
+  ASSERT_TRUE(scene.ok());
+  std::vector<Eigen::Vector3d> organ_colours;
+  for (const auto& o : scene.scene.organs) organ_colours.push_back(o.color);
+
+  for (size_t i = 0; i < scene.scene.organs.size(); ++i) {
+    const sim::Organ& organ = scene.scene.organs[i];
+    // The median of the projected vertices lies inside the organ's silhouette.
+    std::vector<double> cols;
+    std::vector<double> rows;
+    for (const auto& p : organ.mesh.positions) {
+      const Pixel px = project(scene.scene.scenario.camera, p, image.width(), image.height());
+      cols.push_back(px.col);
+      rows.push_back(px.row);
+    }
+    std::nth_element(cols.begin(), cols.begin() + cols.size() / 2, cols.end());
+    std::nth_element(rows.begin(), rows.begin() + rows.size() / 2, rows.end());
+    const int cx = static_cast<int>(cols[cols.size() / 2]);
+    const int cy = static_cast<int>(rows[rows.size() / 2]);
+    ASSERT_TRUE(image.valid(cx, cy)) << organ.name << " projects outside the image";
+    int hits = 0;
+    int total = 0;
+    for (int dy = -3; dy <= 3; ++dy) {
+      for (int dx = -3; dx <= 3; ++dx) {
+        if (!image.valid(cx + dx, cy + dy)) continue;
+        ++total;
+        hits += classify(image.pixelColor(cx + dx, cy + dy), organ_colours) == static_cast<int>(i) ? 1 : 0;
+      }
+    }
+    EXPECT_GE(hits, total * 3 / 4) << organ.name << " colour not found at pixel (" << cx << ", "
+                                   << cy << ")";
+  }
+  // The corners show the background, not an organ.
+  for (const auto& [x, y] : {std::pair{2, 2}, std::pair{image.width() - 3, image.height() - 3}}) {
+    EXPECT_EQ(classify(image.pixelColor(x, y), organ_colours), -1) << "corner " << x << "," << y;
+  }
+}
+
+}  // namespace
+}  // namespace lap::test

@@ -1,0 +1,247 @@
+// glTF 2.0 input: all triangle primitives of all meshes reached from the scene's nodes, with the
+// node transforms (matrix and TRS, nested) applied; positions, normals and texture coordinates.
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "haptics/mesh_validation.h"
+#include "sim/load_error.h"
+#include "sim/mesh_loader.h"
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+using haptics::TriangleMesh;
+
+std::string base64(const std::string& in) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    const uint32_t n = (uint8_t(in[i]) << 16U) | (uint8_t(in[i + 1]) << 8U) | uint8_t(in[i + 2]);
+    for (int s = 18; s >= 0; s -= 6) out += kAlphabet[(n >> s) & 63U];
+  }
+  if (i + 1 == in.size()) {
+    const uint32_t n = uint8_t(in[i]) << 16U;
+    out += kAlphabet[(n >> 18U) & 63U];
+    out += kAlphabet[(n >> 12U) & 63U];
+    out += "==";
+  } else if (i + 2 == in.size()) {
+    const uint32_t n = (uint8_t(in[i]) << 16U) | (uint8_t(in[i + 1]) << 8U);
+    out += kAlphabet[(n >> 18U) & 63U];
+    out += kAlphabet[(n >> 12U) & 63U];
+    out += kAlphabet[(n >> 6U) & 63U];
+    out += '=';
+  }
+  return out;
+}
+
+template <typename T>
+void put(std::string& buf, T v) {
+  buf.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+// Tetrahedron vertices, its outward triangles, and a lone extra triangle.
+const float kTetra[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+const uint16_t kTetraIdx[12] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+
+// Binary buffer layout (offsets in bytes):
+//   0   positions of mesh 0 primitive 0     4 x vec3 float   48 bytes
+//   48  normals (all +z, to see rotation)   4 x vec3 float   48
+//   96  texcoords                           4 x vec2 float   32
+//   128 indices uint16                      12 x 2           24
+//   152 positions of primitive 1 (no idx)   3 x vec3 float   36
+//   188 interleaved pos+normal of mesh 1    4 x 24 bytes     96   (byteStride 24)
+//   284 indices uint32                      12 x 4           48
+//   332 end
+std::string make_buffer() {
+  std::string b;
+  for (auto& p : kTetra) for (float c : p) put(b, c);
+  for (int i = 0; i < 4; ++i) { put(b, 0.0f); put(b, 0.0f); put(b, 1.0f); }
+  const float uv[4][2] = {{0, 0}, {1, 0}, {0, 1}, {0.25f, 0.75f}};
+  for (auto& t : uv) for (float c : t) put(b, c);
+  for (uint16_t i : kTetraIdx) put(b, i);
+  const float lone[3][3] = {{5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
+  for (auto& p : lone) for (float c : p) put(b, c);
+  for (auto& p : kTetra) { for (float c : p) put(b, c); put(b, 0.0f); put(b, 1.0f); put(b, 0.0f); }
+  for (uint16_t i : kTetraIdx) put(b, static_cast<uint32_t>(i));
+  return b;
+}
+
+std::string make_json(const std::string& buffer_entry) {
+  return R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0, 2, 3]}],
+  "nodes": [
+    {"matrix": [2,0,0,0, 0,2,0,0, 0,0,2,0, 10,0,0,1], "children": [1]},
+    {"translation": [0, 1, 0], "rotation": [0, 0, 0.7071067811865476, 0.7071067811865476], "mesh": 0},
+    {"mesh": 1, "translation": [0, 0, -5]},
+    {"mesh": 1, "scale": [-1, 1, 1], "translation": [-20, 0, 0]},
+    {"mesh": 0, "translation": [100, 100, 100]}
+  ],
+  "meshes": [
+    {"primitives": [
+      {"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "mode": 4},
+      {"attributes": {"POSITION": 4}}
+    ]},
+    {"primitives": [{"attributes": {"POSITION": 5, "NORMAL": 6}, "indices": 7}]}
+  ],
+  "buffers": [)" + buffer_entry + R"(],
+  "bufferViews": [
+    {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+    {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+    {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+    {"buffer": 0, "byteOffset": 128, "byteLength": 24},
+    {"buffer": 0, "byteOffset": 152, "byteLength": 36},
+    {"buffer": 0, "byteOffset": 188, "byteLength": 96, "byteStride": 24},
+    {"buffer": 0, "byteOffset": 284, "byteLength": 48}
+  ],
+  "accessors": [
+    {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0,0,0], "max": [1,1,1]},
+    {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+    {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+    {"bufferView": 3, "componentType": 5123, "count": 12, "type": "SCALAR"},
+    {"bufferView": 4, "componentType": 5126, "count": 3, "type": "VEC3", "min": [5,5,5], "max": [6,6,5]},
+    {"bufferView": 5, "byteOffset": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0,0,0], "max": [1,1,1]},
+    {"bufferView": 5, "byteOffset": 12, "componentType": 5126, "count": 4, "type": "VEC3"},
+    {"bufferView": 6, "componentType": 5125, "count": 12, "type": "SCALAR"}
+  ]
+})";
+}
+
+// What the scene must contain, computed here with Eigen from the node definitions above.
+std::vector<Eigen::Vector3d> expected_positions() {
+  Eigen::Affine3d parent = Eigen::Affine3d::Identity();
+  parent.translate(Eigen::Vector3d(10, 0, 0)).scale(2.0);
+  Eigen::Affine3d child = Eigen::Affine3d::Identity();
+  child.translate(Eigen::Vector3d(0, 1, 0)).rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  const Eigen::Affine3d node1 = parent * child;
+  Eigen::Affine3d node2 = Eigen::Affine3d::Identity();
+  node2.translate(Eigen::Vector3d(0, 0, -5));
+  Eigen::Affine3d node3 = Eigen::Affine3d::Identity();
+  node3.translate(Eigen::Vector3d(-20, 0, 0)).scale(Eigen::Vector3d(-1, 1, 1));
+  std::vector<Eigen::Vector3d> out;
+  for (auto& p : kTetra) out.push_back(node1 * Eigen::Vector3d(p[0], p[1], p[2]));
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 5, 5), Eigen::Vector3d(5, 6, 5)}) {
+    out.push_back(node1 * p);
+  }
+  for (auto& p : kTetra) out.push_back(node2 * Eigen::Vector3d(p[0], p[1], p[2]));
+  for (auto& p : kTetra) out.push_back(node3 * Eigen::Vector3d(p[0], p[1], p[2]));
+  return out;
+}
+
+void check_scene(const TriangleMesh& m) {
+  // 4 + 1 triangles from mesh 0 (node 1), 4 + 4 from mesh 1 (nodes 2 and 3); node 4 is not in
+  // the scene and must not appear.
+  EXPECT_EQ(m.triangle_count(), 13);
+  const auto expected = expected_positions();
+  ASSERT_EQ(m.vertex_count(), static_cast<int32_t>(expected.size()));
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_LT((m.positions[i] - expected[i]).norm(), 1e-6) << "vertex " << i;
+  }
+  // Volumes: the tetrahedron scaled by 2 (8/6), plus two unit ones; the mirrored node's winding
+  // is flipped so it stays outward. The lone triangle adds an open part.
+  TriangleMesh closed = m;
+  closed.triangles.erase(closed.triangles.begin() + 4);
+  EXPECT_NEAR(closed.signed_volume(), 8.0 / 6.0 + 2.0 / 6.0, 1e-9);
+  // Normals: +z rotated 90 degrees about z stays +z for mesh 0; mesh 1 normals are +y.
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  EXPECT_TRUE(m.normals[0].isApprox(Eigen::Vector3d(0, 0, 1), 1e-6));
+  EXPECT_TRUE(m.normals[7].isApprox(Eigen::Vector3d(0, 1, 0), 1e-6));
+}
+
+TEST(GltfLoader, EmbeddedBufferNestedTransformsAndSeveralPrimitives) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+  check_scene(load_mesh(dir.write("scene.gltf", make_json(entry))));
+}
+
+TEST(GltfLoader, ExternalBinFile) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  dir.write("scene.bin", buffer);
+  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": "scene.bin"})";
+  check_scene(load_mesh(dir.write("scene.gltf", make_json(entry))));
+}
+
+TEST(GltfLoader, BinaryGlb) {
+  test::TempDir dir;
+  std::string bin = make_buffer();
+  while (bin.size() % 4 != 0) bin.push_back('\0');
+  std::string json = make_json(R"({"byteLength": )" + std::to_string(bin.size()) + "}");
+  while (json.size() % 4 != 0) json.push_back(' ');
+  std::string glb;
+  put(glb, uint32_t{0x46546C67});  // "glTF"
+  put(glb, uint32_t{2});
+  put(glb, static_cast<uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
+  put(glb, static_cast<uint32_t>(json.size()));
+  put(glb, uint32_t{0x4E4F534A});  // JSON
+  glb += json;
+  put(glb, static_cast<uint32_t>(bin.size()));
+  put(glb, uint32_t{0x004E4942});  // BIN
+  glb += bin;
+  check_scene(load_mesh(dir.write("scene.glb", glb)));
+}
+
+TEST(GltfLoader, TextureCoordinatesSurvive) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+  std::string json = make_json(entry);
+  // Keep only node 1's mesh so every vertex has texture coordinates.
+  json.replace(json.find(R"("nodes": [0, 2, 3])"), 18, R"("nodes": [0])");
+  json.replace(json.find(R"({"attributes": {"POSITION": 4}})"), 31, "");
+  json.replace(json.find(R"("mode": 4},)"), 11, R"("mode": 4})");
+  const TriangleMesh m = load_mesh(dir.write("uv.gltf", json));
+  ASSERT_EQ(m.uvs.size(), 4U);
+  EXPECT_TRUE(m.uvs[3].isApprox(Eigen::Vector2d(0.25, 0.75)));
+  EXPECT_TRUE(haptics::validate_mesh(m).clean());
+}
+
+TEST(GltfLoaderErrors, InvalidJson) {
+  test::TempDir dir;
+  const auto f = dir.write("bad.gltf", "{ this is not json");
+  try {
+    (void)load_mesh(f);
+    FAIL();
+  } catch (const LoadError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(f.string() + ": not a valid glTF 2.0 file: ", 0), 0U)
+        << e.what();
+  }
+}
+
+TEST(GltfLoaderErrors, IndexOutsideVertices) {
+  test::TempDir dir;
+  std::string buffer = make_buffer();
+  const uint16_t bad = 9;
+  std::memcpy(buffer.data() + 128, &bad, 2);
+  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+  const auto f = dir.write("bad.gltf", make_json(entry));
+  try {
+    (void)load_mesh(f);
+    FAIL();
+  } catch (const LoadError& e) {
+    EXPECT_EQ(std::string(e.what()), f.string() + ": mesh 0 primitive 0: index 9 is outside the 4 vertices");
+  }
+}
+
+TEST(GltfLoaderErrors, NodeNamesMissingMesh) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+  std::string json = make_json(entry);
+  json.replace(json.find(R"("mesh": 1, "translation": [0, 0, -5])"), 9, R"("mesh": 7)");
+  const auto f = dir.write("bad.gltf", json);
+  EXPECT_THROW((void)load_mesh(f), LoadError);
+}
+
+}  // namespace
+}  // namespace lap::sim

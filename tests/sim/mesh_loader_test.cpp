@@ -1,0 +1,217 @@
+#include "sim/mesh_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "haptics/mesh_generators.h"
+#include "haptics/mesh_validation.h"
+#include "sim/load_error.h"
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+using haptics::TriangleMesh;
+using test::TempDir;
+
+// The tetrahedron fixture as text in several formats (vertices 1-based in OBJ).
+const char* const kTetraObj =
+    "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+    "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+void expect_unit_tetrahedron(const TriangleMesh& m, double scale = 1.0) {
+  EXPECT_EQ(m.vertex_count(), 4);
+  EXPECT_EQ(m.triangle_count(), 4);
+  EXPECT_TRUE(haptics::validate_mesh(m).clean());
+  EXPECT_NEAR(m.signed_volume(), scale * scale * scale / 6.0, 1e-12 * scale * scale * scale);
+}
+
+std::string stl_ascii(const TriangleMesh& m) {
+  std::string s = "solid t\n";
+  for (const auto& t : m.triangles) {
+    s += " facet normal 0 0 0\n  outer loop\n";
+    for (int32_t v : t) {
+      const auto& p = m.positions[v];
+      s += "   vertex " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " +
+           std::to_string(p.z()) + "\n";
+    }
+    s += "  endloop\n endfacet\n";
+  }
+  return s + "endsolid t\n";
+}
+
+std::string stl_binary(const TriangleMesh& m) {
+  std::string s(80, ' ');
+  const auto n = static_cast<uint32_t>(m.triangles.size());
+  s.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : m.triangles) {
+    float f[12] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c) f[3 + 3 * k + c] = static_cast<float>(m.positions[t[k]][c]);
+    }
+    s.append(reinterpret_cast<const char*>(f), sizeof(f));
+    s.append(2, '\0');
+  }
+  return s;
+}
+
+TEST(MeshLoader, ObjWithQuadsIsFannedIntoTriangles) {
+  TempDir dir;
+  const auto file = dir.write("cube.obj",
+                              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                              "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+  const TriangleMesh m = load_mesh(file);
+  EXPECT_EQ(m.triangle_count(), 12);
+  EXPECT_EQ(m.vertex_count(), 8);
+  EXPECT_TRUE(haptics::validate_mesh(m).clean());
+  EXPECT_NEAR(m.signed_volume(), 1.0, 1e-12);
+}
+
+TEST(MeshLoader, ObjWithScaleFromMillimetres) {
+  TempDir dir;
+  const TriangleMesh m = load_mesh(dir.write("t.obj", kTetraObj), {0.001, 0.0});
+  expect_unit_tetrahedron(m, 0.001);
+}
+
+TEST(MeshLoader, ObjTextureCoordinatesAreRead) {
+  TempDir dir;
+  const auto file = dir.write(
+      "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
+               "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 1/1 4/4 3/3\nf 2/2 3/3 4/4\n");
+  const TriangleMesh m = load_mesh(file);
+  ASSERT_EQ(m.uvs.size(), 4U);
+  EXPECT_TRUE(m.uvs[1].isApprox(Eigen::Vector2d(1, 0)));
+  EXPECT_TRUE(m.uvs[3].isApprox(Eigen::Vector2d(0.5, 0.5)));
+}
+
+TEST(MeshLoader, StlAsciiIsWelded) {
+  TempDir dir;
+  expect_unit_tetrahedron(load_mesh(dir.write("t.stl", stl_ascii(test::tetrahedron()))));
+}
+
+TEST(MeshLoader, StlBinaryIsWelded) {
+  TempDir dir;
+  expect_unit_tetrahedron(load_mesh(dir.write("t.stl", stl_binary(test::tetrahedron()))));
+}
+
+TEST(MeshLoader, StlBinaryOfALargerMeshRoundTrips) {
+  TempDir dir;
+  const TriangleMesh s = haptics::make_uv_sphere(0.04, 12, 24);
+  const TriangleMesh m = load_mesh(dir.write("s.stl", stl_binary(s)));
+  EXPECT_EQ(m.triangle_count(), s.triangle_count());
+  EXPECT_EQ(m.vertex_count(), s.vertex_count());
+  EXPECT_NEAR(m.signed_volume(), s.signed_volume(), 1e-6 * s.signed_volume());  // float storage
+}
+
+TEST(MeshLoader, PlyAscii) {
+  TempDir dir;
+  const auto file = dir.write("t.ply",
+                              "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                              "property float y\nproperty float z\nelement face 4\n"
+                              "property list uchar int vertex_indices\nend_header\n"
+                              "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  expect_unit_tetrahedron(load_mesh(file));
+}
+
+TEST(MeshLoader, PlyBinaryLittleEndian) {
+  TempDir dir;
+  std::string s =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 4\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const TriangleMesh t = test::tetrahedron();
+  for (const auto& p : t.positions) {
+    for (int c = 0; c < 3; ++c) {
+      const auto f = static_cast<float>(p[c]);
+      s.append(reinterpret_cast<const char*>(&f), 4);
+    }
+  }
+  for (const auto& tri : t.triangles) {
+    s.push_back(3);
+    for (int32_t v : tri) s.append(reinterpret_cast<const char*>(&v), 4);
+  }
+  expect_unit_tetrahedron(load_mesh(dir.write("t.ply", s)));
+}
+
+TEST(MeshLoader, Off) {
+  TempDir dir;
+  const auto file = dir.write("t.off",
+                              "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                              "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  expect_unit_tetrahedron(load_mesh(file));
+}
+
+TEST(MeshLoader, SaveObjRoundTrip) {
+  TempDir dir;
+  const TriangleMesh s = haptics::make_uv_sphere(0.04, 10, 20);
+  save_obj(s, dir.path() / "s.obj");
+  const TriangleMesh m = load_mesh(dir.path() / "s.obj");
+  ASSERT_EQ(m.vertex_count(), s.vertex_count());
+  EXPECT_EQ(m.triangles, s.triangles);
+  for (int32_t v = 0; v < s.vertex_count(); ++v) {
+    // OpenMesh's OBJ reader parses single-precision floats: about 6 nm at 0.1 m.
+    EXPECT_LT((m.positions[v] - s.positions[v]).norm(), 1e-8);
+  }
+}
+
+void expect_load_error(const std::filesystem::path& file, const std::string& expected) {
+  try {
+    (void)load_mesh(file);
+    FAIL() << "expected LoadError for " << file;
+  } catch (const LoadError& e) {
+    EXPECT_EQ(std::string(e.what()), expected);
+  }
+}
+
+TEST(MeshLoaderErrors, MissingFile) {
+  TempDir dir;
+  expect_load_error(dir.path() / "nope.obj",
+                    (dir.path() / "nope.obj").string() + ": mesh file not found (expected a readable file)");
+}
+
+TEST(MeshLoaderErrors, UnsupportedExtension) {
+  TempDir dir;
+  const auto f = dir.write("m.xyz", "1 2 3\n");
+  expect_load_error(f, f.string() + ": unsupported mesh format '.xyz' (expected .obj, .stl, .ply, .off, .gltf or .glb)");
+}
+
+TEST(MeshLoaderErrors, GarbageOff) {
+  TempDir dir;
+  const auto f = dir.write("m.off", "this is not a mesh\n");
+  expect_load_error(f, f.string() + ": the mesh reader could not parse this file (expected a valid off mesh)");
+}
+
+TEST(MeshLoaderErrors, ObjWithoutFaces) {
+  TempDir dir;
+  const auto f = dir.write("m.obj", "v 0 0 0\nv 1 0 0\n");
+  expect_load_error(f, f.string() + ": the file contains no triangles");
+}
+
+TEST(MeshLoaderErrors, TruncatedBinaryStlDoesNotCrash) {
+  TempDir dir;
+  std::string s = stl_binary(haptics::make_uv_sphere(1.0, 6, 12));
+  s.resize(s.size() / 2);
+  const auto f = dir.write("m.stl", s);
+  try {
+    const TriangleMesh m = load_mesh(f);
+    // If the reader accepts a prefix, what it returns must at least be self-consistent.
+    for (const auto& t : m.triangles) {
+      for (int32_t v : t) EXPECT_LT(v, m.vertex_count());
+    }
+    EXPECT_FALSE(haptics::validate_mesh(m).clean());
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos);
+  }
+}
+
+TEST(MeshLoaderErrors, BadScale) {
+  TempDir dir;
+  const auto f = dir.write("t.obj", kTetraObj);
+  EXPECT_THROW((void)load_mesh(f, {0.0, 0.0}), LoadError);
+  EXPECT_THROW((void)load_mesh(f, {std::nan(""), 0.0}), LoadError);
+}
+
+}  // namespace
+}  // namespace lap::sim

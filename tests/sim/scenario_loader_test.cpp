@@ -1,0 +1,316 @@
+#include "sim/scenario_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <sstream>
+
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+// A valid scenario; each bad case replaces one line (numbers below are 1-based file lines).
+const std::string kBase = R"(version: 1
+name: test scene
+organs:
+  - name: liver
+    mesh: meshes/tetra.obj
+    scale: 0.001
+    color: [0.5, 0.2, 0.1]
+    model: local
+    transform:
+      translation_m: [0, 0.05, 0]
+      rotation_deg: [0, 90, 0]
+    material:
+      stiffness_n_per_m: 300
+      damping_n_s_per_m: 0.5
+      friction_static: 0.2
+      friction_dynamic: 0.1
+  - name: duct
+    mesh: meshes/tetra.obj
+    model: modal-shell
+    material:
+      stiffness_n_per_m: 150
+trocars:
+  - name: left_port
+    position_m: [-0.1, 0.2, 0.1]
+tools:
+  - name: left_grasper
+    side: left
+    trocar: left_port
+catheter:
+  particles: 32
+task:
+  kind: catheter-insertion
+  target: duct
+camera:
+  view_angle_deg: 30
+)";
+
+const char* const kTetraObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+class ScenarioFixture : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_.write("scene/meshes/tetra.obj", kTetraObj); }
+
+  // Loads kBase with `line` (1-based) replaced by `replacement` (may hold several lines, or be
+  // empty to delete the line).
+  ScenarioLoadResult load_with(int line, const std::string& replacement) {
+    return load_with(std::map<int, std::string>{{line, replacement}});
+  }
+  ScenarioLoadResult load_with(const std::map<int, std::string>& replacements) {
+    std::string text;
+    std::istringstream in(kBase);
+    std::string l;
+    for (int n = 1; std::getline(in, l); ++n) {
+      const auto it = replacements.find(n);
+      if (it == replacements.end()) {
+        text += l + "\n";
+      } else if (!it->second.empty()) {
+        text += it->second + "\n";
+      }
+    }
+    return load_scenario(dir_.write("scene/s.yaml", text));
+  }
+
+  std::string file() const { return (dir_.path() / "scene/s.yaml").string(); }
+
+  // Exactly one problem, with exactly this text after the file name.
+  void expect_one(const ScenarioLoadResult& r, const std::string& expected) {
+    ASSERT_EQ(r.problems.size(), 1U) << all(r);
+    EXPECT_EQ(r.problems[0].to_string(), file() + ":" + expected);
+  }
+
+  static std::string all(const ScenarioLoadResult& r) {
+    std::string s;
+    for (const auto& p : r.problems) s += p.to_string() + "\n";
+    return s;
+  }
+
+  test::TempDir dir_;
+};
+
+TEST_F(ScenarioFixture, BaseScenarioIsValid) {
+  const ScenarioLoadResult r = load_with(0, "");
+  ASSERT_TRUE(r.ok()) << all(r);
+  const Scenario& s = r.scenario;
+  ASSERT_EQ(s.organs.size(), 2U);
+  EXPECT_EQ(s.organs[0].name, "liver");
+  EXPECT_DOUBLE_EQ(s.organs[0].scale, 0.001);
+  EXPECT_DOUBLE_EQ(s.organs[0].material.stiffness_n_per_m, 300.0);
+  EXPECT_EQ(s.organs[1].model, models::ModelKind::kModalShell);
+  EXPECT_TRUE(s.organs[0].translation_m.isApprox(Eigen::Vector3d(0, 0.05, 0)));
+  // rotation_deg [0, 90, 0]: x maps to -z.
+  EXPECT_TRUE((s.organs[0].transform().linear() * Eigen::Vector3d::UnitX())
+                  .isApprox(-Eigen::Vector3d::UnitZ(), 1e-12));
+  EXPECT_EQ(s.tools.size(), 1U);
+  EXPECT_EQ(s.catheter->particles, 32);
+  EXPECT_EQ(s.task->target, "duct");
+  EXPECT_TRUE(std::filesystem::equivalent(s.organs[0].mesh, dir_.path() / "scene/meshes/tetra.obj"));
+}
+
+// --- The bad scenarios: one defect each, one exact message each. ---
+
+TEST_F(ScenarioFixture, Bad01_MissingVersion) {
+  expect_one(load_with(1, ""), "1: version: required field is missing");
+}
+
+TEST_F(ScenarioFixture, Bad02_UnsupportedVersion) {
+  expect_one(load_with(1, "version: 2"), "1: version: expected a whole number from 1 to 1, got '2'");
+}
+
+TEST_F(ScenarioFixture, Bad03_UnknownTopLevelField) {
+  expect_one(load_with(2, "name: test scene\ncolour: red"),
+             "3: colour: unknown field (expected one of: version, name, description, "
+             "allowed_paths, camera, organs, trocars, tools, catheter, task)");
+}
+
+TEST_F(ScenarioFixture, Bad04_MissingMesh) {
+  expect_one(load_with(18, ""), "17: organs[1].mesh: required field is missing");
+}
+
+TEST_F(ScenarioFixture, Bad05_MeshFileNotFound) {
+  expect_one(load_with(18, "    mesh: meshes/nothing.obj"),
+             "18: organs[1].mesh: file 'meshes/nothing.obj' not found (looked for " +
+                 (dir_.path() / "scene/meshes/nothing.obj").string() + ")");
+}
+
+TEST_F(ScenarioFixture, Bad06_MeshPathLeavesTheScenarioFolder) {
+  dir_.write("outside.obj", kTetraObj);
+  expect_one(load_with(18, "    mesh: ../outside.obj"),
+             "18: organs[1].mesh: path '../outside.obj' leaves the scenario's folder (expected a "
+             "file under " + (dir_.path() / "scene").string() +
+                 " or under a directory listed in allowed_paths)");
+}
+
+TEST_F(ScenarioFixture, Bad07_NegativeStiffness) {
+  expect_one(load_with(13, "      stiffness_n_per_m: -5"),
+             "13: organs[0].material.stiffness_n_per_m: expected a positive number, got '-5'");
+}
+
+TEST_F(ScenarioFixture, Bad08_StiffnessNotANumber) {
+  expect_one(load_with(13, "      stiffness_n_per_m: soft"),
+             "13: organs[0].material.stiffness_n_per_m: expected a positive number, got 'soft'");
+}
+
+TEST_F(ScenarioFixture, Bad09_DynamicFrictionAboveStatic) {
+  expect_one(load_with(16, "      friction_dynamic: 0.5"),
+             "16: organs[0].material.friction_dynamic: expected at most friction_static (0.200000)");
+}
+
+TEST_F(ScenarioFixture, Bad10_UnknownModelKind) {
+  expect_one(load_with(8, "    model: jelly"),
+             "8: organs[0].model: expected rigid, local, modal-shell or mass-spring, got 'jelly'");
+}
+
+TEST_F(ScenarioFixture, Bad11_ColourOutOfRange) {
+  expect_one(load_with(7, "    color: [1.5, 0.2, 0.1]"),
+             "7: organs[0].color: expected RGB components from 0 to 1");
+}
+
+TEST_F(ScenarioFixture, Bad12_TranslationWithTwoNumbers) {
+  expect_one(load_with(10, "      translation_m: [0, 0.05]"),
+             "10: organs[0].transform.translation_m: expected a list of 3 numbers [x, y, z], got a list");
+}
+
+TEST_F(ScenarioFixture, Bad13_DuplicateOrganName) {
+  expect_one(load_with(4, "  - name: duct"),
+             "17: organs[1].name: duplicate organ name 'duct' (names must be unique)");
+}
+
+TEST_F(ScenarioFixture, Bad14_ToolThroughUnknownTrocar) {
+  expect_one(load_with(28, "    trocar: umbilical"),
+             "28: tools[0].trocar: no trocar named 'umbilical' (expected a name from trocars)");
+}
+
+TEST_F(ScenarioFixture, Bad15_ToolSideNotLeftOrRight) {
+  expect_one(load_with(27, "    side: middle"), "27: tools[0].side: expected left or right, got 'middle'");
+}
+
+TEST_F(ScenarioFixture, Bad16_TwoLeftTools) {
+  expect_one(load_with(28, "    trocar: left_port\n  - name: second\n    side: left\n    trocar: left_port"),
+             "30: tools[1].side: a left tool is already defined (one tool per hand)");
+}
+
+TEST_F(ScenarioFixture, Bad17_TaskTargetsUnknownOrgan) {
+  expect_one(load_with(33, "  target: bile_duct"),
+             "33: task.target: no organ named 'bile_duct' (expected a name from organs)");
+}
+
+TEST_F(ScenarioFixture, Bad18_YamlSyntaxError) {
+  expect_one(load_with(7, "    color: [0.5, 0.2, 0.1"), "8: (syntax): not valid YAML: end of sequence flow not found");
+}
+
+TEST_F(ScenarioFixture, Bad19_FieldGivenTwice) {
+  expect_one(load_with(6, "    scale: 0.001\n    scale: 0.002"),
+             "7: organs[0].scale: field given twice (expected each field once)");
+}
+
+TEST_F(ScenarioFixture, Bad20_ImageTextureFileMissing) {
+  expect_one(load_with(16, "      friction_dynamic: 0.1\n      texture:\n        kind: image\n"
+                           "        image: textures/bumps.png\n        amplitude_m: 0.0002\n"
+                           "        wavelength_m: 0.002"),
+             "19: organs[0].material.texture.image: file 'textures/bumps.png' not found (looked for " +
+                 (dir_.path() / "scene/textures/bumps.png").string() + ")");
+}
+
+TEST_F(ScenarioFixture, Bad21_UnknownProceduralFunction) {
+  expect_one(load_with(16, "      friction_dynamic: 0.1\n      texture:\n        kind: procedural\n"
+                           "        function: plaid\n        amplitude_m: 0.0002\n"
+                           "        wavelength_m: 0.002"),
+             "19: organs[0].material.texture.function: expected perlin, fbm, worley or fourier, got 'plaid'");
+}
+
+TEST_F(ScenarioFixture, Bad22_CatheterWithOneParticle) {
+  expect_one(load_with(30, "  particles: 1"),
+             "30: catheter.particles: expected a whole number from 2 to 4096, got '1'");
+}
+
+TEST_F(ScenarioFixture, Bad23_CameraViewAngleTooWide) {
+  expect_one(load_with(35, "  view_angle_deg: 170"),
+             "35: camera.view_angle_deg: expected a number from 1 to 120 (degrees), got 170");
+}
+
+TEST_F(ScenarioFixture, Bad24_OrganNameNotAnIdentifier) {
+  expect_one(load_with(4, "  - name: Big Liver"),
+             "4: organs[0].name: expected lower-case letters, digits and underscores starting "
+             "with a letter, got 'Big Liver'");
+}
+
+TEST_F(ScenarioFixture, Bad25_TaskWithoutCatheter) {
+  // Lines 29-30 hold the catheter section; without it the task that needs it is reported (at
+  // the task mapping, whose first field is then on line 30).
+  expect_one(load_with({{29, ""}, {30, ""}}),
+             "30: task.kind: catheter-insertion needs a catheter section");
+}
+
+TEST_F(ScenarioFixture, Bad26_MisspelledMaterialField) {
+  const ScenarioLoadResult r = load_with(21, "      stiffnes_n_per_m: 150");
+  ASSERT_EQ(r.problems.size(), 2U) << all(r);
+  EXPECT_EQ(r.problems[0].to_string(),
+            file() + ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
+                     "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, texture)");
+  EXPECT_EQ(r.problems[1].to_string(),
+            file() + ":21: organs[1].material.stiffness_n_per_m: required field is missing");
+}
+
+TEST_F(ScenarioFixture, Bad27_AllowedPathThatDoesNotExist) {
+  expect_one(load_with(2, "name: test scene\nallowed_paths: [../assets]"),
+             "3: allowed_paths[0]: directory '../assets' not found (looked for " +
+                 (dir_.path() / "assets").string() + ")");
+}
+
+TEST_F(ScenarioFixture, Bad28_EmptyDocument) {
+  const ScenarioLoadResult r = load_scenario(dir_.write("scene/s.yaml", "# nothing here\n"));
+  ASSERT_EQ(r.problems.size(), 1U);
+  EXPECT_EQ(r.problems[0].to_string(),
+            file() + ":1: (document): expected a mapping with version, name and organs, got nothing");
+}
+
+TEST_F(ScenarioFixture, ManyProblemsAreAllReported) {
+  const ScenarioLoadResult r =
+      load_with(13, "      stiffness_n_per_m: -1\n      color: red");
+  EXPECT_EQ(r.problems.size(), 2U) << all(r);
+}
+
+TEST_F(ScenarioFixture, AllowedPathsLetAFileOutsideTheFolderIn) {
+  dir_.write("assets/outside.obj", kTetraObj);
+  std::string text = kBase;
+  text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26, "    mesh: ../assets/outside.obj");
+  const ScenarioLoadResult refused = load_scenario(dir_.write("scene/s.yaml", text));
+  ASSERT_EQ(refused.problems.size(), 1U) << all(refused);
+  EXPECT_NE(refused.problems[0].message.find("leaves the scenario's folder"), std::string::npos);
+  text.replace(text.find("name: test scene"), 16, "name: test scene\nallowed_paths: [../assets]");
+  const ScenarioLoadResult allowed = load_scenario(dir_.write("scene/s.yaml", text));
+  EXPECT_TRUE(allowed.ok()) << all(allowed);
+  EXPECT_TRUE(std::filesystem::equivalent(allowed.scenario.organs[1].mesh, dir_.path() / "assets/outside.obj"));
+}
+
+TEST_F(ScenarioFixture, CallerAllowedPathsWorkToo) {
+  dir_.write("assets/outside.obj", kTetraObj);
+  std::string text = kBase;
+  text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26, "    mesh: ../assets/outside.obj");
+  const auto f = dir_.write("scene/s.yaml", text);
+  EXPECT_FALSE(load_scenario(f).ok());
+  ScenarioLoadSettings settings;
+  settings.allowed_paths.push_back(dir_.path() / "assets");
+  EXPECT_TRUE(load_scenario(f, settings).ok());
+}
+
+TEST(ScenarioLoader, UnreadableFile) {
+  const ScenarioLoadResult r = load_scenario("/nonexistent/dir/s.yaml");
+  ASSERT_EQ(r.problems.size(), 1U);
+  EXPECT_EQ(r.problems[0].to_string(),
+            "/nonexistent/dir/s.yaml: (file): cannot read the scenario file (expected a readable YAML file)");
+}
+
+TEST(ScenarioLoader, DefaultScenarioIsValid) {
+  const ScenarioLoadResult r = load_scenario(test::source_dir() / "scenarios/default.yaml");
+  for (const auto& p : r.problems) ADD_FAILURE() << p.to_string();
+  EXPECT_GE(r.scenario.organs.size(), 3U);
+  EXPECT_EQ(r.scenario.tools.size(), 2U);
+}
+
+}  // namespace
+}  // namespace lap::sim
