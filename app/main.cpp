@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
   if (!opt.screenshot.empty()) {
     // Render the requested number of frames through the event loop, then write the last one.
     auto* timer = new QTimer(&window);
-    QObject::connect(timer, &QTimer::timeout, &window, [&] {
+    QObject::connect(timer, &QTimer::timeout, &window, [&window, &opt, timer] {
       if (window.view()->frames() < opt.frames) {
         window.view()->render();
         return;
