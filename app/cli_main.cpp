@@ -13,8 +13,8 @@
 #include "haptics/mesh_validation.h"
 #include "sim/load_error.h"
 #include "sim/mesh_loader.h"
-#include "sim/scene.h"
 #include "sim/scenario_loader.h"
+#include "sim/scene.h"
 
 namespace {
 
@@ -118,19 +118,19 @@ int cmd_mesh_info(int argc, char** argv) {
     auto print = [](const lap::haptics::TriangleMesh& m, const char* label) {
       const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(m);
       std::printf("%s: %d vertices, %d triangles, %d components, area %.6g m^2, volume %.6g m^3\n",
-                  label, m.vertex_count(), m.triangle_count(), d.component_count,
-                  m.surface_area(), m.signed_volume());
-      std::printf("  boundary edges %zu, non-manifold edges %zu, non-manifold vertices %zu, "
-                  "degenerate %zu, duplicate %zu, orientation conflicts %zu, flipped %zu, "
-                  "fragments %zu, inward components %zu, non-finite %zu\n",
-                  d.boundary_edges.size(), d.non_manifold_edges.size(),
-                  d.non_manifold_vertices.size(), d.degenerate_triangles.size(),
-                  d.duplicate_triangles.size(), d.orientation_conflict_edges.size(),
-                  d.flipped_triangles.size(), d.sliver_fragments.size(),
-                  d.inward_components.size(), d.non_finite_vertices.size());
+                  label, m.vertex_count(), m.triangle_count(), d.component_count, m.surface_area(),
+                  m.signed_volume());
+      std::printf(
+          "  boundary edges %zu, non-manifold edges %zu, non-manifold vertices %zu, "
+          "degenerate %zu, duplicate %zu, orientation conflicts %zu, flipped %zu, "
+          "fragments %zu, inward components %zu, non-finite %zu\n",
+          d.boundary_edges.size(), d.non_manifold_edges.size(), d.non_manifold_vertices.size(),
+          d.degenerate_triangles.size(), d.duplicate_triangles.size(),
+          d.orientation_conflict_edges.size(), d.flipped_triangles.size(),
+          d.sliver_fragments.size(), d.inward_components.size(), d.non_finite_vertices.size());
       for (const auto& line : d.describe()) std::printf("  - %s\n", line.c_str());
-      std::printf("  %s\n", d.clean() ? "clean: closed, oriented, outward-facing manifold"
-                                      : "NOT clean");
+      std::printf("  %s\n",
+                  d.clean() ? "clean: closed, oriented, outward-facing manifold" : "NOT clean");
       return d.clean();
     };
     bool clean = print(mesh, args.get("--mesh").c_str());

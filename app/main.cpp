@@ -2,20 +2,19 @@
 //   laptrainer [--scenario FILE] [--screenshot PNG --frames N]
 // With no display it says so and runs the scenario headless, printing a short summary.
 
+#include <vtkAutoInit.h>
+
+#include <QApplication>
+#include <QSurfaceFormat>
+#include <QTimer>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <string>
 
-#include <QApplication>
-#include <QSurfaceFormat>
-#include <QTimer>
-
-#include <vtkAutoInit.h>
-
 #include "app/main_window.h"
-#include "sim/scene.h"
 #include "sim/scenario_loader.h"
+#include "sim/scene.h"
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkInteractionStyle);

@@ -2,8 +2,8 @@
 /// \file
 /// Turns a haptics::TriangleMesh into a VTK actor (float buffers only here, for rendering).
 
-#include <vtkSmartPointer.h>
 #include <vtkActor.h>
+#include <vtkSmartPointer.h>
 
 #include "haptics/triangle_mesh.h"
 

@@ -1,15 +1,14 @@
 #include "app/vtk_view.h"
 
-#include <cmath>
-
-#include <QKeyEvent>
-#include <QMouseEvent>
-#include <QWheelEvent>
-
-#include <Eigen/Geometry>
 #include <vtkCamera.h>
 #include <vtkPNGWriter.h>
 #include <vtkWindowToImageFilter.h>
+
+#include <Eigen/Geometry>
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QWheelEvent>
+#include <cmath>
 
 namespace lap::app {
 
@@ -118,8 +117,8 @@ void VtkView::pan(double dx_px, double dy_px) {
   const Eigen::Vector3d right = forward.cross(u).normalized();
   // Metres per pixel at the focal distance, so the scene follows the cursor.
   const double dist = (f - p).norm();
-  const double m_per_px = 2.0 * dist * std::tan(0.5 * cam->GetViewAngle() * M_PI / 180.0) /
-                          std::max(1, height());
+  const double m_per_px =
+      2.0 * dist * std::tan(0.5 * cam->GetViewAngle() * M_PI / 180.0) / std::max(1, height());
   const Eigen::Vector3d shift = (-dx_px * right + dy_px * u) * m_per_px;
   const Eigen::Vector3d np = p + shift;
   const Eigen::Vector3d nf = f + shift;
@@ -156,25 +155,46 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
 
 void VtkView::mouseReleaseEvent(QMouseEvent* e) { buttons_ = e->buttons(); }
 
-void VtkView::wheelEvent(QWheelEvent* e) {
-  zoom(std::pow(1.1, e->angleDelta().y() / 120.0));
-}
+void VtkView::wheelEvent(QWheelEvent* e) { zoom(std::pow(1.1, e->angleDelta().y() / 120.0)); }
 
 void VtkView::keyPressEvent(QKeyEvent* e) {
   switch (e->key()) {
-    case Qt::Key_Left: orbit(5.0, 0.0); break;
-    case Qt::Key_Right: orbit(-5.0, 0.0); break;
-    case Qt::Key_Up: orbit(0.0, 5.0); break;
-    case Qt::Key_Down: orbit(0.0, -5.0); break;
+    case Qt::Key_Left:
+      orbit(5.0, 0.0);
+      break;
+    case Qt::Key_Right:
+      orbit(-5.0, 0.0);
+      break;
+    case Qt::Key_Up:
+      orbit(0.0, 5.0);
+      break;
+    case Qt::Key_Down:
+      orbit(0.0, -5.0);
+      break;
     case Qt::Key_Plus:
-    case Qt::Key_Equal: zoom(1.1); break;
-    case Qt::Key_Minus: zoom(1.0 / 1.1); break;
-    case Qt::Key_W: pan(0.0, -20.0); break;
-    case Qt::Key_S: pan(0.0, 20.0); break;
-    case Qt::Key_A: pan(-20.0, 0.0); break;
-    case Qt::Key_D: pan(20.0, 0.0); break;
-    case Qt::Key_R: reset_camera(); break;
-    default: QWidget::keyPressEvent(e);
+    case Qt::Key_Equal:
+      zoom(1.1);
+      break;
+    case Qt::Key_Minus:
+      zoom(1.0 / 1.1);
+      break;
+    case Qt::Key_W:
+      pan(0.0, -20.0);
+      break;
+    case Qt::Key_S:
+      pan(0.0, 20.0);
+      break;
+    case Qt::Key_A:
+      pan(-20.0, 0.0);
+      break;
+    case Qt::Key_D:
+      pan(20.0, 0.0);
+      break;
+    case Qt::Key_R:
+      reset_camera();
+      break;
+    default:
+      QWidget::keyPressEvent(e);
   }
 }
 

@@ -4,13 +4,13 @@
 /// targets Qt5, so instead of QVTKOpenGLNativeWidget this small adapter hands the widget's window
 /// id to VTK and forwards Qt's mouse and keyboard events to camera moves itself.
 
-#include <QPoint>
-#include <QWidget>
-
 #include <vtkNew.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+
+#include <QPoint>
+#include <QWidget>
 
 namespace lap::app {
 

@@ -42,8 +42,8 @@ TriangleMesh make_mapped_sphere(int32_t stacks, int32_t slices,
 }
 
 TriangleMesh make_uv_sphere(double radius, int32_t stacks, int32_t slices) {
-  return make_mapped_sphere(stacks, slices,
-                            [radius](const Eigen::Vector3d& u) { return Eigen::Vector3d(radius * u); });
+  return make_mapped_sphere(
+      stacks, slices, [radius](const Eigen::Vector3d& u) { return Eigen::Vector3d(radius * u); });
 }
 
 TriangleMesh make_box(const Eigen::Vector3d& size, int32_t n) {
@@ -114,9 +114,9 @@ TriangleMesh make_stand_in_liver() {
   // above the gallbladder fossa. Gross dimensions follow adult liver anatomy.
   return make_mapped_sphere(48, 96, [](const Eigen::Vector3d& u) {
     Eigen::Vector3d p(0.09 * u.x(), 0.045 * u.y(), 0.07 * u.z());
-    if (p.y() < 0.0) p.y() *= 0.55;                                  // flatter visceral face
-    p.y() += 0.012 * std::exp(-std::pow((u.x() + 0.4) / 0.45, 2));   // right lobe dome
-    p.z() *= 1.0 - 0.25 * std::max(0.0, u.x());                      // tapering left lobe
+    if (p.y() < 0.0) p.y() *= 0.55;                                 // flatter visceral face
+    p.y() += 0.012 * std::exp(-std::pow((u.x() + 0.4) / 0.45, 2));  // right lobe dome
+    p.z() *= 1.0 - 0.25 * std::max(0.0, u.x());                     // tapering left lobe
     return Eigen::Vector3d(p + Eigen::Vector3d(0.0, 0.06, 0.0));
   });
 }
@@ -124,7 +124,7 @@ TriangleMesh make_stand_in_liver() {
 TriangleMesh make_stand_in_gallbladder() {
   // Pear-shaped sac about 8 cm long, 3 cm wide, lying under the liver, fundus forward (+z).
   return make_mapped_sphere(32, 48, [](const Eigen::Vector3d& u) {
-    const double along = u.z();                   // -1 neck ... +1 fundus
+    const double along = u.z();  // -1 neck ... +1 fundus
     const double width = 0.015 * (0.75 + 0.25 * along);
     Eigen::Vector3d p(width * u.x(), width * u.y(), 0.04 * along);
     return Eigen::Vector3d(p + Eigen::Vector3d(-0.02, 0.02, 0.03));

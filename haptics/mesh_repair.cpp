@@ -219,8 +219,8 @@ int32_t weld_vertices(TriangleMesh& mesh, double tolerance) {
     for (int32_t v = 0; v < n; ++v) {
       const Eigen::Vector3d& p = mesh.positions[v];
       // NaN never equals itself, so non-finite vertices stay separate (validation reports them).
-      const auto [it, inserted] =
-          seen.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<int32_t>(order.size()));
+      const auto [it, inserted] = seen.emplace(std::array<double, 3>{p.x(), p.y(), p.z()},
+                                               static_cast<int32_t>(order.size()));
       if (inserted || !p.allFinite()) {
         remap[v] = static_cast<int32_t>(order.size());
         order.push_back(v);
@@ -371,7 +371,8 @@ MeshRepairReport repair_mesh(TriangleMesh& mesh, const MeshRepairSettings& setti
     const EdgeMap edges = build_edge_map(mesh, usable);
     const Components comps = connected_components(mesh, usable, edges);
     const OrientationSolve solve = solve_orientation(mesh, usable, edges, comps);
-    for (int32_t t : solve.minority_triangles) std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+    for (int32_t t : solve.minority_triangles)
+      std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
     report.flipped_triangles = static_cast<int32_t>(solve.minority_triangles.size());
   }
   // 7. Holes, then 8. outward normals (volume is only meaningful once closed).

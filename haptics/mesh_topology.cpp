@@ -6,9 +6,7 @@
 
 namespace lap::haptics {
 
-DisjointSets::DisjointSets(size_t n) : parent_(n) {
-  std::iota(parent_.begin(), parent_.end(), 0);
-}
+DisjointSets::DisjointSets(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
 
 int32_t DisjointSets::find(int32_t x) {
   while (parent_[x] != x) {
@@ -56,7 +54,7 @@ EdgeMap build_edge_map(const TriangleMesh& mesh, const std::vector<bool>& usable
 }
 
 Components connected_components(const TriangleMesh& mesh, const std::vector<bool>& usable,
-                                 const EdgeMap& edges) {
+                                const EdgeMap& edges) {
   DisjointSets sets(mesh.triangles.size());
   for (const auto& [key, uses] : edges) {
     for (size_t i = 1; i < uses.size(); ++i) sets.unite(uses[0].triangle, uses[i].triangle);
@@ -124,9 +122,8 @@ OrientationSolve solve_orientation(const TriangleMesh& mesh, const std::vector<b
       }
     }
     if (!consistent) component_bad[comps.of_triangle[seed]] = true;
-    const auto ones = std::count_if(patch.begin(), patch.end(), [&](int32_t t) {
-      return colour[t] == 1;
-    });
+    const auto ones =
+        std::count_if(patch.begin(), patch.end(), [&](int32_t t) { return colour[t] == 1; });
     const int8_t minority = ones * 2 <= static_cast<int64_t>(patch.size()) ? 1 : 0;
     for (int32_t t : patch) {
       if (colour[t] == minority) {

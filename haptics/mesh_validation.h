@@ -50,13 +50,13 @@ struct MeshDiagnostics {
   /// Triangles that disagree with the orientation of the majority of their component (the
   /// fewest flips that make each orientable component consistent).
   std::vector<int32_t> flipped_triangles;
-  int32_t component_count = 0;                  ///< edge-connected components
-  std::vector<int32_t> inward_components;       ///< closed body components, negative volume
-  std::vector<int32_t> triangle_component;      ///< edge-connected component of each triangle
-  int32_t part_count = 0;                       ///< vertex-connected parts
-  std::vector<int32_t> triangle_part;           ///< part of each triangle (-1: unusable)
-  std::vector<int32_t> sliver_fragments;        ///< part ids that are debris
-  int32_t fragment_triangles = 0;               ///< triangles in all sliver fragments
+  int32_t component_count = 0;              ///< edge-connected components
+  std::vector<int32_t> inward_components;   ///< closed body components, negative volume
+  std::vector<int32_t> triangle_component;  ///< edge-connected component of each triangle
+  int32_t part_count = 0;                   ///< vertex-connected parts
+  std::vector<int32_t> triangle_part;       ///< part of each triangle (-1: unusable)
+  std::vector<int32_t> sliver_fragments;    ///< part ids that are debris
+  int32_t fragment_triangles = 0;           ///< triangles in all sliver fragments
 
   /// True when the mesh is a closed, oriented, outward-facing 2-manifold with no degenerate
   /// triangles and finite coordinates: what the haptic proxies require.

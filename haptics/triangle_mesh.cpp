@@ -66,8 +66,8 @@ void TriangleMesh::transform(const Eigen::Affine3d& T) {
 
 void TriangleMesh::append(const TriangleMesh& other) {
   const auto offset = static_cast<int32_t>(positions.size());
-  const bool keep_normals = normals.size() == positions.size() &&
-                            other.normals.size() == other.positions.size();
+  const bool keep_normals =
+      normals.size() == positions.size() && other.normals.size() == other.positions.size();
   const bool keep_uvs =
       uvs.size() == positions.size() && other.uvs.size() == other.positions.size();
   positions.insert(positions.end(), other.positions.begin(), other.positions.end());

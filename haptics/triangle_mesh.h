@@ -8,14 +8,12 @@
 /// (STYLE.md §5). OpenMesh is used underneath for reading files and is available as a view through
 /// to_openmesh() for algorithms that need a half-edge structure on a clean mesh.
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <array>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 namespace lap::haptics {
 

@@ -1,14 +1,14 @@
 #include "sim/mesh_loader.h"
 
-#include <algorithm>
-#include <cmath>
-#include <fstream>
-#include <sstream>
+#include <tiny_gltf.h>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/Options.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <tiny_gltf.h>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "haptics/mesh_repair.h"
 #include "sim/load_error.h"
@@ -128,15 +128,16 @@ TriangleMesh load_with_openmesh(const std::filesystem::path& file) {
   mesh.positions = std::move(importer.points);
   for (const auto& face : importer.faces) {
     // Fan polygons into triangles; n-gons from OBJ/OFF/PLY are planar in practice.
-    for (size_t k = 1; k + 1 < face.size(); ++k) mesh.triangles.push_back({face[0], face[k], face[k + 1]});
+    for (size_t k = 1; k + 1 < face.size(); ++k)
+      mesh.triangles.push_back({face[0], face[k], face[k + 1]});
   }
-  const bool all_normals = !importer.has_normal.empty() &&
-                           std::all_of(importer.has_normal.begin(), importer.has_normal.end(),
-                                       [](bool b) { return b; });
+  const bool all_normals =
+      !importer.has_normal.empty() &&
+      std::all_of(importer.has_normal.begin(), importer.has_normal.end(), [](bool b) { return b; });
   if (all_normals && options.vertex_has_normal()) mesh.normals = std::move(importer.normals);
-  const bool all_uvs = !importer.has_uv.empty() &&
-                       std::all_of(importer.has_uv.begin(), importer.has_uv.end(),
-                                   [](bool b) { return b; });
+  const bool all_uvs =
+      !importer.has_uv.empty() &&
+      std::all_of(importer.has_uv.begin(), importer.has_uv.end(), [](bool b) { return b; });
   if (all_uvs) mesh.uvs = std::move(importer.uvs);
   return mesh;
 }
@@ -157,9 +158,9 @@ Eigen::Affine3d node_local_transform(const tinygltf::Node& node) {
     T.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
   }
   if (node.rotation.size() == 4) {  // glTF quaternions are (x, y, z, w)
-    T.rotate(Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1],
-                                node.rotation[2])
-                 .normalized());
+    T.rotate(
+        Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2])
+            .normalized());
   }
   if (node.scale.size() == 3) {
     T.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
@@ -169,7 +170,8 @@ Eigen::Affine3d node_local_transform(const tinygltf::Node& node) {
 
 class GltfReader {
  public:
-  GltfReader(const tinygltf::Model& model, std::string file) : model_(model), file_(std::move(file)) {}
+  GltfReader(const tinygltf::Model& model, std::string file)
+      : model_(model), file_(std::move(file)) {}
 
   // Reads accessor element i as up to 4 doubles, honouring byteStride and normalisation.
   std::vector<std::array<double, 4>> read(int accessor_index, const std::string& what) const {
@@ -191,14 +193,16 @@ class GltfReader {
       fail(what + ": buffer " + std::to_string(view.buffer) + " does not exist");
     }
     const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
-    const size_t stride = view.byteStride > 0 ? view.byteStride : static_cast<size_t>(ncomp * csize);
+    const size_t stride =
+        view.byteStride > 0 ? view.byteStride : static_cast<size_t>(ncomp * csize);
     const size_t begin = view.byteOffset + acc.byteOffset;
     if (acc.count > 0 && begin + (acc.count - 1) * stride + ncomp * csize > buffer.data.size()) {
       fail(what + ": accessor reads past the end of its buffer");
     }
     for (size_t i = 0; i < acc.count; ++i) {
       const unsigned char* p = buffer.data.data() + begin + i * stride;
-      for (int c = 0; c < ncomp; ++c) out[i][c] = component(p + c * csize, acc.componentType, acc.normalized);
+      for (int c = 0; c < ncomp; ++c)
+        out[i][c] = component(p + c * csize, acc.componentType, acc.normalized);
     }
     return out;
   }
@@ -215,8 +219,10 @@ class GltfReader {
       return v;
     };
     switch (type) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return get(float{});
-      case TINYGLTF_COMPONENT_TYPE_DOUBLE: return get(double{});
+      case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return get(float{});
+      case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+        return get(double{});
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
         const double v = get(uint8_t{});
         return normalized ? v / 255.0 : v;
@@ -233,9 +239,12 @@ class GltfReader {
         const double v = get(int16_t{});
         return normalized ? std::max(v / 32767.0, -1.0) : v;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return get(uint32_t{});
-      case TINYGLTF_COMPONENT_TYPE_INT: return get(int32_t{});
-      default: return 0.0;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        return get(uint32_t{});
+      case TINYGLTF_COMPONENT_TYPE_INT:
+        return get(int32_t{});
+      default:
+        return 0.0;
     }
   }
 
@@ -250,7 +259,8 @@ void append_primitive(const GltfReader& reader, const tinygltf::Primitive& prim,
   const auto positions = reader.read(pos_it->second, where + ".POSITION");
   TriangleMesh part;
   part.positions.reserve(positions.size());
-  for (const auto& p : positions) part.positions.emplace_back(T * Eigen::Vector3d(p[0], p[1], p[2]));
+  for (const auto& p : positions)
+    part.positions.emplace_back(T * Eigen::Vector3d(p[0], p[1], p[2]));
   if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
     const Eigen::Matrix3d N = T.linear().inverse().transpose();
     for (const auto& n : reader.read(it->second, where + ".NORMAL")) {
@@ -258,11 +268,13 @@ void append_primitive(const GltfReader& reader, const tinygltf::Primitive& prim,
     }
   }
   if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-    for (const auto& uv : reader.read(it->second, where + ".TEXCOORD_0")) part.uvs.emplace_back(uv[0], uv[1]);
+    for (const auto& uv : reader.read(it->second, where + ".TEXCOORD_0"))
+      part.uvs.emplace_back(uv[0], uv[1]);
   }
   std::vector<int64_t> idx;
   if (prim.indices >= 0) {
-    for (const auto& i : reader.read(prim.indices, where + ".indices")) idx.push_back(static_cast<int64_t>(i[0]));
+    for (const auto& i : reader.read(prim.indices, where + ".indices"))
+      idx.push_back(static_cast<int64_t>(i[0]));
   } else {
     for (size_t i = 0; i < positions.size(); ++i) idx.push_back(static_cast<int64_t>(i));
   }
@@ -273,7 +285,8 @@ void append_primitive(const GltfReader& reader, const tinygltf::Primitive& prim,
     }
   }
   auto tri = [&](int64_t a, int64_t b, int64_t c) {
-    part.triangles.push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), static_cast<int32_t>(c)});
+    part.triangles.push_back(
+        {static_cast<int32_t>(a), static_cast<int32_t>(b), static_cast<int32_t>(c)});
   };
   switch (prim.mode) {
     case -1:
@@ -283,7 +296,10 @@ void append_primitive(const GltfReader& reader, const tinygltf::Primitive& prim,
       break;
     case TINYGLTF_MODE_TRIANGLE_STRIP:
       for (size_t i = 0; i + 2 < idx.size(); ++i) {
-        if (i % 2 == 0) tri(idx[i], idx[i + 1], idx[i + 2]); else tri(idx[i + 1], idx[i], idx[i + 2]);
+        if (i % 2 == 0)
+          tri(idx[i], idx[i + 1], idx[i + 2]);
+        else
+          tri(idx[i + 1], idx[i], idx[i + 2]);
       }
       break;
     case TINYGLTF_MODE_TRIANGLE_FAN:
@@ -316,12 +332,14 @@ void visit_node(const tinygltf::Model& model, const GltfReader& reader, int node
   const Eigen::Affine3d T = parent * node_local_transform(node);
   if (node.mesh >= 0) {
     if (node.mesh >= static_cast<int>(model.meshes.size())) {
-      reader.fail("node " + std::to_string(node_index) + ": mesh " + std::to_string(node.mesh) + " does not exist");
+      reader.fail("node " + std::to_string(node_index) + ": mesh " + std::to_string(node.mesh) +
+                  " does not exist");
     }
     const tinygltf::Mesh& mesh = model.meshes[node.mesh];
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       append_primitive(reader, mesh.primitives[p], T,
-                       "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(p), out);
+                       "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(p),
+                       out);
     }
   }
   for (int child : node.children) visit_node(model, reader, child, T, depth + 1, out);
@@ -404,7 +422,8 @@ void save_obj(const haptics::TriangleMesh& mesh, const std::filesystem::path& fi
   const bool n = mesh.normals.size() == mesh.positions.size();
   const bool t = mesh.uvs.size() == mesh.positions.size();
   if (n) {
-    for (const auto& v : mesh.normals) out << "vn " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& v : mesh.normals)
+      out << "vn " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
   }
   if (t) {
     for (const auto& v : mesh.uvs) out << "vt " << v.x() << ' ' << v.y() << '\n';
@@ -413,7 +432,8 @@ void save_obj(const haptics::TriangleMesh& mesh, const std::filesystem::path& fi
     out << 'f';
     for (int32_t v : tri) {
       out << ' ' << v + 1;
-      if (t || n) out << '/' << (t ? std::to_string(v + 1) : "") << (n ? "/" + std::to_string(v + 1) : "");
+      if (t || n)
+        out << '/' << (t ? std::to_string(v + 1) : "") << (n ? "/" + std::to_string(v + 1) : "");
     }
     out << '\n';
   }

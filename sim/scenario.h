@@ -3,14 +3,13 @@
 /// A scenario v1 as loaded from YAML: plain data in SI units, paths already resolved. The schema
 /// is documented in scenarios/README.md.
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "models/model_kind.h"
 
@@ -20,29 +19,29 @@ namespace lap::sim {
 struct TextureSpec {
   enum class Kind { kNone, kImage, kProcedural };
   Kind kind = Kind::kNone;
-  std::filesystem::path image;   ///< kImage: PNG/JPEG height map
-  std::string function;          ///< kProcedural: perlin, fbm, worley, fourier
-  double amplitude_m = 0.0;      ///< peak height of the texture [m]
-  double wavelength_m = 0.0;     ///< spatial period or feature size [m]
+  std::filesystem::path image;  ///< kImage: PNG/JPEG height map
+  std::string function;         ///< kProcedural: perlin, fbm, worley, fourier
+  double amplitude_m = 0.0;     ///< peak height of the texture [m]
+  double wavelength_m = 0.0;    ///< spatial period or feature size [m]
 };
 
 /// Haptic and mechanical material of an organ.
 struct MaterialSpec {
-  double stiffness_n_per_m = 0.0;   ///< contact spring [N/m]
-  double damping_n_s_per_m = 0.0;   ///< contact damper [N s/m]
-  double friction_static = 0.0;     ///< coefficient, dimensionless
-  double friction_dynamic = 0.0;    ///< coefficient, dimensionless, <= static
+  double stiffness_n_per_m = 0.0;  ///< contact spring [N/m]
+  double damping_n_s_per_m = 0.0;  ///< contact damper [N s/m]
+  double friction_static = 0.0;    ///< coefficient, dimensionless
+  double friction_dynamic = 0.0;   ///< coefficient, dimensionless, <= static
   TextureSpec texture;
 };
 
 /// One organ: a mesh placed in the world with a material and a model kind.
 struct OrganSpec {
   std::string name;
-  std::filesystem::path mesh;              ///< resolved, absolute
-  double scale = 1.0;                      ///< file units to metres
-  bool repair = false;                     ///< opt-in mesh repair at load
+  std::filesystem::path mesh;  ///< resolved, absolute
+  double scale = 1.0;          ///< file units to metres
+  bool repair = false;         ///< opt-in mesh repair at load
   Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d rotation_deg = Eigen::Vector3d::Zero();  ///< about fixed x, then y, then z
+  Eigen::Vector3d rotation_deg = Eigen::Vector3d::Zero();   ///< about fixed x, then y, then z
   Eigen::Vector3d color = Eigen::Vector3d(0.8, 0.5, 0.45);  ///< RGB in [0, 1]
   models::ModelKind model = models::ModelKind::kRigid;
   MaterialSpec material;
@@ -64,7 +63,7 @@ struct ToolSpec {
   std::string name;
   Side side = Side::kLeft;
   std::string trocar;
-  std::string kind = "grasper";      ///< grasper, dissector, clip-applier, scissors
+  std::string kind = "grasper";  ///< grasper, dissector, clip-applier, scissors
   double shaft_length_m = 0.36;
   double shaft_radius_m = 0.0025;
   double jaw_length_m = 0.02;

@@ -1,12 +1,12 @@
 #include "sim/scenario_loader.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cmath>
 #include <fstream>
 #include <regex>
 #include <set>
 #include <sstream>
-
-#include <yaml-cpp/yaml.h>
 
 namespace lap::sim {
 namespace fs = std::filesystem;
@@ -25,11 +25,16 @@ int line_of(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1
 
 std::string describe(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Null: return "nothing";
-    case YAML::NodeType::Scalar: return "'" + n.Scalar() + "'";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a mapping";
-    default: return "an undefined value";
+    case YAML::NodeType::Null:
+      return "nothing";
+    case YAML::NodeType::Scalar:
+      return "'" + n.Scalar() + "'";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a mapping";
+    default:
+      return "an undefined value";
   }
 }
 
@@ -54,12 +59,14 @@ class Parser {
     for (const auto& kv : n) {
       const std::string key = kv.first.Scalar();
       if (!seen.insert(key).second) {
-        problem(line_of(kv.first), join(field, key), "field given twice (expected each field once)");
+        problem(line_of(kv.first), join(field, key),
+                "field given twice (expected each field once)");
       }
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string list;
         for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        problem(line_of(kv.first), join(field, key), "unknown field (expected one of: " + list + ")");
+        problem(line_of(kv.first), join(field, key),
+                "unknown field (expected one of: " + list + ")");
       }
     }
     return true;
@@ -138,8 +145,9 @@ class Parser {
     for (size_t i = 0; i < 3; ++i) {
       if (!n[i].IsScalar() || !YAML::convert<double>::decode(n[i], v[static_cast<int>(i)]) ||
           !std::isfinite(v[static_cast<int>(i)])) {
-        problem(line_of(n), field, "expected a list of 3 numbers [x, y, z], got " + describe(n[i]) +
-                                       " at position " + std::to_string(i + 1));
+        problem(line_of(n), field,
+                "expected a list of 3 numbers [x, y, z], got " + describe(n[i]) + " at position " +
+                    std::to_string(i + 1));
         return std::nullopt;
       }
     }
@@ -169,7 +177,8 @@ class Parser {
     if (settings_.check_files) {
       std::error_code ec;
       if (!fs::is_regular_file(resolved, ec)) {
-        problem(line_of(n), field, "file '" + *text + "' not found (looked for " + resolved.string() + ")");
+        problem(line_of(n), field,
+                "file '" + *text + "' not found (looked for " + resolved.string() + ")");
         return std::nullopt;
       }
     }
@@ -204,8 +213,9 @@ class Parser {
               "expected a mapping with version, name and organs, got " + describe(root));
       return;
     }
-    expect_map(root, "", {"version", "name", "description", "allowed_paths", "camera", "organs",
-                          "trocars", "tools", "catheter", "task"});
+    expect_map(root, "",
+               {"version", "name", "description", "allowed_paths", "camera", "organs", "trocars",
+                "tools", "catheter", "task"});
     if (require(root, "version", "")) {
       if (auto v = integer(root["version"], "version", 1, 1)) s.version = *v;
     }
@@ -217,7 +227,8 @@ class Parser {
     }
     if (const YAML::Node ap = root["allowed_paths"]) {
       if (!ap.IsSequence()) {
-        problem(line_of(ap), "allowed_paths", "expected a list of directories, got " + describe(ap));
+        problem(line_of(ap), "allowed_paths",
+                "expected a list of directories, got " + describe(ap));
       } else {
         for (size_t i = 0; i < ap.size(); ++i) {
           const std::string f = "allowed_paths[" + std::to_string(i) + "]";
@@ -226,7 +237,8 @@ class Parser {
             const fs::path resolved = fs::weakly_canonical(p.is_absolute() ? p : dir_ / p);
             std::error_code ec;
             if (settings_.check_files && !fs::is_directory(resolved, ec)) {
-              problem(line_of(ap[i]), f, "directory '" + *t + "' not found (looked for " + resolved.string() + ")");
+              problem(line_of(ap[i]), f,
+                      "directory '" + *t + "' not found (looked for " + resolved.string() + ")");
             } else {
               s.allowed_paths.push_back(resolved);
             }
@@ -244,7 +256,8 @@ class Parser {
 
   void parse_camera(const YAML::Node& n) {
     CameraSpec& c = out_.scenario.camera;
-    if (!expect_map(n, "camera", {"position_m", "focal_point_m", "view_up", "view_angle_deg"})) return;
+    if (!expect_map(n, "camera", {"position_m", "focal_point_m", "view_up", "view_angle_deg"}))
+      return;
     if (n["position_m"]) {
       if (auto v = vec3(n["position_m"], "camera.position_m")) c.position_m = *v;
     }
@@ -268,14 +281,17 @@ class Parser {
   }
 
   void parse_material(const YAML::Node& n, const std::string& f, MaterialSpec& m) {
-    if (!expect_map(n, f, {"stiffness_n_per_m", "damping_n_s_per_m", "friction_static",
-                           "friction_dynamic", "texture"})) {
+    if (!expect_map(n, f,
+                    {"stiffness_n_per_m", "damping_n_s_per_m", "friction_static",
+                     "friction_dynamic", "texture"})) {
       return;
     }
     if (require(n, "stiffness_n_per_m", f)) {
-      if (auto v = positive(n["stiffness_n_per_m"], f + ".stiffness_n_per_m")) m.stiffness_n_per_m = *v;
+      if (auto v = positive(n["stiffness_n_per_m"], f + ".stiffness_n_per_m"))
+        m.stiffness_n_per_m = *v;
     }
-    optional_number(n, "damping_n_s_per_m", f, m.damping_n_s_per_m, 0.0, 1e6, "from 0 to 1e6 (N s/m)");
+    optional_number(n, "damping_n_s_per_m", f, m.damping_n_s_per_m, 0.0, 1e6,
+                    "from 0 to 1e6 (N s/m)");
     optional_number(n, "friction_static", f, m.friction_static, 0.0, 10.0, "from 0 to 10");
     optional_number(n, "friction_dynamic", f, m.friction_dynamic, 0.0, 10.0, "from 0 to 10");
     if (n["friction_dynamic"] && m.friction_dynamic > m.friction_static) {
@@ -314,14 +330,18 @@ class Parser {
         }
       }
     } else {
-      problem(line_of(n["kind"]), f + ".kind", "expected none, image or procedural, got '" + kind + "'");
+      problem(line_of(n["kind"]), f + ".kind",
+              "expected none, image or procedural, got '" + kind + "'");
       return;
     }
     if (require(n, "amplitude_m", f)) {
-      if (auto v = number(n["amplitude_m"], f + ".amplitude_m", 0.0, 0.01, "from 0 to 0.01 (m)")) t.amplitude_m = *v;
+      if (auto v = number(n["amplitude_m"], f + ".amplitude_m", 0.0, 0.01, "from 0 to 0.01 (m)"))
+        t.amplitude_m = *v;
     }
     if (require(n, "wavelength_m", f)) {
-      if (auto v = number(n["wavelength_m"], f + ".wavelength_m", 1e-5, 0.1, "from 1e-5 to 0.1 (m)")) t.wavelength_m = *v;
+      if (auto v =
+              number(n["wavelength_m"], f + ".wavelength_m", 1e-5, 0.1, "from 1e-5 to 0.1 (m)"))
+        t.wavelength_m = *v;
     }
   }
 
@@ -334,8 +354,9 @@ class Parser {
     for (size_t i = 0; i < n.size(); ++i) {
       const std::string f = "organs[" + std::to_string(i) + "]";
       const YAML::Node o = n[i];
-      if (!expect_map(o, f, {"name", "mesh", "scale", "repair", "transform", "color", "model",
-                             "material"})) {
+      if (!expect_map(
+              o, f,
+              {"name", "mesh", "scale", "repair", "transform", "color", "model", "material"})) {
         continue;
       }
       OrganSpec organ;
@@ -345,9 +366,12 @@ class Parser {
           static const std::regex kName("[a-z][a-z0-9_]*");
           if (!std::regex_match(*v, kName)) {
             problem(line_of(o["name"]), f + ".name",
-                    "expected lower-case letters, digits and underscores starting with a letter, got '" + *v + "'");
+                    "expected lower-case letters, digits and underscores starting with a letter, "
+                    "got '" +
+                        *v + "'");
           } else if (!names.insert(*v).second) {
-            problem(line_of(o["name"]), f + ".name", "duplicate organ name '" + *v + "' (names must be unique)");
+            problem(line_of(o["name"]), f + ".name",
+                    "duplicate organ name '" + *v + "' (names must be unique)");
           }
           organ.name = *v;
         }
@@ -364,10 +388,12 @@ class Parser {
       if (const YAML::Node t = o["transform"]) {
         if (expect_map(t, f + ".transform", {"translation_m", "rotation_deg"})) {
           if (t["translation_m"]) {
-            if (auto v = vec3(t["translation_m"], f + ".transform.translation_m")) organ.translation_m = *v;
+            if (auto v = vec3(t["translation_m"], f + ".transform.translation_m"))
+              organ.translation_m = *v;
           }
           if (t["rotation_deg"]) {
-            if (auto v = vec3(t["rotation_deg"], f + ".transform.rotation_deg")) organ.rotation_deg = *v;
+            if (auto v = vec3(t["rotation_deg"], f + ".transform.rotation_deg"))
+              organ.rotation_deg = *v;
           }
         }
       }
@@ -429,8 +455,9 @@ class Parser {
     for (size_t i = 0; i < n.size(); ++i) {
       const std::string f = "tools[" + std::to_string(i) + "]";
       const YAML::Node t = n[i];
-      if (!expect_map(t, f, {"name", "side", "trocar", "kind", "shaft_length_m", "shaft_radius_m",
-                             "jaw_length_m"})) {
+      if (!expect_map(t, f,
+                      {"name", "side", "trocar", "kind", "shaft_length_m", "shaft_radius_m",
+                       "jaw_length_m"})) {
         continue;
       }
       ToolSpec tool;
@@ -442,7 +469,8 @@ class Parser {
           if (*v == "left" || *v == "right") {
             tool.side = *v == "left" ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight;
             if (!sides.insert(*v).second) {
-              problem(line_of(t["side"]), f + ".side", "a " + *v + " tool is already defined (one tool per hand)");
+              problem(line_of(t["side"]), f + ".side",
+                      "a " + *v + " tool is already defined (one tool per hand)");
             }
           } else {
             problem(line_of(t["side"]), f + ".side", "expected left or right, got '" + *v + "'");
@@ -453,36 +481,43 @@ class Parser {
         if (auto v = string(t["trocar"], f + ".trocar")) {
           tool.trocar = *v;
           const auto& ts = out_.scenario.trocars;
-          if (std::none_of(ts.begin(), ts.end(), [&](const TrocarSpec& x) { return x.name == *v; })) {
-            problem(line_of(t["trocar"]), f + ".trocar", "no trocar named '" + *v + "' (expected a name from trocars)");
+          if (std::none_of(ts.begin(), ts.end(),
+                           [&](const TrocarSpec& x) { return x.name == *v; })) {
+            problem(line_of(t["trocar"]), f + ".trocar",
+                    "no trocar named '" + *v + "' (expected a name from trocars)");
           }
         }
       }
       if (t["kind"]) {
         if (auto v = string(t["kind"], f + ".kind")) {
-          static const std::set<std::string> kKinds = {"grasper", "dissector", "clip-applier", "scissors"};
+          static const std::set<std::string> kKinds = {"grasper", "dissector", "clip-applier",
+                                                       "scissors"};
           if (kKinds.count(*v) == 0) {
-            problem(line_of(t["kind"]), f + ".kind", "expected grasper, dissector, clip-applier or scissors, got '" + *v + "'");
+            problem(line_of(t["kind"]), f + ".kind",
+                    "expected grasper, dissector, clip-applier or scissors, got '" + *v + "'");
           } else {
             tool.kind = *v;
           }
         }
       }
       optional_number(t, "shaft_length_m", f, tool.shaft_length_m, 0.05, 1.0, "from 0.05 to 1 (m)");
-      optional_number(t, "shaft_radius_m", f, tool.shaft_radius_m, 0.0005, 0.01, "from 0.0005 to 0.01 (m)");
-      optional_number(t, "jaw_length_m", f, tool.jaw_length_m, 0.002, 0.05, "from 0.002 to 0.05 (m)");
+      optional_number(t, "shaft_radius_m", f, tool.shaft_radius_m, 0.0005, 0.01,
+                      "from 0.0005 to 0.01 (m)");
+      optional_number(t, "jaw_length_m", f, tool.jaw_length_m, 0.002, 0.05,
+                      "from 0.002 to 0.05 (m)");
       out_.scenario.tools.push_back(tool);
     }
   }
 
   void parse_catheter(const YAML::Node& n) {
     CatheterSpec c;
-    if (!expect_map(n, "catheter", {"length_m", "diameter_m", "particles", "mass_kg",
-                                    "bending_stiffness_n_m2"})) {
+    if (!expect_map(n, "catheter",
+                    {"length_m", "diameter_m", "particles", "mass_kg", "bending_stiffness_n_m2"})) {
       return;
     }
     optional_number(n, "length_m", "catheter", c.length_m, 0.01, 2.0, "from 0.01 to 2 (m)");
-    optional_number(n, "diameter_m", "catheter", c.diameter_m, 0.0005, 0.005, "from 0.0005 to 0.005 (m)");
+    optional_number(n, "diameter_m", "catheter", c.diameter_m, 0.0005, 0.005,
+                    "from 0.0005 to 0.005 (m)");
     if (n["particles"]) {
       if (auto v = integer(n["particles"], "catheter.particles", 2, 4096)) c.particles = *v;
     }
@@ -498,7 +533,8 @@ class Parser {
     if (require(n, "kind", "task")) {
       if (auto v = string(n["kind"], "task.kind")) {
         if (*v != "catheter-insertion" && *v != "free-exploration") {
-          problem(line_of(n["kind"]), "task.kind", "expected catheter-insertion or free-exploration, got '" + *v + "'");
+          problem(line_of(n["kind"]), "task.kind",
+                  "expected catheter-insertion or free-exploration, got '" + *v + "'");
         }
         t.kind = *v;
       }
@@ -508,13 +544,15 @@ class Parser {
         t.target = *v;
         const auto& os = out_.scenario.organs;
         if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
-          problem(line_of(n["target"]), "task.target", "no organ named '" + *v + "' (expected a name from organs)");
+          problem(line_of(n["target"]), "task.target",
+                  "no organ named '" + *v + "' (expected a name from organs)");
         }
       }
     } else if (t.kind == "catheter-insertion") {
       problem(line_of(n), "task.target", "required field is missing (the organ to insert into)");
     }
-    optional_number(n, "insertion_depth_m", "task", t.insertion_depth_m, 0.001, 0.2, "from 0.001 to 0.2 (m)");
+    optional_number(n, "insertion_depth_m", "task", t.insertion_depth_m, 0.001, 0.2,
+                    "from 0.001 to 0.2 (m)");
     optional_number(n, "time_limit_s", "task", t.time_limit_s, 1.0, 7200.0, "from 1 to 7200 (s)");
     if (t.kind == "catheter-insertion" && !out_.scenario.catheter) {
       problem(line_of(n), "task.kind", "catheter-insertion needs a catheter section");
@@ -540,8 +578,7 @@ ScenarioLoadResult parse_scenario(std::string_view text, const fs::path& file,
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::ParserException& e) {
-    parser.problem(e.mark.line >= 0 ? e.mark.line + 1 : 0, "(syntax)",
-                   "not valid YAML: " + e.msg);
+    parser.problem(e.mark.line >= 0 ? e.mark.line + 1 : 0, "(syntax)", "not valid YAML: " + e.msg);
     return result;
   }
   try {
@@ -558,7 +595,8 @@ ScenarioLoadResult load_scenario(const fs::path& file, const ScenarioLoadSetting
   std::error_code ec;
   if (!in || fs::is_directory(file, ec)) {
     ScenarioLoadResult r;
-    r.problems.push_back({file.string(), 0, "(file)", "cannot read the scenario file (expected a readable YAML file)"});
+    r.problems.push_back({file.string(), 0, "(file)",
+                          "cannot read the scenario file (expected a readable YAML file)"});
     return r;
   }
   std::ostringstream text;

@@ -53,7 +53,8 @@ SceneLoadResult load_scene(const Scenario& scenario) {
       continue;
     }
     organ.mesh.transform(spec.transform());
-    if (organ.mesh.normals.size() != organ.mesh.positions.size()) organ.mesh.compute_vertex_normals();
+    if (organ.mesh.normals.size() != organ.mesh.positions.size())
+      organ.mesh.compute_vertex_normals();
     result.scene.organs.push_back(std::move(organ));
   }
   return result;

@@ -1,12 +1,12 @@
 #include "tests/test_support.h"
 
+#include <sys/wait.h>
+
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
-
-#include <sys/wait.h>
 
 namespace lap::test {
 namespace fs = std::filesystem;

@@ -41,16 +41,16 @@ struct CommandResult {
 [[nodiscard]] CommandResult run_command(const std::string& command);
 
 /// A closed, outward-oriented tetrahedron with its right-angle corner at offset.
-[[nodiscard]] haptics::TriangleMesh tetrahedron(const Eigen::Vector3d& offset = Eigen::Vector3d::Zero(),
-                                                double size = 1.0);
+[[nodiscard]] haptics::TriangleMesh tetrahedron(
+    const Eigen::Vector3d& offset = Eigen::Vector3d::Zero(), double size = 1.0);
 
 }  // namespace lap::test
 
 /// Skips the current test when the shared meshes are absent.
-#define LAP_REQUIRE_SHARED_MESHES()                                                      \
-  do {                                                                                   \
-    if (lap::test::shared_meshes_dir().empty()) {                                        \
-      GTEST_SKIP() << "needs the real meshes in ../shared/meshes beside the project, "   \
-                      "which only the project's CI and developer machines have";         \
-    }                                                                                    \
+#define LAP_REQUIRE_SHARED_MESHES()                                                    \
+  do {                                                                                 \
+    if (lap::test::shared_meshes_dir().empty()) {                                      \
+      GTEST_SKIP() << "needs the real meshes in ../shared/meshes beside the project, " \
+                      "which only the project's CI and developer machines have";       \
+    }                                                                                  \
   } while (0)

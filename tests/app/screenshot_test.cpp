@@ -6,7 +6,6 @@
 
 #include <QColor>
 #include <QImage>
-
 #include <cmath>
 #include <set>
 
@@ -58,9 +57,9 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
   TempDir dir;
   const auto png = dir.path() / "shot.png";
   const auto scenario = source_dir() / "scenarios/default.yaml";
-  const CommandResult r = run_command((bin_dir() / "laptrainer").string() + " --scenario " +
-                                      scenario.string() + " --screenshot " + png.string() +
-                                      " --frames 5");
+  const CommandResult r =
+      run_command((bin_dir() / "laptrainer").string() + " --scenario " + scenario.string() +
+                  " --screenshot " + png.string() + " --frames 5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
 
   QImage image(QString::fromStdString(png.string()));
@@ -112,11 +111,13 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
       for (int dx = -3; dx <= 3; ++dx) {
         if (!image.valid(cx + dx, cy + dy)) continue;
         ++total;
-        hits += classify(image.pixelColor(cx + dx, cy + dy), organ_colours) == static_cast<int>(i) ? 1 : 0;
+        hits += classify(image.pixelColor(cx + dx, cy + dy), organ_colours) == static_cast<int>(i)
+                    ? 1
+                    : 0;
       }
     }
-    EXPECT_GE(hits, total * 3 / 4) << organ.name << " colour not found at pixel (" << cx << ", "
-                                   << cy << ")";
+    EXPECT_GE(hits, total * 3 / 4)
+        << organ.name << " colour not found at pixel (" << cx << ", " << cy << ")";
   }
   // The corners show the background, not an organ.
   for (const auto& [x, y] : {std::pair{2, 2}, std::pair{image.width() - 3, image.height() - 3}}) {

@@ -45,7 +45,7 @@ TEST(MeshValidation, OutOfRangeIndex) {
 
 TEST(MeshValidation, DegenerateTrianglesRepeatedVertexAndZeroArea) {
   TriangleMesh m = tetrahedron();
-  m.triangles.push_back({0, 0, 1});                 // repeated vertex
+  m.triangles.push_back({0, 0, 1});                   // repeated vertex
   m.positions.push_back(Eigen::Vector3d(0.5, 0, 0));  // collinear with 0 and 1
   m.triangles.push_back({0, 1, 4});
   const MeshDiagnostics d = validate_mesh(m);
@@ -135,7 +135,8 @@ TEST(MeshValidation, SliverFragmentsTouchingAtAVertexCountOnce) {
   m.triangles.push_back({b, b + 1, b + 2});
   m.triangles.push_back({b, b + 3, b + 4});
   const Eigen::Vector3d q(0.3, 0, 0);
-  m.positions.insert(m.positions.end(), {q, q + Eigen::Vector3d(1e-8, 0, 0), q + Eigen::Vector3d(0, 0, 1e-8)});
+  m.positions.insert(m.positions.end(),
+                     {q, q + Eigen::Vector3d(1e-8, 0, 0), q + Eigen::Vector3d(0, 0, 1e-8)});
   m.triangles.push_back({b + 5, b + 6, b + 7});
   const MeshDiagnostics d = validate_mesh(m);
   EXPECT_EQ(d.sliver_fragments.size(), 2U);

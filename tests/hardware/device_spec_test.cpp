@@ -22,8 +22,9 @@ TEST(DeviceSpec, RejectsWithAClearMessage) {
   EXPECT_FALSE(parse_device_spec("scripted", &error));
   EXPECT_EQ(error, "device 'scripted': expected scripted:FILE");
   EXPECT_FALSE(parse_device_spec("mouse", &error));
-  EXPECT_EQ(error,
-            "device 'mouse': expected simulated, scripted:FILE, replay:FILE, phantom or phantom:NAME");
+  EXPECT_EQ(
+      error,
+      "device 'mouse': expected simulated, scripted:FILE, replay:FILE, phantom or phantom:NAME");
   EXPECT_FALSE(parse_device_spec("simulated:x", &error));
 }
 

@@ -6,8 +6,8 @@ namespace lap::models {
 namespace {
 
 TEST(ModelKind, RoundTripsEverySpelling) {
-  for (ModelKind k : {ModelKind::kRigid, ModelKind::kLocal, ModelKind::kModalShell,
-                      ModelKind::kMassSpring}) {
+  for (ModelKind k :
+       {ModelKind::kRigid, ModelKind::kLocal, ModelKind::kModalShell, ModelKind::kMassSpring}) {
     EXPECT_EQ(parse_model_kind(to_string(k)), k);
   }
   EXPECT_EQ(parse_model_kind("modal-shell"), ModelKind::kModalShell);

@@ -31,7 +31,8 @@ std::vector<Violation> find_includes(const fs::path& root, const std::vector<std
     if (!fs::is_directory(dir)) continue;
     for (const auto& entry : fs::recursive_directory_iterator(dir)) {
       const std::string ext = entry.path().extension().string();
-      if (!entry.is_regular_file() || (ext != ".h" && ext != ".hpp" && ext != ".cpp" && ext != ".cc")) {
+      if (!entry.is_regular_file() ||
+          (ext != ".h" && ext != ".hpp" && ext != ".cpp" && ext != ".cc")) {
         continue;
       }
       std::ifstream in(entry.path());
@@ -49,7 +50,8 @@ std::vector<Violation> find_includes(const fs::path& root, const std::vector<std
 
 const std::regex kQtOrVtk(R"(^(Q[A-Za-z0-9]*(/|$)|Qt[A-Za-z0-9]*/|vtk|QVTK))");
 const std::regex kLibusb(R"(^(libusb-1\.0/|libusb\.h))");
-const std::regex kNotForCore(R"(^(yaml-cpp/|tiny_gltf|sqlite3|sim/|app/|hardware/|thread$|mutex$|fstream$))");
+const std::regex kNotForCore(
+    R"(^(yaml-cpp/|tiny_gltf|sqlite3|sim/|app/|hardware/|thread$|mutex$|fstream$))");
 
 std::string report(const std::vector<Violation>& v) {
   std::ostringstream s;
@@ -58,15 +60,17 @@ std::string report(const std::vector<Violation>& v) {
 }
 
 TEST(Layering, QtAndVtkOnlyInApp) {
-  const auto v = find_includes(source_dir(), {"haptics", "models", "hardware", "sim", "tests/haptics",
-                                              "tests/models", "tests/hardware", "tests/sim"},
+  const auto v = find_includes(source_dir(),
+                               {"haptics", "models", "hardware", "sim", "tests/haptics",
+                                "tests/models", "tests/hardware", "tests/sim"},
                                kQtOrVtk);
   EXPECT_TRUE(v.empty()) << report(v);
 }
 
 TEST(Layering, LibusbOnlyInHardware) {
-  const auto v = find_includes(source_dir(), {"haptics", "models", "sim", "app", "tests/haptics",
-                                              "tests/models", "tests/sim", "tests/app"},
+  const auto v = find_includes(source_dir(),
+                               {"haptics", "models", "sim", "app", "tests/haptics", "tests/models",
+                                "tests/sim", "tests/app"},
                                kLibusb);
   EXPECT_TRUE(v.empty()) << report(v);
 }
@@ -79,10 +83,12 @@ TEST(Layering, HapticsAndModelsUseNoFilesThreadsOrUpperLayers) {
 TEST(Layering, TheCheckCatchesAPlantedViolation) {
   // The scanner itself must be able to fail: plant each kind of violation in a scratch tree.
   TempDir dir;
-  dir.write("sim/bad.cpp", "#include <QWidget>\n#include \"vtkActor.h\"\n#include <Qt6/QtCore/qglobal.h>\n");
+  dir.write("sim/bad.cpp",
+            "#include <QWidget>\n#include \"vtkActor.h\"\n#include <Qt6/QtCore/qglobal.h>\n");
   dir.write("app/usb.cpp", "  #  include <libusb-1.0/libusb.h>\n");
   dir.write("haptics/io.cpp", "#include <fstream>\n#include \"sim/scene.h\"\n");
-  dir.write("haptics/fine.cpp", "#include <Eigen/Core>\n#include <QueueIsNotQt>\n#include \"haptics/x.h\"\n");
+  dir.write("haptics/fine.cpp",
+            "#include <Eigen/Core>\n#include <QueueIsNotQt>\n#include \"haptics/x.h\"\n");
   EXPECT_EQ(find_includes(dir.path(), {"sim"}, kQtOrVtk).size(), 3U);
   EXPECT_EQ(find_includes(dir.path(), {"app"}, kLibusb).size(), 1U);
   EXPECT_EQ(find_includes(dir.path(), {"haptics"}, kNotForCore).size(), 2U);

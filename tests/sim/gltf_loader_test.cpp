@@ -58,14 +58,26 @@ const uint16_t kTetraIdx[12] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
 //   332 end
 std::string make_buffer() {
   std::string b;
-  for (auto& p : kTetra) for (float c : p) put(b, c);
-  for (int i = 0; i < 4; ++i) { put(b, 0.0f); put(b, 0.0f); put(b, 1.0f); }
+  for (auto& p : kTetra)
+    for (float c : p) put(b, c);
+  for (int i = 0; i < 4; ++i) {
+    put(b, 0.0f);
+    put(b, 0.0f);
+    put(b, 1.0f);
+  }
   const float uv[4][2] = {{0, 0}, {1, 0}, {0, 1}, {0.25f, 0.75f}};
-  for (auto& t : uv) for (float c : t) put(b, c);
+  for (auto& t : uv)
+    for (float c : t) put(b, c);
   for (uint16_t i : kTetraIdx) put(b, i);
   const float lone[3][3] = {{5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
-  for (auto& p : lone) for (float c : p) put(b, c);
-  for (auto& p : kTetra) { for (float c : p) put(b, c); put(b, 0.0f); put(b, 1.0f); put(b, 0.0f); }
+  for (auto& p : lone)
+    for (float c : p) put(b, c);
+  for (auto& p : kTetra) {
+    for (float c : p) put(b, c);
+    put(b, 0.0f);
+    put(b, 1.0f);
+    put(b, 0.0f);
+  }
   for (uint16_t i : kTetraIdx) put(b, static_cast<uint32_t>(i));
   return b;
 }
@@ -89,7 +101,8 @@ std::string make_json(const std::string& buffer_entry) {
     ]},
     {"primitives": [{"attributes": {"POSITION": 5, "NORMAL": 6}, "indices": 7}]}
   ],
-  "buffers": [)" + buffer_entry + R"(],
+  "buffers": [)" +
+         buffer_entry + R"(],
   "bufferViews": [
     {"buffer": 0, "byteOffset": 0, "byteLength": 48},
     {"buffer": 0, "byteOffset": 48, "byteLength": 48},
@@ -117,7 +130,8 @@ std::vector<Eigen::Vector3d> expected_positions() {
   Eigen::Affine3d parent = Eigen::Affine3d::Identity();
   parent.translate(Eigen::Vector3d(10, 0, 0)).scale(2.0);
   Eigen::Affine3d child = Eigen::Affine3d::Identity();
-  child.translate(Eigen::Vector3d(0, 1, 0)).rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  child.translate(Eigen::Vector3d(0, 1, 0))
+      .rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   const Eigen::Affine3d node1 = parent * child;
   Eigen::Affine3d node2 = Eigen::Affine3d::Identity();
   node2.translate(Eigen::Vector3d(0, 0, -5));
@@ -125,7 +139,8 @@ std::vector<Eigen::Vector3d> expected_positions() {
   node3.translate(Eigen::Vector3d(-20, 0, 0)).scale(Eigen::Vector3d(-1, 1, 1));
   std::vector<Eigen::Vector3d> out;
   for (auto& p : kTetra) out.push_back(node1 * Eigen::Vector3d(p[0], p[1], p[2]));
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 5, 5), Eigen::Vector3d(5, 6, 5)}) {
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 5, 5), Eigen::Vector3d(5, 6, 5)}) {
     out.push_back(node1 * p);
   }
   for (auto& p : kTetra) out.push_back(node2 * Eigen::Vector3d(p[0], p[1], p[2]));
@@ -157,7 +172,8 @@ TEST(GltfLoader, EmbeddedBufferNestedTransformsAndSeveralPrimitives) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
   const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
+                            "\"}";
   check_scene(load_mesh(dir.write("scene.gltf", make_json(entry))));
 }
 
@@ -165,7 +181,8 @@ TEST(GltfLoader, ExternalBinFile) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
   dir.write("scene.bin", buffer);
-  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": "scene.bin"})";
+  const std::string entry =
+      R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": "scene.bin"})";
   check_scene(load_mesh(dir.write("scene.gltf", make_json(entry))));
 }
 
@@ -192,7 +209,8 @@ TEST(GltfLoader, TextureCoordinatesSurvive) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
   const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
+                            "\"}";
   std::string json = make_json(entry);
   // Keep only node 1's mesh so every vertex has texture coordinates.
   json.replace(json.find(R"("nodes": [0, 2, 3])"), 18, R"("nodes": [0])");
@@ -222,13 +240,15 @@ TEST(GltfLoaderErrors, IndexOutsideVertices) {
   const uint16_t bad = 9;
   std::memcpy(buffer.data() + 128, &bad, 2);
   const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
+                            "\"}";
   const auto f = dir.write("bad.gltf", make_json(entry));
   try {
     (void)load_mesh(f);
     FAIL();
   } catch (const LoadError& e) {
-    EXPECT_EQ(std::string(e.what()), f.string() + ": mesh 0 primitive 0: index 9 is outside the 4 vertices");
+    EXPECT_EQ(std::string(e.what()),
+              f.string() + ": mesh 0 primitive 0: index 9 is outside the 4 vertices");
   }
 }
 
@@ -236,7 +256,8 @@ TEST(GltfLoaderErrors, NodeNamesMissingMesh) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
   const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
+                            "\"}";
   std::string json = make_json(entry);
   json.replace(json.find(R"("mesh": 1, "translation": [0, 0, -5])"), 9, R"("mesh": 7)");
   const auto f = dir.write("bad.gltf", json);

@@ -59,9 +59,10 @@ std::string stl_binary(const TriangleMesh& m) {
 
 TEST(MeshLoader, ObjWithQuadsIsFannedIntoTriangles) {
   TempDir dir;
-  const auto file = dir.write("cube.obj",
-                              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-                              "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+  const auto file =
+      dir.write("cube.obj",
+                "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
   const TriangleMesh m = load_mesh(file);
   EXPECT_EQ(m.triangle_count(), 12);
   EXPECT_EQ(m.vertex_count(), 8);
@@ -77,9 +78,10 @@ TEST(MeshLoader, ObjWithScaleFromMillimetres) {
 
 TEST(MeshLoader, ObjTextureCoordinatesAreRead) {
   TempDir dir;
-  const auto file = dir.write(
-      "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
-               "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 1/1 4/4 3/3\nf 2/2 3/3 4/4\n");
+  const auto file =
+      dir.write("t.obj",
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
+                "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 1/1 4/4 3/3\nf 2/2 3/3 4/4\n");
   const TriangleMesh m = load_mesh(file);
   ASSERT_EQ(m.uvs.size(), 4U);
   EXPECT_TRUE(m.uvs[1].isApprox(Eigen::Vector2d(1, 0)));
@@ -167,20 +169,24 @@ void expect_load_error(const std::filesystem::path& file, const std::string& exp
 
 TEST(MeshLoaderErrors, MissingFile) {
   TempDir dir;
-  expect_load_error(dir.path() / "nope.obj",
-                    (dir.path() / "nope.obj").string() + ": mesh file not found (expected a readable file)");
+  expect_load_error(
+      dir.path() / "nope.obj",
+      (dir.path() / "nope.obj").string() + ": mesh file not found (expected a readable file)");
 }
 
 TEST(MeshLoaderErrors, UnsupportedExtension) {
   TempDir dir;
   const auto f = dir.write("m.xyz", "1 2 3\n");
-  expect_load_error(f, f.string() + ": unsupported mesh format '.xyz' (expected .obj, .stl, .ply, .off, .gltf or .glb)");
+  expect_load_error(
+      f, f.string() +
+             ": unsupported mesh format '.xyz' (expected .obj, .stl, .ply, .off, .gltf or .glb)");
 }
 
 TEST(MeshLoaderErrors, GarbageOff) {
   TempDir dir;
   const auto f = dir.write("m.off", "this is not a mesh\n");
-  expect_load_error(f, f.string() + ": the mesh reader could not parse this file (expected a valid off mesh)");
+  expect_load_error(
+      f, f.string() + ": the mesh reader could not parse this file (expected a valid off mesh)");
 }
 
 TEST(MeshLoaderErrors, ObjWithoutFaces) {

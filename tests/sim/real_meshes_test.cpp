@@ -41,20 +41,21 @@ TEST_P(RealCleanMesh, LoadsClosedOrientedAndOutwardInMetres) {
   EXPECT_LT(size, 0.6);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    SharedMeshes, RealCleanMesh,
-    ::testing::Values(CleanCase{"liver_openhelp.stl", 30726}, CleanCase{"stomach_openhelp.stl", 9724},
-                      CleanCase{"duodenum_openhelp.stl", 6946},
-                      CleanCase{"abdominal_wall_openhelp.stl", 31934},
-                      CleanCase{"gallbladder_sofaenv_glt.stl", 14700}),
-    [](const auto& info) {
-      std::string name = info.param.file;
-      return name.substr(0, name.find('.'));
-    });
+INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealCleanMesh,
+                         ::testing::Values(CleanCase{"liver_openhelp.stl", 30726},
+                                           CleanCase{"stomach_openhelp.stl", 9724},
+                                           CleanCase{"duodenum_openhelp.stl", 6946},
+                                           CleanCase{"abdominal_wall_openhelp.stl", 31934},
+                                           CleanCase{"gallbladder_sofaenv_glt.stl", 14700}),
+                         [](const auto& info) {
+                           std::string name = info.param.file;
+                           return name.substr(0, name.find('.'));
+                         });
 
 TEST(RealDefectiveMesh, LiverSofaEnvIsDiagnosedExactly) {
   LAP_REQUIRE_SHARED_MESHES();
-  const TriangleMesh m = load_mesh(test::shared_meshes_dir() / "liver_sofaenv_glt.stl", {0.001, 0.0});
+  const TriangleMesh m =
+      load_mesh(test::shared_meshes_dir() / "liver_sofaenv_glt.stl", {0.001, 0.0});
   EXPECT_EQ(m.triangle_count(), 28716);
   const MeshDiagnostics d = validate_mesh(m);
   EXPECT_FALSE(d.clean());

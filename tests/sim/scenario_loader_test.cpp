@@ -48,7 +48,8 @@ camera:
   view_angle_deg: 30
 )";
 
-const char* const kTetraObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+const char* const kTetraObj =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
 class ScenarioFixture : public ::testing::Test {
  protected:
@@ -107,7 +108,8 @@ TEST_F(ScenarioFixture, BaseScenarioIsValid) {
   EXPECT_EQ(s.tools.size(), 1U);
   EXPECT_EQ(s.catheter->particles, 32);
   EXPECT_EQ(s.task->target, "duct");
-  EXPECT_TRUE(std::filesystem::equivalent(s.organs[0].mesh, dir_.path() / "scene/meshes/tetra.obj"));
+  EXPECT_TRUE(
+      std::filesystem::equivalent(s.organs[0].mesh, dir_.path() / "scene/meshes/tetra.obj"));
 }
 
 // --- The bad scenarios: one defect each, one exact message each. ---
@@ -117,7 +119,8 @@ TEST_F(ScenarioFixture, Bad01_MissingVersion) {
 }
 
 TEST_F(ScenarioFixture, Bad02_UnsupportedVersion) {
-  expect_one(load_with(1, "version: 2"), "1: version: expected a whole number from 1 to 1, got '2'");
+  expect_one(load_with(1, "version: 2"),
+             "1: version: expected a whole number from 1 to 1, got '2'");
 }
 
 TEST_F(ScenarioFixture, Bad03_UnknownTopLevelField) {
@@ -140,7 +143,8 @@ TEST_F(ScenarioFixture, Bad06_MeshPathLeavesTheScenarioFolder) {
   dir_.write("outside.obj", kTetraObj);
   expect_one(load_with(18, "    mesh: ../outside.obj"),
              "18: organs[1].mesh: path '../outside.obj' leaves the scenario's folder (expected a "
-             "file under " + (dir_.path() / "scene").string() +
+             "file under " +
+                 (dir_.path() / "scene").string() +
                  " or under a directory listed in allowed_paths)");
 }
 
@@ -155,8 +159,9 @@ TEST_F(ScenarioFixture, Bad08_StiffnessNotANumber) {
 }
 
 TEST_F(ScenarioFixture, Bad09_DynamicFrictionAboveStatic) {
-  expect_one(load_with(16, "      friction_dynamic: 0.5"),
-             "16: organs[0].material.friction_dynamic: expected at most friction_static (0.200000)");
+  expect_one(
+      load_with(16, "      friction_dynamic: 0.5"),
+      "16: organs[0].material.friction_dynamic: expected at most friction_static (0.200000)");
 }
 
 TEST_F(ScenarioFixture, Bad10_UnknownModelKind) {
@@ -170,8 +175,9 @@ TEST_F(ScenarioFixture, Bad11_ColourOutOfRange) {
 }
 
 TEST_F(ScenarioFixture, Bad12_TranslationWithTwoNumbers) {
-  expect_one(load_with(10, "      translation_m: [0, 0.05]"),
-             "10: organs[0].transform.translation_m: expected a list of 3 numbers [x, y, z], got a list");
+  expect_one(
+      load_with(10, "      translation_m: [0, 0.05]"),
+      "10: organs[0].transform.translation_m: expected a list of 3 numbers [x, y, z], got a list");
 }
 
 TEST_F(ScenarioFixture, Bad13_DuplicateOrganName) {
@@ -185,12 +191,15 @@ TEST_F(ScenarioFixture, Bad14_ToolThroughUnknownTrocar) {
 }
 
 TEST_F(ScenarioFixture, Bad15_ToolSideNotLeftOrRight) {
-  expect_one(load_with(27, "    side: middle"), "27: tools[0].side: expected left or right, got 'middle'");
+  expect_one(load_with(27, "    side: middle"),
+             "27: tools[0].side: expected left or right, got 'middle'");
 }
 
 TEST_F(ScenarioFixture, Bad16_TwoLeftTools) {
-  expect_one(load_with(28, "    trocar: left_port\n  - name: second\n    side: left\n    trocar: left_port"),
-             "30: tools[1].side: a left tool is already defined (one tool per hand)");
+  expect_one(
+      load_with(28,
+                "    trocar: left_port\n  - name: second\n    side: left\n    trocar: left_port"),
+      "30: tools[1].side: a left tool is already defined (one tool per hand)");
 }
 
 TEST_F(ScenarioFixture, Bad17_TaskTargetsUnknownOrgan) {
@@ -199,7 +208,8 @@ TEST_F(ScenarioFixture, Bad17_TaskTargetsUnknownOrgan) {
 }
 
 TEST_F(ScenarioFixture, Bad18_YamlSyntaxError) {
-  expect_one(load_with(7, "    color: [0.5, 0.2, 0.1"), "8: (syntax): not valid YAML: end of sequence flow not found");
+  expect_one(load_with(7, "    color: [0.5, 0.2, 0.1"),
+             "8: (syntax): not valid YAML: end of sequence flow not found");
 }
 
 TEST_F(ScenarioFixture, Bad19_FieldGivenTwice) {
@@ -208,18 +218,22 @@ TEST_F(ScenarioFixture, Bad19_FieldGivenTwice) {
 }
 
 TEST_F(ScenarioFixture, Bad20_ImageTextureFileMissing) {
-  expect_one(load_with(16, "      friction_dynamic: 0.1\n      texture:\n        kind: image\n"
-                           "        image: textures/bumps.png\n        amplitude_m: 0.0002\n"
-                           "        wavelength_m: 0.002"),
-             "19: organs[0].material.texture.image: file 'textures/bumps.png' not found (looked for " +
-                 (dir_.path() / "scene/textures/bumps.png").string() + ")");
+  expect_one(
+      load_with(16,
+                "      friction_dynamic: 0.1\n      texture:\n        kind: image\n"
+                "        image: textures/bumps.png\n        amplitude_m: 0.0002\n"
+                "        wavelength_m: 0.002"),
+      "19: organs[0].material.texture.image: file 'textures/bumps.png' not found (looked for " +
+          (dir_.path() / "scene/textures/bumps.png").string() + ")");
 }
 
 TEST_F(ScenarioFixture, Bad21_UnknownProceduralFunction) {
-  expect_one(load_with(16, "      friction_dynamic: 0.1\n      texture:\n        kind: procedural\n"
-                           "        function: plaid\n        amplitude_m: 0.0002\n"
-                           "        wavelength_m: 0.002"),
-             "19: organs[0].material.texture.function: expected perlin, fbm, worley or fourier, got 'plaid'");
+  expect_one(load_with(16,
+                       "      friction_dynamic: 0.1\n      texture:\n        kind: procedural\n"
+                       "        function: plaid\n        amplitude_m: 0.0002\n"
+                       "        wavelength_m: 0.002"),
+             "19: organs[0].material.texture.function: expected perlin, fbm, worley or fourier, "
+             "got 'plaid'");
 }
 
 TEST_F(ScenarioFixture, Bad22_CatheterWithOneParticle) {
@@ -248,9 +262,11 @@ TEST_F(ScenarioFixture, Bad25_TaskWithoutCatheter) {
 TEST_F(ScenarioFixture, Bad26_MisspelledMaterialField) {
   const ScenarioLoadResult r = load_with(21, "      stiffnes_n_per_m: 150");
   ASSERT_EQ(r.problems.size(), 2U) << all(r);
-  EXPECT_EQ(r.problems[0].to_string(),
-            file() + ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
-                     "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, texture)");
+  EXPECT_EQ(
+      r.problems[0].to_string(),
+      file() +
+          ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
+          "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, texture)");
   EXPECT_EQ(r.problems[1].to_string(),
             file() + ":21: organs[1].material.stiffness_n_per_m: required field is missing");
 }
@@ -264,33 +280,36 @@ TEST_F(ScenarioFixture, Bad27_AllowedPathThatDoesNotExist) {
 TEST_F(ScenarioFixture, Bad28_EmptyDocument) {
   const ScenarioLoadResult r = load_scenario(dir_.write("scene/s.yaml", "# nothing here\n"));
   ASSERT_EQ(r.problems.size(), 1U);
-  EXPECT_EQ(r.problems[0].to_string(),
-            file() + ":1: (document): expected a mapping with version, name and organs, got nothing");
+  EXPECT_EQ(
+      r.problems[0].to_string(),
+      file() + ":1: (document): expected a mapping with version, name and organs, got nothing");
 }
 
 TEST_F(ScenarioFixture, ManyProblemsAreAllReported) {
-  const ScenarioLoadResult r =
-      load_with(13, "      stiffness_n_per_m: -1\n      color: red");
+  const ScenarioLoadResult r = load_with(13, "      stiffness_n_per_m: -1\n      color: red");
   EXPECT_EQ(r.problems.size(), 2U) << all(r);
 }
 
 TEST_F(ScenarioFixture, AllowedPathsLetAFileOutsideTheFolderIn) {
   dir_.write("assets/outside.obj", kTetraObj);
   std::string text = kBase;
-  text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26, "    mesh: ../assets/outside.obj");
+  text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26,
+               "    mesh: ../assets/outside.obj");
   const ScenarioLoadResult refused = load_scenario(dir_.write("scene/s.yaml", text));
   ASSERT_EQ(refused.problems.size(), 1U) << all(refused);
   EXPECT_NE(refused.problems[0].message.find("leaves the scenario's folder"), std::string::npos);
   text.replace(text.find("name: test scene"), 16, "name: test scene\nallowed_paths: [../assets]");
   const ScenarioLoadResult allowed = load_scenario(dir_.write("scene/s.yaml", text));
   EXPECT_TRUE(allowed.ok()) << all(allowed);
-  EXPECT_TRUE(std::filesystem::equivalent(allowed.scenario.organs[1].mesh, dir_.path() / "assets/outside.obj"));
+  EXPECT_TRUE(std::filesystem::equivalent(allowed.scenario.organs[1].mesh,
+                                          dir_.path() / "assets/outside.obj"));
 }
 
 TEST_F(ScenarioFixture, CallerAllowedPathsWorkToo) {
   dir_.write("assets/outside.obj", kTetraObj);
   std::string text = kBase;
-  text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26, "    mesh: ../assets/outside.obj");
+  text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26,
+               "    mesh: ../assets/outside.obj");
   const auto f = dir_.write("scene/s.yaml", text);
   EXPECT_FALSE(load_scenario(f).ok());
   ScenarioLoadSettings settings;
@@ -302,7 +321,8 @@ TEST(ScenarioLoader, UnreadableFile) {
   const ScenarioLoadResult r = load_scenario("/nonexistent/dir/s.yaml");
   ASSERT_EQ(r.problems.size(), 1U);
   EXPECT_EQ(r.problems[0].to_string(),
-            "/nonexistent/dir/s.yaml: (file): cannot read the scenario file (expected a readable YAML file)");
+            "/nonexistent/dir/s.yaml: (file): cannot read the scenario file (expected a readable "
+            "YAML file)");
 }
 
 TEST(ScenarioLoader, DefaultScenarioIsValid) {

@@ -76,8 +76,8 @@ organs:
   const SceneLoadResult bad = load_scene_file(dir.write("s.yaml", text));
   ASSERT_EQ(bad.problems.size(), 1U);
   EXPECT_EQ(bad.problems[0].to_string(),
-            (dir.path() / "s.yaml").string() + ":4: organs[0].mesh: " +
-                (dir.path() / "open.obj").string() +
+            (dir.path() / "s.yaml").string() +
+                ":4: organs[0].mesh: " + (dir.path() / "open.obj").string() +
                 " is not a closed, oriented, outward-facing manifold: 3 boundary edges: the "
                 "surface is not closed (edges 2-3, 2-7, 3-7) (fix the mesh or set repair: true)");
   std::string repaired = text;
@@ -99,8 +99,8 @@ organs:
 )"));
   ASSERT_EQ(r.problems.size(), 1U);
   EXPECT_EQ(r.problems[0].to_string(),
-            (dir.path() / "s.yaml").string() + ":4: organs[0].mesh: " +
-                (dir.path() / "broken.off").string() +
+            (dir.path() / "s.yaml").string() +
+                ":4: organs[0].mesh: " + (dir.path() / "broken.off").string() +
                 ": the mesh reader could not parse this file (expected a valid off mesh)");
 }
 
