@@ -56,6 +56,7 @@ void close_holes(TriangleMesh& mesh, int32_t max_edges, MeshRepairReport& report
   if (boundary == 0) return;
   std::unordered_set<uint64_t> used;
   std::vector<int32_t> starts;
+  starts.reserve(next.size());
   for (const auto& [v, outs] : next) starts.push_back(v);
   std::sort(starts.begin(), starts.end());  // deterministic result
   for (int32_t start : starts) {

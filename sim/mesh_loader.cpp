@@ -193,16 +193,17 @@ class GltfReader {
       fail(what + ": buffer " + std::to_string(view.buffer) + " does not exist");
     }
     const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
-    const size_t stride =
-        view.byteStride > 0 ? view.byteStride : static_cast<size_t>(ncomp * csize);
+    const size_t element = static_cast<size_t>(ncomp) * static_cast<size_t>(csize);
+    const size_t stride = view.byteStride > 0 ? view.byteStride : element;
     const size_t begin = view.byteOffset + acc.byteOffset;
-    if (acc.count > 0 && begin + (acc.count - 1) * stride + ncomp * csize > buffer.data.size()) {
+    if (acc.count > 0 && begin + (acc.count - 1) * stride + element > buffer.data.size()) {
       fail(what + ": accessor reads past the end of its buffer");
     }
     for (size_t i = 0; i < acc.count; ++i) {
       const unsigned char* p = buffer.data.data() + begin + i * stride;
       for (int c = 0; c < ncomp; ++c)
-        out[i][c] = component(p + c * csize, acc.componentType, acc.normalized);
+        out[i][c] =
+            component(p + static_cast<ptrdiff_t>(c) * csize, acc.componentType, acc.normalized);
     }
     return out;
   }
