@@ -1,0 +1,163 @@
+#pragma once
+/// \file
+/// Axis-aligned bounding-box tree over primitives (thesis §4.2, Figure 4-3) for the first-contact
+/// segment query (§4.3). Built once per mesh with binned surface-area splits; refitted bottom-up,
+/// not rebuilt, when a mesh deforms. Boxes are stored in float, rounded outward so that they
+/// always contain the double-precision geometry (no contact is lost to rounding, however small
+/// the triangle). The query allocates nothing and never throws.
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace lap::haptics {
+
+/// A node: a box, and either two children (count == 0: children at first and first + 1) or a
+/// leaf range of primitives [first, first + count) in tree order.
+struct BvhNode {
+  std::array<float, 3> lo;
+  std::array<float, 3> hi;
+  int32_t first;
+  int32_t count;
+};
+
+/// The tree. Primitives are referred to by their position in tree order.
+class BoundingVolumeTree {
+ public:
+  /// Largest depth the query's fixed stack supports; the build makes larger leaves instead.
+  static constexpr int kMaxDepth = 60;
+
+  /// Builds over boxes[i] of n primitives; order receives the tree order (order[k] = original
+  /// index of the k-th primitive in tree order).
+  void build(const std::vector<Eigen::AlignedBox3d>& boxes, int32_t max_leaf_size,
+             std::vector<int32_t>* order);
+
+  /// Recomputes every box from the primitives' current boxes, given in tree order, children
+  /// before parents. O(n); the topology of the tree is kept.
+  template <typename LeafBox>
+  void refit(const LeafBox& primitive_box) {
+    for (auto i = static_cast<int64_t>(nodes_.size()) - 1; i >= 0; --i) {
+      BvhNode& node = nodes_[static_cast<size_t>(i)];
+      Eigen::AlignedBox3d box;
+      if (node.count > 0) {
+        for (int32_t k = node.first; k < node.first + node.count; ++k) box.extend(primitive_box(k));
+      } else {
+        box.extend(to_box(nodes_[node.first]));
+        box.extend(to_box(nodes_[node.first + 1]));
+      }
+      set_box(node, box);
+    }
+  }
+
+  /// Visits the leaves whose boxes the segment p0 -> p1 touches, nearest first. `visit(k, t_max)`
+  /// tests primitive k (tree order) and returns the hit parameter t in [0, t_max], or a negative
+  /// number for no hit. Returns the smallest hit t and its primitive, or -1.
+  template <typename Visit>
+  int32_t first_hit(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Visit& visit,
+                    double* t_hit) const {
+    if (nodes_.empty()) return -1;
+    const Eigen::Vector3d d = p1 - p0;
+    Eigen::Vector3d inv;
+    for (int a = 0; a < 3; ++a) inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
+    double best_t = 1.0;
+    int32_t best = -1;
+    std::array<int32_t, kMaxDepth + 4> stack{};
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const BvhNode& node = nodes_[stack[--top]];
+      if (!segment_touches(node, p0, inv, best_t)) continue;
+      if (node.count > 0) {
+        for (int32_t k = node.first; k < node.first + node.count; ++k) {
+          const double t = visit(k, best_t);
+          if (t >= 0.0 && t <= best_t) {
+            best_t = t;
+            best = k;
+          }
+        }
+      } else {
+        // Near child last, so it is popped first.
+        const int32_t a = node.first;
+        const int32_t b = node.first + 1;
+        const double ta = entry(nodes_[a], p0, inv);
+        const double tb = entry(nodes_[b], p0, inv);
+        if (ta <= tb) {
+          stack[top++] = b;
+          stack[top++] = a;
+        } else {
+          stack[top++] = a;
+          stack[top++] = b;
+        }
+      }
+    }
+    if (t_hit != nullptr) *t_hit = best_t;
+    return best;
+  }
+
+  /// Visits every leaf primitive whose box contains the point p (within `margin`).
+  template <typename Visit>
+  void for_each_near(const Eigen::Vector3d& p, double margin, const Visit& visit) const {
+    if (nodes_.empty()) return;
+    std::array<int32_t, kMaxDepth + 4> stack{};
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const BvhNode& node = nodes_[stack[--top]];
+      bool inside = true;
+      for (int a = 0; a < 3; ++a) {
+        inside = inside && p[a] >= node.lo[a] - margin && p[a] <= node.hi[a] + margin;
+      }
+      if (!inside) continue;
+      if (node.count > 0) {
+        for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = node.first + 1;
+      }
+    }
+  }
+
+  [[nodiscard]] const std::vector<BvhNode>& nodes() const { return nodes_; }
+  [[nodiscard]] int32_t depth() const { return depth_; }
+  [[nodiscard]] size_t memory_bytes() const { return nodes_.capacity() * sizeof(BvhNode); }
+
+  /// Stores a double box in float, rounded outward.
+  static void set_box(BvhNode& node, const Eigen::AlignedBox3d& box);
+  static Eigen::AlignedBox3d to_box(const BvhNode& node);
+
+ private:
+  static bool segment_touches(const BvhNode& n, const Eigen::Vector3d& p0,
+                              const Eigen::Vector3d& inv, double t_max) {
+    double t0 = 0.0;
+    double t1 = t_max;
+    for (int a = 0; a < 3; ++a) {
+      double ta = (static_cast<double>(n.lo[a]) - p0[a]) * inv[a];
+      double tb = (static_cast<double>(n.hi[a]) - p0[a]) * inv[a];
+      if (ta > tb) std::swap(ta, tb);
+      // NaN (0 * inf for a segment lying in a slab face) compares false: keep the interval.
+      if (ta > t0) t0 = ta;
+      if (tb < t1) t1 = tb;
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+  static double entry(const BvhNode& n, const Eigen::Vector3d& p0, const Eigen::Vector3d& inv) {
+    double t0 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      double ta = (static_cast<double>(n.lo[a]) - p0[a]) * inv[a];
+      double tb = (static_cast<double>(n.hi[a]) - p0[a]) * inv[a];
+      if (ta > tb) std::swap(ta, tb);
+      if (ta > t0) t0 = ta;
+    }
+    return t0;
+  }
+
+  std::vector<BvhNode> nodes_;
+  int32_t depth_ = 0;
+};
+
+}  // namespace lap::haptics

@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// The hierarchical database of one mesh (thesis §4.2): vertex, edge and face primitives in flat
+/// arrays with their neighbour lists and normals, and a bounding-box tree over the faces.
+/// Faces are stored in tree order (leaves hold contiguous face ranges), which also keeps
+/// neighbouring faces close in memory for the local search.
+///
+/// Built once (setup, may allocate); when the mesh deforms with its topology fixed,
+/// set_positions() updates normals and refits the tree in O(n) without allocating.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "haptics/bounding_volume_tree.h"
+#include "haptics/triangle_mesh.h"
+
+namespace lap::haptics {
+
+/// Kinds of primitive a proxy can be in contact with.
+enum class PrimitiveKind : uint8_t { kNone = 0, kVertex = 1, kEdge = 2, kFace = 3 };
+
+/// A primitive of one mesh: kind and index into that kind's arrays.
+struct PrimitiveRef {
+  PrimitiveKind kind = PrimitiveKind::kNone;
+  int32_t index = -1;
+  bool operator==(const PrimitiveRef&) const = default;
+};
+
+/// Printable name of a kind: none, vertex, edge, face.
+[[nodiscard]] const char* to_string(PrimitiveKind kind);
+
+/// Settings of the database build.
+struct MeshDatabaseSettings {
+  int32_t max_leaf_faces = 4;  ///< faces per tree leaf
+};
+
+class MeshDatabase {
+ public:
+  /// Builds from a mesh whose edges each have one or two faces (validate first). Throws
+  /// std::invalid_argument naming the first non-manifold edge otherwise.
+  static MeshDatabase build(const TriangleMesh& mesh, const MeshDatabaseSettings& settings = {});
+
+  /// Moves the vertices (same count, original vertex order) and updates face-dependent data:
+  /// vertex normals and the tree boxes. No allocation.
+  void set_positions(std::span<const Eigen::Vector3d> positions);
+
+  // --- sizes ---
+  [[nodiscard]] int32_t vertex_count() const { return static_cast<int32_t>(positions_.size()); }
+  [[nodiscard]] int32_t edge_count() const { return static_cast<int32_t>(edge_vertices_.size()); }
+  [[nodiscard]] int32_t face_count() const { return static_cast<int32_t>(face_vertices_.size()); }
+  /// True when some edge has a single face (an open, thin surface: rendered two-sided).
+  [[nodiscard]] bool has_boundary() const { return boundary_edges_ > 0; }
+
+  // --- geometry (hot) ---
+  [[nodiscard]] const Eigen::Vector3d& position(int32_t v) const { return positions_[v]; }
+  [[nodiscard]] const std::array<int32_t, 3>& face_vertices(int32_t f) const { return face_vertices_[f]; }
+  [[nodiscard]] const std::array<int32_t, 3>& face_edges(int32_t f) const { return face_edges_[f]; }
+  [[nodiscard]] const std::array<int32_t, 2>& edge_vertices(int32_t e) const { return edge_vertices_[e]; }
+  /// The one or two faces of an edge; the second is -1 on a boundary edge.
+  [[nodiscard]] const std::array<int32_t, 2>& edge_faces(int32_t e) const { return edge_faces_[e]; }
+  /// Faces around a vertex.
+  [[nodiscard]] std::span<const int32_t> vertex_faces(int32_t v) const {
+    return {vertex_faces_.data() + vertex_face_start_[v],
+            static_cast<size_t>(vertex_face_start_[v + 1] - vertex_face_start_[v])};
+  }
+  /// Unit face normal (counter-clockwise winding), computed from the positions.
+  [[nodiscard]] Eigen::Vector3d face_normal(int32_t f) const;
+  /// Unit edge normal: the normalised sum of its faces' normals (§4.2).
+  [[nodiscard]] Eigen::Vector3d edge_normal(int32_t e) const;
+  /// Unit vertex normal, weighted by the angles its faces subtend at it (§4.2).
+  [[nodiscard]] const Eigen::Vector3d& vertex_normal(int32_t v) const { return vertex_normals_[v]; }
+  /// Normal of any primitive.
+  [[nodiscard]] Eigen::Vector3d normal(PrimitiveRef p) const;
+
+  [[nodiscard]] const BoundingVolumeTree& tree() const { return tree_; }
+  /// Index of face f in the mesh the database was built from (faces are stored in tree order).
+  [[nodiscard]] int32_t original_face(int32_t f) const { return original_face_[f]; }
+  /// Bytes held by the database and its tree.
+  [[nodiscard]] size_t memory_bytes() const;
+
+ private:
+  void update_vertex_normals();
+
+  std::vector<Eigen::Vector3d> positions_;              // n_v x 3 [m]
+  std::vector<Eigen::Vector3d> vertex_normals_;         // n_v x 3, unit
+  std::vector<std::array<int32_t, 3>> face_vertices_;   // n_f x 3, tree order
+  std::vector<std::array<int32_t, 3>> face_edges_;      // n_f x 3: edge k joins corners k, k+1
+  std::vector<std::array<int32_t, 2>> edge_vertices_;   // n_e x 2, smaller index first
+  std::vector<std::array<int32_t, 2>> edge_faces_;      // n_e x 2, -1 when absent
+  std::vector<int32_t> vertex_face_start_;              // n_v + 1 offsets (CSR)
+  std::vector<int32_t> vertex_faces_;                   // 3 n_f
+  std::vector<int32_t> original_face_;                  // n_f
+  int32_t boundary_edges_ = 0;
+  BoundingVolumeTree tree_;
+};
+
+}  // namespace lap::haptics

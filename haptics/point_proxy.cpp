@@ -1,0 +1,299 @@
+#include "haptics/point_proxy.h"
+
+#include <limits>
+
+#include "haptics/closest_point.h"
+#include "haptics/segment_triangle.h"
+
+namespace lap::haptics {
+namespace {
+
+// Nearest point of one primitive, and the lower-dimensional feature it lies on (if any).
+struct Candidate {
+  PrimitiveRef prim;
+  Eigen::Vector3d q;
+  double d2 = 0.0;
+  PrimitiveRef sub;  // kNone when the nearest point is inside the primitive
+};
+
+inline Candidate evaluate(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3d& x) {
+  Candidate c;
+  c.prim = p;
+  switch (p.kind) {
+    case PrimitiveKind::kVertex:
+      c.q = m.position(p.index);
+      break;
+    case PrimitiveKind::kEdge: {
+      const auto& ev = m.edge_vertices(p.index);
+      SegmentFeature f;
+      c.q = closest_on_segment(x, m.position(ev[0]), m.position(ev[1]), &f);
+      if (f == SegmentFeature::kEndA) c.sub = {PrimitiveKind::kVertex, ev[0]};
+      if (f == SegmentFeature::kEndB) c.sub = {PrimitiveKind::kVertex, ev[1]};
+      break;
+    }
+    case PrimitiveKind::kFace: {
+      const auto& fv = m.face_vertices(p.index);
+      const auto& fe = m.face_edges(p.index);
+      TriangleFeature f;
+      c.q = closest_on_triangle(x, m.position(fv[0]), m.position(fv[1]), m.position(fv[2]), &f);
+      switch (f) {
+        case TriangleFeature::kInterior: break;
+        case TriangleFeature::kVertexA: c.sub = {PrimitiveKind::kVertex, fv[0]}; break;
+        case TriangleFeature::kVertexB: c.sub = {PrimitiveKind::kVertex, fv[1]}; break;
+        case TriangleFeature::kVertexC: c.sub = {PrimitiveKind::kVertex, fv[2]}; break;
+        case TriangleFeature::kEdgeAB: c.sub = {PrimitiveKind::kEdge, fe[0]}; break;
+        case TriangleFeature::kEdgeBC: c.sub = {PrimitiveKind::kEdge, fe[1]}; break;
+        case TriangleFeature::kEdgeCA: c.sub = {PrimitiveKind::kEdge, fe[2]}; break;
+      }
+      break;
+    }
+    case PrimitiveKind::kNone:
+      c.q = x;
+      break;
+  }
+  c.d2 = (c.q - x).squaredNorm();
+  return c;
+}
+
+inline void consider(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3d& x, Candidate& best) {
+  const Candidate c = evaluate(m, p, x);
+  if (c.d2 < best.d2) best = c;
+}
+
+}  // namespace
+
+PrimitiveRef PointProxy::local_search(const MeshDatabase& m, PrimitiveRef start,
+                                      const Eigen::Vector3d& p, Eigen::Vector3d* q,
+                                      int32_t* rounds) {
+  Candidate cur = evaluate(m, start, p);
+  int32_t r = 0;
+  for (; r < kMaxSearchRounds; ++r) {
+    if (cur.sub.kind != PrimitiveKind::kNone) {
+      // The nearest point sits on a lower-dimensional feature: continue from there (§4.3, the
+      // tie a strict "closer" test cannot break).
+      cur = evaluate(m, cur.sub, p);
+      continue;
+    }
+    Candidate best = cur;
+    switch (cur.prim.kind) {
+      case PrimitiveKind::kFace: {
+        const auto& fe = m.face_edges(cur.prim.index);
+        const auto& fv = m.face_vertices(cur.prim.index);
+        for (int k = 0; k < 3; ++k) consider(m, {PrimitiveKind::kEdge, fe[k]}, p, best);
+        for (int k = 0; k < 3; ++k) consider(m, {PrimitiveKind::kVertex, fv[k]}, p, best);
+        break;
+      }
+      case PrimitiveKind::kEdge: {
+        const auto& ev = m.edge_vertices(cur.prim.index);
+        const auto& ef = m.edge_faces(cur.prim.index);
+        consider(m, {PrimitiveKind::kVertex, ev[0]}, p, best);
+        consider(m, {PrimitiveKind::kVertex, ev[1]}, p, best);
+        consider(m, {PrimitiveKind::kFace, ef[0]}, p, best);
+        if (ef[1] >= 0) consider(m, {PrimitiveKind::kFace, ef[1]}, p, best);
+        break;
+      }
+      case PrimitiveKind::kVertex: {
+        const int32_t v = cur.prim.index;
+        for (int32_t f : m.vertex_faces(v)) {
+          consider(m, {PrimitiveKind::kFace, f}, p, best);
+          // Each edge around v leaves v in exactly one face of a consistently oriented surface;
+          // a boundary edge entering v has no such face, so take it from its only face.
+          const auto& fv = m.face_vertices(f);
+          const auto& fe = m.face_edges(f);
+          const int j = fv[0] == v ? 0 : (fv[1] == v ? 1 : 2);
+          consider(m, {PrimitiveKind::kEdge, fe[j]}, p, best);
+          const int32_t incoming = fe[(j + 2) % 3];
+          if (m.edge_faces(incoming)[1] < 0) consider(m, {PrimitiveKind::kEdge, incoming}, p, best);
+        }
+        break;
+      }
+      case PrimitiveKind::kNone:
+        break;
+    }
+    if (best.prim == cur.prim) break;
+    cur = best;
+  }
+  if (rounds != nullptr) *rounds = r;
+  *q = cur.q;
+  return cur.prim;
+}
+
+void PointProxy::reset(const Eigen::Vector3d& hip_W) {
+  count_ = 0;
+  ihip_W_ = hip_W.allFinite() ? hip_W : Eigen::Vector3d::Zero();
+  prev_penetration_.setZero();
+  initialised_ = true;
+}
+
+Eigen::Vector3d PointProxy::combine(const Eigen::Vector3d& hip) const {
+  if (count_ == 0) return hip;
+  if (count_ == 1) return contacts_[0].point_W;
+  // Nearest point to the HIP that is on or outside every contact's plane: try each active set
+  // (one contact: its nearest point; two: the line where both planes meet; three: the point).
+  auto feasible = [this](const Eigen::Vector3d& x) {
+    for (int32_t c = 0; c < count_; ++c) {
+      if (contacts_[c].normal_W.dot(x - contacts_[c].point_W) < -1e-12) return false;
+    }
+    return true;
+  };
+  Eigen::Vector3d best = contacts_[0].point_W;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  auto offer = [&](const Eigen::Vector3d& x) {
+    const double d2 = (x - hip).squaredNorm();
+    if (d2 < best_d2 && x.allFinite() && feasible(x)) {
+      best = x;
+      best_d2 = d2;
+    }
+  };
+  for (int32_t a = 0; a < count_; ++a) offer(contacts_[a].point_W);
+  for (int32_t a = 0; a < count_; ++a) {
+    for (int32_t b = a + 1; b < count_; ++b) {
+      const Eigen::Vector3d& na = contacts_[a].normal_W;
+      const Eigen::Vector3d& nb = contacts_[b].normal_W;
+      const Eigen::Vector3d dir = na.cross(nb);
+      const double s = dir.squaredNorm();
+      if (s < 1e-18) continue;  // parallel planes
+      // A point on both planes, then the HIP projected onto that line.
+      const double ca = na.dot(contacts_[a].point_W);
+      const double cb = nb.dot(contacts_[b].point_W);
+      const Eigen::Vector3d on_line = (ca * nb.cross(dir) + cb * dir.cross(na)) / s;
+      offer(on_line + dir * (dir.dot(hip - on_line) / s));
+      for (int32_t c = b + 1; c < count_; ++c) {
+        const Eigen::Vector3d& nc = contacts_[c].normal_W;
+        const double det = na.dot(nb.cross(nc));
+        if (std::abs(det) < 1e-12) continue;
+        const double cc = nc.dot(contacts_[c].point_W);
+        offer((ca * nb.cross(nc) + cb * nc.cross(na) + cc * na.cross(nb)) / det);
+      }
+    }
+  }
+  return best;
+}
+
+PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const Eigen::Vector3d& hip,
+                                  double dt) noexcept {
+  ++stats_.steps;
+  PointProxyOutput out;
+  auto fault = [&]() {
+    ++stats_.faults;
+    reset(hip.allFinite() ? hip : ihip_W_);
+    out = PointProxyOutput{};
+    out.ihip_W = ihip_W_;
+    out.fault = true;
+    return out;
+  };
+  if (!hip.allFinite()) return fault();
+  if (!initialised_) reset(hip);
+
+  // 1. Contacts follow the HIP by local search; released ones are dropped.
+  std::array<int32_t, kMaxContacts> released{};
+  int32_t n_released = 0;
+  int32_t kept = 0;
+  for (int32_t i = 0; i < count_; ++i) {
+    PointContact c = contacts_[i];
+    if (c.object < 0 || c.object >= static_cast<int32_t>(objects.size()) ||
+        objects[c.object].mesh == nullptr) {
+      continue;  // the object went away
+    }
+    const HapticObject& o = objects[c.object];
+    const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
+    Eigen::Vector3d q_O;
+    int32_t rounds = 0;
+    c.primitive = local_search(*o.mesh, c.primitive, hip_O, &q_O, &rounds);
+    stats_.search_iterations += rounds;
+    if (rounds >= kMaxSearchRounds) ++stats_.search_limit_hits;
+    const Eigen::Vector3d n_O = static_cast<double>(c.side) * o.mesh->normal(c.primitive);
+    if ((q_O - hip_O).dot(n_O) < 0.0) {
+      ++stats_.releases;
+      released[n_released++] = c.object;
+      continue;
+    }
+    c.point_W = o.pose_WO * q_O;
+    c.normal_W = o.pose_WO.linear() * n_O;
+    contacts_[kept++] = c;
+  }
+  count_ = kept;
+
+  // 2. The IHIP, then 3. new contacts where the IHIP's path crosses a face from outside.
+  Eigen::Vector3d x = combine(hip);
+  for (int pass = 0; pass < kMaxContacts && count_ < kMaxContacts; ++pass) {
+    double best_t = std::numeric_limits<double>::infinity();
+    int32_t best_object = -1;
+    int32_t best_face = -1;
+    bool best_front = true;
+    for (int32_t oi = 0; oi < static_cast<int32_t>(objects.size()); ++oi) {
+      const HapticObject& o = objects[oi];
+      if (o.mesh == nullptr) continue;
+      bool skip = false;
+      for (int32_t c = 0; c < count_; ++c) skip = skip || contacts_[c].object == oi;
+      for (int32_t r = 0; r < n_released; ++r) skip = skip || released[r] == oi;
+      if (skip) continue;
+      const MeshDatabase& m = *o.mesh;
+      const Eigen::Vector3d p0 = o.prev_pose_WO.inverse() * ihip_W_;
+      const Eigen::Vector3d p1 = o.pose_WO.inverse() * x;
+      const bool two_sided = o.two_sided;
+      double t = 0.0;
+      const int32_t face = m.tree().first_hit(
+          p0, p1,
+          [&](int32_t f, double) {
+            const auto& v = m.face_vertices(f);
+            const SegmentCrossing s = segment_crosses_triangle(
+                p0, p1, m.position(v[0]), v[0], m.position(v[1]), v[1], m.position(v[2]), v[2]);
+            return s.hit && (two_sided || s.from_front) ? s.t : -1.0;
+          },
+          &t);
+      if (face >= 0 && t < best_t) {
+        const auto& v = m.face_vertices(face);
+        best_front = segment_crosses_triangle(p0, p1, m.position(v[0]), v[0], m.position(v[1]),
+                                              v[1], m.position(v[2]), v[2])
+                         .from_front;
+        best_t = t;
+        best_object = oi;
+        best_face = face;
+      }
+    }
+    if (best_object < 0) break;
+    // First contact: the crossed face; the IHIP goes to its nearest point to the HIP (§4.3).
+    const HapticObject& o = objects[best_object];
+    const MeshDatabase& m = *o.mesh;
+    const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
+    const auto& v = m.face_vertices(best_face);
+    TriangleFeature feature;
+    const Eigen::Vector3d q_O =
+        closest_on_triangle(hip_O, m.position(v[0]), m.position(v[1]), m.position(v[2]), &feature);
+    PointContact c;
+    c.object = best_object;
+    c.primitive = {PrimitiveKind::kFace, best_face};
+    c.side = best_front ? 1 : -1;
+    c.point_W = o.pose_WO * q_O;
+    c.normal_W = o.pose_WO.linear() * (static_cast<double>(c.side) * m.face_normal(best_face));
+    contacts_[count_++] = c;
+    ++stats_.first_contacts;
+    x = combine(hip);
+  }
+  ihip_W_ = x;
+
+  // 4. Force (§4.4) from the penetration vector, with the stiffest law among the contacts.
+  if (count_ > 0) {
+    const ForceLaw* law = &objects[contacts_[0].object].law;
+    for (int32_t c = 1; c < count_; ++c) {
+      const ForceLaw& l = objects[contacts_[c].object].law;
+      if (l.stiffness_n_per_m > law->stiffness_n_per_m) law = &l;
+    }
+    const Eigen::Vector3d penetration = hip - ihip_W_;
+    const Eigen::Vector3d rate =
+        dt > 0.0 ? Eigen::Vector3d((penetration - prev_penetration_) / dt) : Eigen::Vector3d::Zero();
+    out.force_W = contact_force(*law, penetration, rate);
+    prev_penetration_ = penetration;
+    out.object = contacts_[0].object;
+    out.primitive = contacts_[0].primitive;
+  } else {
+    prev_penetration_.setZero();
+  }
+  out.ihip_W = ihip_W_;
+  out.contact_count = count_;
+  if (!out.force_W.allFinite() || !out.ihip_W.allFinite()) return fault();
+  return out;
+}
+
+}  // namespace lap::haptics

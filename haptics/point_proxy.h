@@ -1,0 +1,106 @@
+#pragma once
+/// \file
+/// Point-based haptic rendering, "Neighborhood Watch" (thesis chapter 4): the haptic interface
+/// point (HIP) follows the device; the ideal haptic interface point (IHIP) stays on the surface.
+///
+/// - First contact (§4.3): the IHIP's path since the last tick (in free space, the HIP's path)
+///   crossing a face from outside, found with the bounding-box tree.
+/// - In contact: local search from the contacted primitive over its neighbours (face: its
+///   edges and vertices; edge: its vertices and faces; vertex: its faces and edges), repeated
+///   until no neighbour is strictly closer to the HIP; IHIP = nearest point on the primitive.
+///   Where a face's nearest point lies on one of its edges or vertices, the search steps down to
+///   that edge or vertex first (same distance), so it can pass on to the next face.
+/// - Release when (IHIP - HIP) . n < 0, n the normal of the contacted primitive.
+/// - Thin (open) surfaces are two-sided: the side first touched is kept for the contact.
+/// - Moving objects (§6.4): the HIP is taken into each object's frame.
+/// - Several objects: each contact constrains the one IHIP (nearest point to the HIP that
+///   satisfies every contact's plane), so sliding along one object never enters another.
+///
+/// The step allocates nothing, takes no lock, never throws; a non-finite input or result zeroes
+/// the force, resets the proxy and is counted.
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "haptics/force_law.h"
+#include "haptics/mesh_database.h"
+
+namespace lap::haptics {
+
+/// One object as the proxy sees it for one tick.
+struct HapticObject {
+  const MeshDatabase* mesh = nullptr;
+  Eigen::Isometry3d pose_WO = Eigen::Isometry3d::Identity();       ///< object to world, now
+  Eigen::Isometry3d prev_pose_WO = Eigen::Isometry3d::Identity();  ///< at the previous tick
+  bool two_sided = false;  ///< contact from either side (thin, open surfaces)
+  ForceLaw law;
+};
+
+/// One contact of the proxy.
+struct PointContact {
+  int32_t object = -1;
+  PrimitiveRef primitive;
+  int8_t side = 1;                                       ///< +1 front (normal side), -1 back
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();     ///< nearest point on the primitive
+  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();   ///< outward, towards the side touched
+};
+
+/// What one step produced.
+struct PointProxyOutput {
+  Eigen::Vector3d ihip_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  ///< on the HIP (send to the device) [N]
+  int32_t contact_count = 0;
+  int32_t object = -1;          ///< first contact's object, -1 in free space
+  PrimitiveRef primitive;       ///< first contact's primitive
+  bool fault = false;           ///< non-finite input or result: force zeroed, proxy reset
+};
+
+/// Counters for tests and statistics.
+struct PointProxyStats {
+  int64_t steps = 0;
+  int64_t first_contacts = 0;
+  int64_t releases = 0;
+  int64_t search_iterations = 0;  ///< local-search rounds over all steps
+  int64_t search_limit_hits = 0;  ///< searches stopped by the iteration bound
+  int64_t faults = 0;
+};
+
+class PointProxy {
+ public:
+  static constexpr int kMaxContacts = 4;
+  /// Bound on local-search rounds per contact per tick (each round strictly decreases the
+  /// distance or steps down a dimension, so this is a guard, not a tuning knob).
+  static constexpr int kMaxSearchRounds = 256;
+
+  /// Places the proxy in free space at hip_W.
+  void reset(const Eigen::Vector3d& hip_W);
+
+  /// One haptic tick. dt [s] is used for the damping rate.
+  PointProxyOutput step(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
+                        double dt) noexcept;
+
+  [[nodiscard]] std::span<const PointContact> contacts() const { return {contacts_.data(), static_cast<size_t>(count_)}; }
+  [[nodiscard]] const Eigen::Vector3d& ihip() const { return ihip_W_; }
+  [[nodiscard]] const PointProxyStats& stats() const { return stats_; }
+
+  /// Local search on one mesh from `start` for point p (object frame); returns the nearest
+  /// primitive found and its nearest point in *q. Exposed for tests and the segment proxy.
+  static PrimitiveRef local_search(const MeshDatabase& mesh, PrimitiveRef start,
+                                   const Eigen::Vector3d& p, Eigen::Vector3d* q, int32_t* rounds);
+
+ private:
+  Eigen::Vector3d combine(const Eigen::Vector3d& hip_W) const;
+
+  std::array<PointContact, kMaxContacts> contacts_{};
+  int32_t count_ = 0;
+  Eigen::Vector3d ihip_W_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d prev_penetration_ = Eigen::Vector3d::Zero();
+  bool initialised_ = false;
+  PointProxyStats stats_;
+};
+
+}  // namespace lap::haptics

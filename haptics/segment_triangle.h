@@ -1,0 +1,64 @@
+#pragma once
+/// \file
+/// Does a short segment (the HIP's path over one tick) cross a triangle, and from which side?
+/// Watertight: the side of the segment relative to each triangle edge is computed from the edge's
+/// two vertices in a canonical order (by vertex index), so the two triangles sharing an edge get
+/// exactly opposite values and a path through the edge cannot slip between them.
+/// Header-only: used in the haptic step (first contact, §4.3).
+
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace lap::haptics {
+
+/// Result of a crossing test.
+struct SegmentCrossing {
+  bool hit = false;
+  double t = 0.0;      ///< crossing at p0 + t (p1 - p0), t in [0, 1]
+  bool from_front = false;  ///< p0 on the side the (counter-clockwise) normal points to
+};
+
+/// Signed volume of (a - p0, b - p0, d): which side of the edge a->b the line p0 + s d passes.
+inline double edge_side(const Eigen::Vector3d& p0, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b) {
+  return (a - p0).cross(b - p0).dot(d);
+}
+
+/// Canonical edge side: evaluated with the lower-indexed vertex first, negated if needed, so that
+/// both triangles of a shared edge see bit-identical magnitudes.
+inline double canonical_edge_side(const Eigen::Vector3d& p0, const Eigen::Vector3d& d,
+                                  const Eigen::Vector3d& a, int32_t ia, const Eigen::Vector3d& b,
+                                  int32_t ib) {
+  return ia < ib ? edge_side(p0, d, a, b) : -edge_side(p0, d, b, a);
+}
+
+/// Tests segment p0 -> p1 against triangle (a, b, c) with vertex indices (ia, ib, ic).
+/// A crossing needs p0 strictly on one side of the triangle's plane and p1 on the other side or
+/// on the plane: a path that starts on the surface (a proxy leaving it) is not a new contact.
+inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                                const Eigen::Vector3d& a, int32_t ia,
+                                                const Eigen::Vector3d& b, int32_t ib,
+                                                const Eigen::Vector3d& c, int32_t ic) {
+  SegmentCrossing r;
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double s0 = n.dot(p0 - a);
+  const double s1 = n.dot(p1 - a);
+  const bool front_to_back = s0 > 0.0 && s1 <= 0.0;
+  const bool back_to_front = s0 < 0.0 && s1 >= 0.0;
+  if (!front_to_back && !back_to_front) return r;
+  const Eigen::Vector3d d = p1 - p0;
+  const double e0 = canonical_edge_side(p0, d, a, ia, b, ib);
+  const double e1 = canonical_edge_side(p0, d, b, ib, c, ic);
+  const double e2 = canonical_edge_side(p0, d, c, ic, a, ia);
+  // The line passes inside (or on the boundary) when all three sides agree in sign.
+  const bool inside = (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
+  if (!inside || (e0 == 0.0 && e1 == 0.0 && e2 == 0.0)) return r;
+  r.hit = true;
+  r.t = s0 / (s0 - s1);
+  r.from_front = front_to_back;
+  return r;
+}
+
+}  // namespace lap::haptics
