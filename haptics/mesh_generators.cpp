@@ -109,6 +109,99 @@ TriangleMesh make_cylinder(double radius, double length, int32_t slices, int32_t
   return m;
 }
 
+TriangleMesh make_plate(double size, int32_t n) {
+  TriangleMesh m;
+  for (int32_t i = 0; i <= n; ++i) {
+    for (int32_t j = 0; j <= n; ++j) {
+      m.positions.emplace_back(size * (static_cast<double>(i) / n - 0.5), 0.0,
+                               size * (static_cast<double>(j) / n - 0.5));
+    }
+  }
+  for (int32_t i = 0; i < n; ++i) {
+    for (int32_t j = 0; j < n; ++j) {
+      const int32_t a = i * (n + 1) + j, b = a + (n + 1), c = a + 1, d = b + 1;
+      // x along i, z along j: (z x x) = +y, so go a -> c -> d for an upward normal.
+      m.triangles.push_back({a, c, d});
+      m.triangles.push_back({a, d, b});
+    }
+  }
+  m.compute_vertex_normals();
+  return m;
+}
+
+TriangleMesh make_voxel_solid(int32_t nx, int32_t ny, int32_t nz, double cell,
+                              const std::function<bool(int32_t, int32_t, int32_t)>& occupied) {
+  auto filled = [&](int32_t i, int32_t j, int32_t k) {
+    return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && occupied(i, j, k);
+  };
+  TriangleMesh m;
+  const int axes[3][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}};
+  for (int32_t i = 0; i < nx; ++i) {
+    for (int32_t j = 0; j < ny; ++j) {
+      for (int32_t k = 0; k < nz; ++k) {
+        if (!filled(i, j, k)) continue;
+        const std::array<int32_t, 3> c = {i, j, k};
+        for (const auto& ax : axes) {
+          for (int sign = -1; sign <= 1; sign += 2) {
+            std::array<int32_t, 3> nb = c;
+            nb[ax[0]] += sign;
+            if (filled(nb[0], nb[1], nb[2])) continue;
+            // Face of the cell on side `sign` of axis ax[0], spanned by ax[1] and ax[2].
+            int u = ax[1];
+            int v = ax[2];
+            if (sign < 0) std::swap(u, v);
+            Eigen::Vector3d o(c[0], c[1], c[2]);
+            if (sign > 0) o[ax[0]] += 1.0;
+            Eigen::Vector3d du = Eigen::Vector3d::Zero();
+            Eigen::Vector3d dv = Eigen::Vector3d::Zero();
+            du[u] = 1.0;
+            dv[v] = 1.0;
+            const auto base = m.vertex_count();
+            for (const Eigen::Vector3d& p : {o, Eigen::Vector3d(o + du), Eigen::Vector3d(o + du + dv),
+                                             Eigen::Vector3d(o + dv)}) {
+              m.positions.push_back(p * cell);
+            }
+            m.triangles.push_back({base, base + 1, base + 2});
+            m.triangles.push_back({base, base + 2, base + 3});
+          }
+        }
+      }
+    }
+  }
+  weld_vertices(m, 1e-9 * cell);
+  m.compute_vertex_normals();
+  return m;
+}
+
+TriangleMesh make_bowl(double radius, int32_t stacks, int32_t slices) {
+  // The lower half of a latitude/longitude sphere, wound so the normal points inwards.
+  TriangleMesh m;
+  const int32_t half = stacks / 2;
+  for (int32_t i = half; i < stacks; ++i) {
+    const double theta = kPi * i / stacks;
+    for (int32_t j = 0; j < slices; ++j) {
+      const double phi = 2.0 * kPi * j / slices;
+      m.positions.emplace_back(radius * std::sin(theta) * std::cos(phi), radius * std::cos(theta),
+                               -radius * std::sin(theta) * std::sin(phi));
+    }
+  }
+  m.positions.emplace_back(0.0, -radius, 0.0);
+  const int32_t bottom = m.vertex_count() - 1;
+  auto ring = [slices, half](int32_t i, int32_t j) { return (i - half) * slices + (j % slices); };
+  for (int32_t i = half; i + 1 < stacks; ++i) {
+    for (int32_t j = 0; j < slices; ++j) {
+      const int32_t a = ring(i, j), b = ring(i, j + 1), c = ring(i + 1, j), d = ring(i + 1, j + 1);
+      m.triangles.push_back({a, d, c});
+      m.triangles.push_back({a, b, d});
+    }
+  }
+  for (int32_t j = 0; j < slices; ++j) {
+    m.triangles.push_back({bottom, ring(stacks - 1, j), ring(stacks - 1, j + 1)});
+  }
+  m.compute_vertex_normals();
+  return m;
+}
+
 TriangleMesh make_stand_in_liver() {
   // An ellipsoid flattened underneath with a right-lobe bulge: about 18 x 9 x 14 cm, centred
   // above the gallbladder fossa. Gross dimensions follow adult liver anatomy.

@@ -22,6 +22,21 @@ namespace lap::haptics {
 [[nodiscard]] TriangleMesh make_cylinder(double radius, double length, int32_t slices,
                                          int32_t rings = 1);
 
+/// Open square plate of zero thickness in the y = 0 plane, centred at the origin, normal +y,
+/// split into n x n squares: a thin two-sided object (thesis Figure 4-6).
+[[nodiscard]] TriangleMesh make_plate(double size, int32_t n);
+
+/// Closed solid made of unit cells of the given size: occupied(i, j, k) for i < nx, j < ny,
+/// k < nz; each cell face between an occupied and an empty cell becomes two triangles. Cells
+/// must not touch only along an edge or a corner (the result would be non-manifold).
+[[nodiscard]] TriangleMesh make_voxel_solid(
+    int32_t nx, int32_t ny, int32_t nz, double cell,
+    const std::function<bool(int32_t, int32_t, int32_t)>& occupied);
+
+/// Open hemispherical bowl of the given radius, centred at the origin, rim at y = 0, opening
+/// up; its front (normal) side is the inside of the bowl.
+[[nodiscard]] TriangleMesh make_bowl(double radius, int32_t stacks, int32_t slices);
+
 /// A sphere whose unit-sphere points are mapped by f: for organ-like blobs. f must keep the
 /// surface embedded (no self-intersection) for the result to be valid.
 [[nodiscard]] TriangleMesh make_mapped_sphere(

@@ -185,9 +185,10 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
   if (!hip.allFinite()) return fault();
   if (!initialised_) reset(hip);
 
-  // 1. Contacts follow the HIP by local search; released ones are dropped.
-  std::array<int32_t, kMaxContacts> released{};
-  int32_t n_released = 0;
+  // 1. Contacts follow the HIP by local search. One whose HIP has left its object wants
+  //    release; it is kept aside with last tick's contact (primitive and plane).
+  std::array<PointContact, kMaxContacts> leaving{};
+  int32_t n_leaving = 0;
   int32_t kept = 0;
   for (int32_t i = 0; i < count_; ++i) {
     PointContact c = contacts_[i];
@@ -199,15 +200,15 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
     const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
     Eigen::Vector3d q_O;
     int32_t rounds = 0;
-    c.primitive = local_search(*o.mesh, c.primitive, hip_O, &q_O, &rounds);
+    const PrimitiveRef found = local_search(*o.mesh, c.primitive, hip_O, &q_O, &rounds);
     stats_.search_iterations += rounds;
     if (rounds >= kMaxSearchRounds) ++stats_.search_limit_hits;
-    const Eigen::Vector3d n_O = static_cast<double>(c.side) * o.mesh->normal(c.primitive);
+    const Eigen::Vector3d n_O = static_cast<double>(c.side) * o.mesh->normal(found);
     if ((q_O - hip_O).dot(n_O) < 0.0) {
-      ++stats_.releases;
-      released[n_released++] = c.object;
+      leaving[n_leaving++] = c;
       continue;
     }
+    c.primitive = found;
     c.point_W = o.pose_WO * q_O;
     c.normal_W = o.pose_WO.linear() * n_O;
     contacts_[kept++] = c;
@@ -226,7 +227,7 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
       if (o.mesh == nullptr) continue;
       bool skip = false;
       for (int32_t c = 0; c < count_; ++c) skip = skip || contacts_[c].object == oi;
-      for (int32_t r = 0; r < n_released; ++r) skip = skip || released[r] == oi;
+      for (int32_t r = 0; r < n_leaving; ++r) skip = skip || leaving[r].object == oi;
       if (skip) continue;
       const MeshDatabase& m = *o.mesh;
       const Eigen::Vector3d p0 = o.prev_pose_WO.inverse() * ihip_W_;
@@ -270,6 +271,18 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
     contacts_[count_++] = c;
     ++stats_.first_contacts;
     x = combine(hip);
+  }
+  // 4. A contact whose HIP left its object through a face shared with another object still
+  //    holds the IHIP while the others would put it below last tick's plane (the crease between
+  //    two touching organs); otherwise it is released.
+  for (int32_t r = 0; r < n_leaving; ++r) {
+    const PointContact& c = leaving[r];
+    if (count_ > 0 && count_ < kMaxContacts && c.normal_W.dot(x - c.point_W) < -1e-12) {
+      contacts_[count_++] = c;
+      x = combine(hip);
+    } else {
+      ++stats_.releases;
+    }
   }
   ihip_W_ = x;
 
