@@ -1,0 +1,187 @@
+#include "haptics/mesh_database.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "haptics/brute_force_reference.h"
+#include "haptics/mesh_generators.h"
+#include "haptics/segment_triangle.h"
+
+namespace lap::haptics {
+namespace {
+
+TEST(MeshDatabase, NeighbourListsOfAClosedSphereAreConsistent) {
+  const TriangleMesh s = make_uv_sphere(0.05, 12, 24);
+  const MeshDatabase db = MeshDatabase::build(s);
+  EXPECT_EQ(db.face_count(), s.triangle_count());
+  EXPECT_EQ(db.vertex_count(), s.vertex_count());
+  EXPECT_EQ(db.edge_count(), s.triangle_count() * 3 / 2);
+  EXPECT_FALSE(db.has_boundary());
+  for (int32_t f = 0; f < db.face_count(); ++f) {
+    // Figure 4-2(c): three vertices, three edges; edge k joins corners k and k+1.
+    const auto& v = db.face_vertices(f);
+    const auto& e = db.face_edges(f);
+    for (int k = 0; k < 3; ++k) {
+      const auto& ev = db.edge_vertices(e[k]);
+      EXPECT_EQ(std::set<int32_t>({ev[0], ev[1]}), std::set<int32_t>({v[k], v[(k + 1) % 3]}));
+      const auto& ef = db.edge_faces(e[k]);
+      EXPECT_TRUE(ef[0] == f || ef[1] == f);
+    }
+    // Faces are stored in tree order; original_face maps back to the input mesh.
+    EXPECT_EQ(std::set<int32_t>(v.begin(), v.end()),
+              std::set<int32_t>(s.triangles[db.original_face(f)].begin(), s.triangles[db.original_face(f)].end()));
+  }
+  for (int32_t e = 0; e < db.edge_count(); ++e) EXPECT_GE(db.edge_faces(e)[1], 0);  // Figure 4-2(b)
+  for (int32_t v = 0; v < db.vertex_count(); ++v) {
+    for (int32_t f : db.vertex_faces(v)) {
+      const auto& fv = db.face_vertices(f);
+      EXPECT_TRUE(fv[0] == v || fv[1] == v || fv[2] == v);
+    }
+  }
+}
+
+TEST(MeshDatabase, NormalsOfACube) {
+  const MeshDatabase db = MeshDatabase::build(make_box(Eigen::Vector3d(1, 1, 1), 1));
+  for (int32_t v = 0; v < db.vertex_count(); ++v) {
+    // Angle-weighted: a cube corner's normal is the diagonal whatever the triangulation.
+    EXPECT_NEAR(db.vertex_normal(v).dot(db.position(v).cwiseSign().normalized()), 1.0, 1e-12);
+  }
+  for (int32_t e = 0; e < db.edge_count(); ++e) {
+    const Eigen::Vector3d mid = 0.5 * (db.position(db.edge_vertices(e)[0]) + db.position(db.edge_vertices(e)[1]));
+    const Eigen::Vector3d n = db.edge_normal(e);
+    // Cube edges bisect their two faces; the face diagonals lie flat (normal = face normal).
+    const int nonzero = (std::abs(mid.x()) > 0.25) + (std::abs(mid.y()) > 0.25) + (std::abs(mid.z()) > 0.25);
+    if (nonzero == 2) {
+      EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+      EXPECT_NEAR(n.dot(mid.normalized()), 1.0, 1e-12);
+    }
+  }
+}
+
+TEST(MeshDatabase, OpenPlateHasBoundaryEdgesWithOneFace) {
+  const MeshDatabase db = MeshDatabase::build(make_plate(0.1, 3));
+  EXPECT_TRUE(db.has_boundary());
+  int boundary = 0;
+  for (int32_t e = 0; e < db.edge_count(); ++e) boundary += db.edge_faces(e)[1] < 0 ? 1 : 0;
+  EXPECT_EQ(boundary, 12);
+}
+
+TEST(MeshDatabase, NonManifoldEdgeIsRefusedWithItsName) {
+  TriangleMesh m = make_box(Eigen::Vector3d(1, 1, 1), 1);
+  const Triangle t0 = m.triangles[0];
+  m.positions.push_back(Eigen::Vector3d(3, 3, 3));
+  m.triangles.push_back({t0[0], t0[1], m.vertex_count() - 1});
+  try {
+    (void)MeshDatabase::build(m);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("has more than two faces"), std::string::npos);
+  }
+}
+
+TEST(BoundingVolumeTree, FirstHitMatchesExhaustiveSearchOnRandomSegments) {
+  const MeshDatabase db = MeshDatabase::build(make_uv_sphere(0.05, 40, 80));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.07, 0.07);
+  int hits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d p0(u(rng), u(rng), u(rng));
+    // Short paths (a tick) and long ones (a jump across the object).
+    const Eigen::Vector3d p1 = i % 2 == 0 ? Eigen::Vector3d(p0 + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.05)
+                                          : Eigen::Vector3d(u(rng), u(rng), u(rng));
+    for (bool two_sided : {false, true}) {
+      double t = 0.0;
+      const int32_t f = db.tree().first_hit(p0, p1, [&](int32_t k, double) {
+        const auto& v = db.face_vertices(k);
+        const SegmentCrossing s = segment_crosses_triangle(p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1],
+                                                          db.position(v[2]), v[2]);
+        return s.hit && (two_sided || s.from_front) ? s.t : -1.0;
+      }, &t);
+      const ReferenceCrossing r = reference_first_crossing(db, p0, p1, two_sided);
+      ASSERT_EQ(f >= 0, r.face >= 0) << "segment " << i;
+      if (f >= 0) {
+        EXPECT_DOUBLE_EQ(t, r.t);
+        ++hits;
+      }
+    }
+  }
+  EXPECT_GT(hits, 1000);
+}
+
+TEST(BoundingVolumeTree, SubMicrometreTrianglesFarFromTheOriginAreHit) {
+  // Float boxes are rounded outward: a 0.1 micrometre triangle 0.3 m from the origin (where a
+  // float step is 3e-8 m) is still found.
+  TriangleMesh m = make_uv_sphere(1e-7, 6, 12);
+  m.transform(Eigen::Affine3d(Eigen::Translation3d(0.3, -0.2, 0.25)));
+  const MeshDatabase db = MeshDatabase::build(m);
+  const Eigen::Vector3d c(0.3, -0.2, 0.25);
+  const Eigen::Vector3d p0 = c + Eigen::Vector3d(3e-7, 1e-8, 0);
+  const Eigen::Vector3d p1 = c - Eigen::Vector3d(0, 0, 0) + Eigen::Vector3d(1e-9, 2e-9, 0);
+  double t = 0.0;
+  const int32_t f = db.tree().first_hit(p0, p1, [&](int32_t k, double) {
+    const auto& v = db.face_vertices(k);
+    const SegmentCrossing s = segment_crosses_triangle(p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1],
+                                                      db.position(v[2]), v[2]);
+    return s.hit && s.from_front ? s.t : -1.0;
+  }, &t);
+  ASSERT_GE(f, 0);
+  const ReferenceCrossing r = reference_first_crossing(db, p0, p1, false);
+  ASSERT_GE(r.face, 0);
+  EXPECT_DOUBLE_EQ(t, r.t);  // the path may pass through an edge: same t, either face
+}
+
+TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
+  TriangleMesh m = make_uv_sphere(0.05, 30, 60);
+  MeshDatabase db = MeshDatabase::build(m);
+  // Deform every vertex (a wobble), then refit; compare with a database built from scratch.
+  std::vector<Eigen::Vector3d> moved(m.positions.size());
+  for (size_t i = 0; i < moved.size(); ++i) {
+    const Eigen::Vector3d& p = m.positions[i];
+    moved[i] = p * (1.0 + 0.3 * std::sin(40.0 * p.x()) * std::cos(30.0 * p.y())) + Eigen::Vector3d(0.01, 0, 0);
+  }
+  db.set_positions(moved);
+  TriangleMesh m2 = m;
+  m2.positions = moved;
+  const MeshDatabase fresh = MeshDatabase::build(m2);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.08, 0.08);
+  for (int i = 0; i < 2000; ++i) {
+    const Eigen::Vector3d p0(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d p1(u(rng), u(rng), u(rng));
+    auto query = [&](const MeshDatabase& d) {
+      double t = -1.0;
+      const int32_t f = d.tree().first_hit(p0, p1, [&](int32_t k, double) {
+        const auto& v = d.face_vertices(k);
+        const SegmentCrossing s = segment_crosses_triangle(p0, p1, d.position(v[0]), v[0], d.position(v[1]), v[1],
+                                                          d.position(v[2]), v[2]);
+        return s.hit && s.from_front ? s.t : -1.0;
+      }, &t);
+      return f >= 0 ? t : -1.0;
+    };
+    EXPECT_DOUBLE_EQ(query(db), query(fresh)) << i;
+  }
+  // Normals followed the deformation.
+  for (int32_t v = 0; v < db.vertex_count(); v += 37) EXPECT_TRUE(db.vertex_normal(v).isApprox(fresh.vertex_normal(v), 1e-12));
+}
+
+TEST(BoundingVolumeTree, NodeBoxesContainTheirFaces) {
+  const MeshDatabase db = MeshDatabase::build(make_stand_in_liver());
+  const auto& nodes = db.tree().nodes();
+  for (const BvhNode& n : nodes) {
+    if (n.count == 0) continue;
+    for (int32_t f = n.first; f < n.first + n.count; ++f) {
+      for (int32_t v : db.face_vertices(f)) {
+        for (int a = 0; a < 3; ++a) {
+          EXPECT_LE(n.lo[a], db.position(v)[a]);
+          EXPECT_GE(n.hi[a], db.position(v)[a]);
+        }
+      }
+    }
+  }
+  EXPECT_LE(db.tree().depth(), BoundingVolumeTree::kMaxDepth);
+}
+
+}  // namespace
+}  // namespace lap::haptics
