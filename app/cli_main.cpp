@@ -1,6 +1,7 @@
 // laptrainer-cli: the headless command line (ARCHITECTURE.md "Stable command-line contracts").
 // No Qt or VTK here: it must run on machines without a display.
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -8,11 +9,17 @@
 #include <string>
 #include <vector>
 
+#include <chrono>
+#include <fstream>
+
+#include "haptics/mesh_database.h"
 #include "haptics/mesh_generators.h"
+#include "haptics/point_proxy.h"
 #include "haptics/mesh_repair.h"
 #include "haptics/mesh_validation.h"
 #include "sim/load_error.h"
 #include "sim/mesh_loader.h"
+#include "sim/probe_path.h"
 #include "sim/scenario_loader.h"
 #include "sim/scene.h"
 
@@ -31,6 +38,10 @@ const char* const kUsage =
     "      check a scenario and its meshes; prints file:line: field: problem; exit 2 on problems\n"
     "  mesh-info --mesh FILE [--scale S] [--repair] [--out FILE.obj]\n"
     "      diagnose a mesh (and optionally repair it and write the result)\n"
+    "  probe --mesh FILE [--scale S] [--repair] --path CSV --probe point|segment\n"
+    "        [--stiffness N/m] [--max-force N] [--out CSV]\n"
+    "      run a proxy along a path (one row per 1 kHz tick) against one mesh and write, per tick,\n"
+    "      the proxy position, force, contact primitive and step time\n"
     "  generate-assets --out DIR\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR\n";
 
@@ -147,6 +158,100 @@ int cmd_mesh_info(int argc, char** argv) {
   }
 }
 
+double parse_positive(const Args& args, const std::string& key, double fallback, bool* ok) {
+  if (!args.has(key)) return fallback;
+  try {
+    size_t used = 0;
+    const double v = std::stod(args.get(key), &used);
+    if (used == args.get(key).size() && v > 0.0 && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  std::cerr << "laptrainer-cli: " << key << " expects a positive number, got '" << args.get(key) << "'\n";
+  *ok = false;
+  return fallback;
+}
+
+int cmd_probe(int argc, char** argv) {
+  Args args(argc, argv, {"--repair"});
+  if (!args.only({"--mesh", "--scale", "--repair", "--path", "--probe", "--stiffness", "--max-force", "--out"}) ||
+      !args.has("--mesh") || !args.has("--path")) {
+    if (!args.has("--mesh")) args.errors.push_back("probe needs --mesh FILE");
+    if (!args.has("--path")) args.errors.push_back("probe needs --path CSV");
+    return usage_error(args);
+  }
+  const std::string kind = args.get("--probe", "point");
+  if (kind != "point" && kind != "segment") {
+    args.errors.push_back("--probe expects point or segment, got '" + kind + "'");
+    return usage_error(args);
+  }
+  if (kind == "segment") {
+    std::cerr << "laptrainer-cli probe: the segment (ray-based) probe is not available yet; use "
+                 "--probe point\n";
+    return kExitProblems;
+  }
+  bool ok = true;
+  lap::sim::MeshLoadSettings load;
+  load.scale = parse_positive(args, "--scale", 1.0, &ok);
+  lap::haptics::HapticObject object;
+  object.law.stiffness_n_per_m = parse_positive(args, "--stiffness", 500.0, &ok);
+  object.law.max_force_n = parse_positive(args, "--max-force", 10.0, &ok);
+  if (!ok) return kExitUsage;
+  try {
+    lap::haptics::TriangleMesh mesh = lap::sim::load_mesh(args.get("--mesh"), load);
+    if (args.has("--repair")) lap::haptics::repair_mesh(mesh);
+    const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(mesh);
+    // Open surfaces are fine for the proxy (two-sided); anything else must be clean.
+    const bool usable = d.non_finite_vertices.empty() && d.invalid_index_triangles.empty() &&
+                        d.degenerate_triangles.empty() && d.duplicate_triangles.empty() &&
+                        d.non_manifold_edges.empty() && d.non_manifold_vertices.empty() &&
+                        d.orientation_conflict_edges.empty() && d.sliver_fragments.empty();
+    if (!usable) {
+      std::cerr << args.get("--mesh") << ": the mesh cannot be probed as it is:\n";
+      for (const auto& line : d.describe()) std::cerr << "  " << line << "\n";
+      std::cerr << "  (add --repair to fix what can be fixed)\n";
+      return kExitProblems;
+    }
+    const auto path = lap::sim::load_probe_path(args.get("--path"), 3);
+    const lap::haptics::MeshDatabase db = lap::haptics::MeshDatabase::build(mesh);
+    object.mesh = &db;
+    object.two_sided = db.has_boundary();
+    std::ofstream file;
+    if (args.has("--out")) {
+      file.open(args.get("--out"));
+      if (!file) {
+        std::cerr << args.get("--out") << ": cannot open for writing\n";
+        return kExitProblems;
+      }
+    }
+    std::ostream& out = args.has("--out") ? static_cast<std::ostream&>(file) : std::cout;
+    out.precision(12);
+    out << "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns\n";
+    lap::haptics::PointProxy proxy;
+    proxy.reset(path.front().head<3>());
+    for (size_t i = 0; i < path.size(); ++i) {
+      const Eigen::Vector3d hip = path[i].head<3>();
+      const auto t0 = std::chrono::steady_clock::now();
+      const lap::haptics::PointProxyOutput r =
+          proxy.step(std::span<const lap::haptics::HapticObject>(&object, 1), hip, 0.001);
+      const auto t1 = std::chrono::steady_clock::now();
+      // Faces are reported by their index in the input mesh, not the tree order.
+      int32_t id = r.primitive.index;
+      if (r.primitive.kind == lap::haptics::PrimitiveKind::kFace) id = db.original_face(id);
+      out << i << ',' << r.ihip_W.x() << ',' << r.ihip_W.y() << ',' << r.ihip_W.z() << ','
+          << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ','
+          << lap::haptics::to_string(r.primitive.kind) << ',' << id << ','
+          << std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count() << '\n';
+    }
+    return kExitOk;
+  } catch (const lap::sim::LoadError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitProblems;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << args.get("--mesh") << ": " << e.what() << "\n";
+    return kExitProblems;
+  }
+}
+
 int cmd_generate_assets(int argc, char** argv) {
   Args args(argc, argv, {});
   if (!args.only({"--out"}) || !args.has("--out")) {
@@ -180,6 +285,7 @@ int main(int argc, char** argv) {
     if (cmd == "validate") return cmd_validate(argc, argv);
     if (cmd == "mesh-info") return cmd_mesh_info(argc, argv);
     if (cmd == "generate-assets") return cmd_generate_assets(argc, argv);
+    if (cmd == "probe") return cmd_probe(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "laptrainer-cli " << cmd << ": " << e.what() << "\n";
     return 1;
