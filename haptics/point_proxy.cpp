@@ -94,17 +94,16 @@ PrimitiveRef PointProxy::local_search(const MeshDatabase& m, PrimitiveRef start,
       }
       case PrimitiveKind::kVertex: {
         const int32_t v = cur.prim.index;
-        for (int32_t f : m.vertex_faces(v)) {
+        m.for_each_vertex_face(v, [&](int32_t f) {
           consider(m, {PrimitiveKind::kFace, f}, p, best);
           // Each edge around v leaves v in exactly one face of a consistently oriented surface;
           // a boundary edge entering v has no such face, so take it from its only face.
-          const auto& fv = m.face_vertices(f);
           const auto& fe = m.face_edges(f);
-          const int j = fv[0] == v ? 0 : (fv[1] == v ? 1 : 2);
+          const int j = m.corner_of(f, v);
           consider(m, {PrimitiveKind::kEdge, fe[j]}, p, best);
           const int32_t incoming = fe[(j + 2) % 3];
           if (m.edge_faces(incoming)[1] < 0) consider(m, {PrimitiveKind::kEdge, incoming}, p, best);
-        }
+        });
         break;
       }
       case PrimitiveKind::kNone:

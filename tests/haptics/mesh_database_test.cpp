@@ -35,10 +35,15 @@ TEST(MeshDatabase, NeighbourListsOfAClosedSphereAreConsistent) {
   }
   for (int32_t e = 0; e < db.edge_count(); ++e) EXPECT_GE(db.edge_faces(e)[1], 0);  // Figure 4-2(b)
   for (int32_t v = 0; v < db.vertex_count(); ++v) {
-    for (int32_t f : db.vertex_faces(v)) {
+    int faces = 0;
+    db.for_each_vertex_face(v, [&](int32_t f) {
       const auto& fv = db.face_vertices(f);
       EXPECT_TRUE(fv[0] == v || fv[1] == v || fv[2] == v);
-    }
+      ++faces;
+    });
+    int expected = 0;
+    for (const auto& t : s.triangles) expected += (t[0] == v || t[1] == v || t[2] == v) ? 1 : 0;
+    EXPECT_EQ(faces, expected) << "vertex " << v;
   }
 }
 
@@ -72,12 +77,41 @@ TEST(MeshDatabase, NonManifoldEdgeIsRefusedWithItsName) {
   TriangleMesh m = make_box(Eigen::Vector3d(1, 1, 1), 1);
   const Triangle t0 = m.triangles[0];
   m.positions.push_back(Eigen::Vector3d(3, 3, 3));
-  m.triangles.push_back({t0[0], t0[1], m.vertex_count() - 1});
+  m.triangles.push_back({t0[1], t0[0], m.vertex_count() - 1});  // a fin wound as a twin
   try {
     (void)MeshDatabase::build(m);
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("has more than two faces"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("has more than two faces"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshDatabase, InconsistentOrientationIsRefused) {
+  TriangleMesh m = make_box(Eigen::Vector3d(1, 1, 1), 1);
+  std::swap(m.triangles[3][1], m.triangles[3][2]);
+  EXPECT_THROW((void)MeshDatabase::build(m), std::invalid_argument);
+}
+
+TEST(MeshDatabase, PinchedVertexIsRefused) {
+  TriangleMesh a = make_box(Eigen::Vector3d(1, 1, 1), 1);
+  TriangleMesh b = make_box(Eigen::Vector3d(1, 1, 1), 1);
+  b.transform(Eigen::Affine3d(Eigen::Translation3d(1, 1, 1)));
+  a.append(b);
+  // Merge the touching corners (0.5, 0.5, 0.5) of the two boxes into one vertex.
+  int32_t keep = -1;
+  for (int32_t v = 0; v < a.vertex_count(); ++v) {
+    if ((a.positions[v] - Eigen::Vector3d(0.5, 0.5, 0.5)).norm() < 1e-12) {
+      if (keep < 0) keep = v;
+      for (auto& t : a.triangles) {
+        for (int32_t& x : t) x = x == v ? keep : x;
+      }
+    }
+  }
+  try {
+    (void)MeshDatabase::build(a);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("is non-manifold"), std::string::npos) << e.what();
   }
 }
 

@@ -108,13 +108,13 @@ bool history_rule_applies(const MeshDatabase& db, PrimitiveRef proxy, const Eige
       }
       break;
     case PrimitiveKind::kVertex:
-      for (int32_t f : db.vertex_faces(proxy.index)) {
+      db.for_each_vertex_face(proxy.index, [&](int32_t f) {
         around.push_back({PrimitiveKind::kFace, f});
         for (int k = 0; k < 3; ++k) {
           const auto& ev = db.edge_vertices(db.face_edges(f)[k]);
           if (ev[0] == proxy.index || ev[1] == proxy.index) around.push_back({PrimitiveKind::kEdge, db.face_edges(f)[k]});
         }
-      }
+      });
       break;
     case PrimitiveKind::kNone: return false;
   }

@@ -1,0 +1,52 @@
+#include "tests/bench/bench_support.h"
+
+#include <stdexcept>
+
+#include "haptics/mesh_generators.h"
+
+namespace lap::bench {
+
+StepTimer::StepTimer(size_t capacity) : samples_(capacity, 0.0) {}
+
+double timer_overhead_ns() {
+  static const double overhead = [] {
+    std::vector<double> v(20000);
+    for (double& x : v) {
+      const auto a = std::chrono::steady_clock::now();
+      const auto b = std::chrono::steady_clock::now();
+      x = std::chrono::duration<double, std::nano>(b - a).count();
+    }
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  }();
+  return overhead;
+}
+
+void StepTimer::report(benchmark::State& state) {
+  if (count_ == 0) return;
+  std::vector<double> s(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(count_));
+  const double overhead = timer_overhead_ns();
+  auto quantile = [&s, overhead](double q) {
+    const auto k = static_cast<size_t>(q * static_cast<double>(s.size() - 1));
+    std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(k), s.end());
+    return std::max(0.0, s[k] - overhead);
+  };
+  state.counters["median_ns"] = quantile(0.5);
+  state.counters["p99_ns"] = quantile(0.99);
+  state.counters["p999_ns"] = quantile(0.999);
+  state.counters["timer_overhead_ns"] = overhead;
+}
+
+haptics::TriangleMesh table_4_1_object(int64_t triangles) {
+  switch (triangles) {
+    case 12: return haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 1);
+    case 456: return haptics::make_uv_sphere(kSphereRadius, 13, 19);       // 2*19*12
+    case 1800: return haptics::make_uv_sphere(kSphereRadius, 31, 30);      // 2*30*30
+    case 64800: return haptics::make_uv_sphere(kSphereRadius, 181, 180);   // 2*180*180
+    case 1000000: return haptics::make_uv_sphere(kSphereRadius, 501, 1000);  // 2*1000*500
+    default: break;
+  }
+  throw std::invalid_argument("no Table 4-1 object with " + std::to_string(triangles) + " triangles");
+}
+
+}  // namespace lap::bench
