@@ -1,20 +1,44 @@
 #include "haptics/bounding_volume_tree.h"
 
 #include <algorithm>
+#include <cstring>
 #include <array>
 #include <limits>
 
 namespace lap::haptics {
 
+namespace {
+
+// Outward rounding without branches (refit does it for every leaf, and a data-dependent
+// branch here mispredicts half the time): convert to the nearest float, then always step one
+// float further out. The box may be one float step wider than needed; it is never narrower.
+inline float below(double x) {
+  const auto f = static_cast<float>(x);
+  uint32_t b = 0;
+  std::memcpy(&b, &f, sizeof b);
+  // Positive: one step smaller; zero or negative: one step more negative (-0 and +0 alike).
+  b = f > 0.0f ? b - 1U : (b | 0x80000000U) + 1U;
+  float r = 0.0f;
+  std::memcpy(&r, &b, sizeof r);
+  return r;
+}
+
+inline float above(double x) {
+  const auto f = static_cast<float>(x);
+  uint32_t b = 0;
+  std::memcpy(&b, &f, sizeof b);
+  b = f < 0.0f ? b - 1U : (b & 0x7fffffffU) + 1U;
+  float r = 0.0f;
+  std::memcpy(&r, &b, sizeof r);
+  return r;
+}
+
+}  // namespace
+
 void BoundingVolumeTree::set_box(BvhNode& node, const Eigen::AlignedBox3d& box) {
   for (int a = 0; a < 3; ++a) {
-    // Round outward: the float box must contain the double box.
-    float lo = static_cast<float>(box.min()[a]);
-    float hi = static_cast<float>(box.max()[a]);
-    if (static_cast<double>(lo) > box.min()[a]) lo = std::nextafter(lo, -std::numeric_limits<float>::infinity());
-    if (static_cast<double>(hi) < box.max()[a]) hi = std::nextafter(hi, std::numeric_limits<float>::infinity());
-    node.lo[a] = lo;
-    node.hi[a] = hi;
+    node.lo[a] = below(box.min()[a]);
+    node.hi[a] = above(box.max()[a]);
   }
 }
 
@@ -93,45 +117,43 @@ void BoundingVolumeTree::build(const std::vector<Eigen::Vector3d>& centres, int3
   radix_sort(codes, *order);
 
   // Top-down over the sorted codes, splitting each range where its highest differing bit
-  // changes. Children are allocated after their parent, so a reverse sweep over the nodes
-  // visits children first (refit relies on it).
+  // changes, allocating nodes in pre-order (left subtree right after its parent).
   struct Task {
-    int32_t node;
+    int32_t parent;  // -1 for the root
+    bool right;      // this task is its parent's right child
     int32_t begin;
     int32_t end;
     int32_t depth;
   };
   nodes_.reserve(static_cast<size_t>(2 * (n / std::max(1, max_leaf_size / 2)) + 2));
   std::vector<Task> tasks;
-  nodes_.push_back({});
-  tasks.push_back({0, 0, n, 0});
+  tasks.push_back({-1, false, 0, n, 0});
   while (!tasks.empty()) {
     const Task t = tasks.back();
     tasks.pop_back();
+    const auto index = static_cast<int32_t>(nodes_.size());
+    nodes_.push_back({});
+    if (t.right) nodes_[t.parent].first = index;
     depth_ = std::max(depth_, t.depth);
     const int32_t count = t.end - t.begin;
     if (count <= max_leaf_size || t.depth >= kMaxDepth - 1) {
-      nodes_[t.node].first = t.begin;
-      nodes_[t.node].count = count;
+      nodes_[index].first = t.begin;
+      nodes_[index].count = count;
       continue;
     }
-    int32_t mid = t.begin + count / 2;  // equal codes: halve the range
+    int32_t mid = t.begin + count / 2;  // equal codes, or a small range: halve it (full leaves)
     const uint64_t a = codes[t.begin];
     const uint64_t b = codes[t.end - 1];
-    if (a != b) {
+    if (a != b && count > 2 * max_leaf_size) {
       // The first code with the highest differing bit set: b's prefix down to that bit.
       const int bit = 63 - __builtin_clzll(a ^ b);
       const uint64_t prefix = b & ~((uint64_t{1} << static_cast<unsigned>(bit)) - 1U);
       mid = static_cast<int32_t>(
           std::lower_bound(codes.begin() + t.begin, codes.begin() + t.end, prefix) - codes.begin());
     }
-    const auto left = static_cast<int32_t>(nodes_.size());
-    nodes_.push_back({});
-    nodes_.push_back({});
-    nodes_[t.node].first = left;
-    nodes_[t.node].count = 0;
-    tasks.push_back({left + 1, mid, t.end, t.depth + 1});
-    tasks.push_back({left, t.begin, mid, t.depth + 1});
+    nodes_[index].count = 0;
+    tasks.push_back({index, true, mid, t.end, t.depth + 1});
+    tasks.push_back({index, false, t.begin, mid, t.depth + 1});  // popped next: index + 1
   }
   nodes_.shrink_to_fit();
 }

@@ -19,8 +19,10 @@
 
 namespace lap::haptics {
 
-/// A node: a box, and either two children (count == 0: children at first and first + 1) or a
-/// leaf range of primitives [first, first + count) in tree order.
+/// A node: a box, and either two children (count == 0: the left child is the next node, the
+/// right child is at `first`) or a leaf range of primitives [first, first + count) in tree
+/// order. Nodes are stored in pre-order, so leaves appear in primitive order and a reverse sweep
+/// meets children before parents while reading the primitives sequentially.
 struct BvhNode {
   std::array<float, 3> lo;
   std::array<float, 3> hi;
@@ -40,20 +42,22 @@ class BoundingVolumeTree {
   void build(const std::vector<Eigen::Vector3d>& centres, int32_t max_leaf_size,
              std::vector<int32_t>* order);
 
-  /// Recomputes every box from the primitives' current boxes, given in tree order, children
-  /// before parents. O(n); the topology of the tree is kept.
-  template <typename LeafBox>
-  void refit(const LeafBox& primitive_box) {
+  /// Recomputes every box, children before parents, in O(n); the topology is kept.
+  /// extend(k, lo, hi) grows the double bounds lo/hi[3] by primitive k (tree order).
+  template <typename Extend>
+  void refit(const Extend& extend) {
     for (auto i = static_cast<int64_t>(nodes_.size()) - 1; i >= 0; --i) {
       BvhNode& node = nodes_[static_cast<size_t>(i)];
       if (node.count > 0) {
-        Eigen::AlignedBox3d box;
-        for (int32_t k = node.first; k < node.first + node.count; ++k) box.extend(primitive_box(k));
-        set_box(node, box);
+        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+        double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        for (int32_t k = node.first; k < node.first + node.count; ++k) extend(k, lo, hi);
+        set_box(node, Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]),
+                                          Eigen::Vector3d(hi[0], hi[1], hi[2])));
       } else {
         // Children are already rounded outward: their float union is exact.
-        const BvhNode& a = nodes_[node.first];
-        const BvhNode& b = nodes_[node.first + 1];
+        const BvhNode& a = nodes_[static_cast<size_t>(i) + 1];
+        const BvhNode& b = nodes_[node.first];
         for (int c = 0; c < 3; ++c) {
           node.lo[c] = std::min(a.lo[c], b.lo[c]);
           node.hi[c] = std::max(a.hi[c], b.hi[c]);
@@ -90,8 +94,8 @@ class BoundingVolumeTree {
         }
       } else {
         // Near child last, so it is popped first.
-        const int32_t a = node.first;
-        const int32_t b = node.first + 1;
+        const int32_t a = static_cast<int32_t>(&node - nodes_.data()) + 1;
+        const int32_t b = node.first;
         const double ta = entry(nodes_[a], p0, inv);
         const double tb = entry(nodes_[b], p0, inv);
         if (ta <= tb) {
@@ -124,8 +128,8 @@ class BoundingVolumeTree {
       if (node.count > 0) {
         for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
       } else {
+        stack[top++] = static_cast<int32_t>(&node - nodes_.data()) + 1;
         stack[top++] = node.first;
-        stack[top++] = node.first + 1;
       }
     }
   }

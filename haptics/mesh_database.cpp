@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 
 namespace lap::haptics {
@@ -53,67 +54,110 @@ MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSet
     return std::span<const int32_t>(around.data() + start[v], static_cast<size_t>(start[v + 1] - start[v]));
   };
 
-  // Edges: each undirected edge is created at its first half-edge and matched with the other
-  // face through the faces of one of its vertices, in linear time.
+  // Edges and fans, one vertex at a time over its own faces only. In face g, v's corner has an
+  // outgoing half-edge v -> next and an incoming one prev -> v. The undirected edge {v, w} with
+  // v < w pairs the face leaving v towards w with the face entering v from w; a face with no
+  // partner lies on a boundary. The same pairing (g -> the face entering v from g's next) must
+  // chain all of v's faces into one fan.
   db.face_edges_.assign(nf, {-1, -1, -1});
   db.edge_vertices_.reserve(static_cast<size_t>(nf) * 3 / 2 + 16);
   db.edge_faces_.reserve(static_cast<size_t>(nf) * 3 / 2 + 16);
-  for (int32_t f = 0; f < nf; ++f) {
-    const auto& t = db.face_vertices_[f];
-    for (int k = 0; k < 3; ++k) {
-      if (db.face_edges_[f][k] >= 0) continue;
-      const int32_t a = t[k];
-      const int32_t b = t[(k + 1) % 3];
-      const auto e = static_cast<int32_t>(db.edge_vertices_.size());
-      db.edge_vertices_.push_back({std::min(a, b), std::max(a, b)});
-      db.edge_faces_.push_back({f, -1});
-      db.face_edges_[f][k] = e;
-      // The twin half-edge b -> a leaves b's corner in the other face; a -> b there means the
-      // two faces disagree in orientation.
-      for (int32_t g : faces_of(b)) {
-        if (g == f) continue;
-        const auto& u = db.face_vertices_[g];
-        const int jb = u[0] == b ? 0 : (u[1] == b ? 1 : 2);
-        int j = -1;
-        if (u[(jb + 1) % 3] == a) {
-          j = jb;  // edge b -> a is edge jb of g
-        } else if (u[(jb + 2) % 3] == a) {
-          throw std::invalid_argument("mesh edge " + std::to_string(a) + "-" + std::to_string(b) +
-                                      " joins faces of opposite orientation (validate and repair first)");
-        } else {
-          continue;
-        }
-        if (db.edge_faces_[e][1] >= 0 || db.face_edges_[g][j] >= 0) {
-          throw std::invalid_argument("mesh edge " + std::to_string(a) + "-" + std::to_string(b) +
-                                      " has more than two faces (validate and repair first)");
-        }
-        db.edge_faces_[e][1] = g;
-        db.face_edges_[g][j] = e;
-      }
-      if (db.edge_faces_[e][1] < 0) ++db.boundary_edges_;
-    }
-  }
-  // One face per vertex; every vertex must have a single fan that the walk covers.
   db.vertex_face_.assign(nv, -1);
+  struct Corner {
+    int32_t face;
+    int32_t next;  // vertex after v in the face
+    int32_t prev;  // vertex before v in the face
+    int32_t j;     // v's corner index
+  };
+  std::vector<Corner> corner(kMaxFan);
+  std::vector<int32_t> successor(kMaxFan);
+  std::vector<int32_t> predecessors(kMaxFan);
+  auto fail_edge = [](int32_t a, int32_t b, const char* what) {
+    throw std::invalid_argument("mesh edge " + std::to_string(a) + "-" + std::to_string(b) + " " +
+                                what + " (validate and repair first)");
+  };
   for (int32_t v = 0; v < nv; ++v) {
-    if (start[v + 1] == start[v]) {
+    const std::span<const int32_t> fv = faces_of(v);
+    const auto d = static_cast<int32_t>(fv.size());
+    if (d == 0) {
       throw std::invalid_argument("mesh vertex " + std::to_string(v) +
                                   " is used by no face (remove unreferenced vertices)");
     }
-    db.vertex_face_[v] = around[start[v]];
-  }
-  for (int32_t v = 0; v < nv; ++v) {
+    if (d > kMaxFan) {
+      throw std::invalid_argument("mesh vertex " + std::to_string(v) + " has more than " +
+                                  std::to_string(kMaxFan) + " faces");
+    }
+    for (int32_t i = 0; i < d; ++i) {
+      const auto& t = db.face_vertices_[fv[i]];
+      const int j = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+      corner[i] = {fv[i], t[(j + 1) % 3], t[(j + 2) % 3], j};
+      successor[i] = -1;
+      predecessors[i] = 0;
+    }
+    // successor[i]: the face entering v from corner i's next vertex (-1 on a boundary).
+    for (int32_t i = 0; i < d; ++i) {
+      for (int32_t k = 0; k < d; ++k) {
+        if (k == i) continue;
+        if (corner[k].next == corner[i].next) {
+          fail_edge(v, corner[i].next, "joins faces of opposite orientation");
+        }
+        if (corner[k].prev != corner[i].next) continue;
+        if (successor[i] >= 0) fail_edge(v, corner[i].next, "has more than two faces");
+        successor[i] = k;
+      }
+      if (successor[i] >= 0) ++predecessors[successor[i]];
+    }
+    for (int32_t i = 0; i < d; ++i) {
+      if (predecessors[i] > 1) fail_edge(corner[i].prev, v, "has more than two faces");
+    }
+    // Edges owned by v (v < w): outgoing v -> w paired with its successor, and incoming w -> v
+    // that no face leaves v towards (a boundary).
+    for (int32_t i = 0; i < d; ++i) {
+      const Corner& c = corner[i];
+      if (v < c.next) {
+        const auto e = static_cast<int32_t>(db.edge_vertices_.size());
+        db.edge_vertices_.push_back({v, c.next});
+        db.face_edges_[c.face][c.j] = e;
+        if (successor[i] >= 0) {
+          const Corner& h = corner[successor[i]];
+          db.edge_faces_.push_back({c.face, h.face});
+          db.face_edges_[h.face][(h.j + 2) % 3] = e;
+        } else {
+          db.edge_faces_.push_back({c.face, -1});
+          ++db.boundary_edges_;
+        }
+      }
+      if (v < c.prev && predecessors[i] == 0) {
+        const auto e = static_cast<int32_t>(db.edge_vertices_.size());
+        db.edge_vertices_.push_back({v, c.prev});
+        db.edge_faces_.push_back({c.face, -1});
+        db.face_edges_[c.face][(c.j + 2) % 3] = e;
+        ++db.boundary_edges_;
+      }
+    }
+    // One fan: following successors from a face with no predecessor (any face, if the fan is
+    // closed) reaches every face.
+    int32_t first = 0;
+    for (int32_t i = 0; i < d; ++i) {
+      if (predecessors[i] == 0) {
+        first = i;
+        break;
+      }
+    }
     int32_t walked = 0;
-    db.for_each_vertex_face(v, [&walked](int32_t) { ++walked; });
-    if (walked != start[v + 1] - start[v]) {
+    for (int32_t i = first; i >= 0 && walked <= d; i = successor[i]) {
+      ++walked;
+      if (successor[i] == first) break;
+    }
+    if (walked != d) {
       throw std::invalid_argument("mesh vertex " + std::to_string(v) +
                                   " is non-manifold (its faces form several fans; repair first)");
     }
+    db.vertex_face_[v] = corner[first].face;
   }
   db.edge_vertices_.shrink_to_fit();
   db.edge_faces_.shrink_to_fit();
   db.vertex_normals_.resize(nv);
-  db.mark_.assign(nv, 0);
   db.update_vertex_normals();
   return db;
 }
@@ -195,12 +239,14 @@ void MeshDatabase::update_vertex_normal(int32_t v) {
 }
 
 void MeshDatabase::refit_tree() {
-  tree_.refit([this](int32_t f) {
-    const auto& t = face_vertices_[f];
-    Eigen::AlignedBox3d box(positions_[t[0]]);
-    box.extend(positions_[t[1]]);
-    box.extend(positions_[t[2]]);
-    return box;
+  tree_.refit([this](int32_t f, double* lo, double* hi) {
+    for (int32_t v : face_vertices_[f]) {
+      const Eigen::Vector3d& p = positions_[v];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = p[a] < lo[a] ? p[a] : lo[a];
+        hi[a] = p[a] > hi[a] ? p[a] : hi[a];
+      }
+    }
   });
 }
 
@@ -213,18 +259,12 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions) {
 void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
                                  std::span<const int32_t> moved) {
   for (int32_t v : moved) positions_[v] = positions[v];
-  // The normals that change are those of the moved vertices and of their neighbours.
-  if (++mark_generation_ == 0) {
-    std::fill(mark_.begin(), mark_.end(), 0U);
-    mark_generation_ = 1;
-  }
+  // The normals that change are those of the moved vertices and of their neighbours. A vertex
+  // next to several moved ones is simply recomputed several times: cheaper, for the few
+  // hundred vertices a local deformation moves, than a mark per vertex of the mesh.
   for (int32_t v : moved) {
     for_each_vertex_face(v, [&](int32_t f) {
-      for (int32_t w : face_vertices_[f]) {
-        if (mark_[w] == mark_generation_) continue;
-        mark_[w] = mark_generation_;
-        update_vertex_normal(w);
-      }
+      for (int32_t w : face_vertices_[f]) update_vertex_normal(w);
     });
   }
   refit_tree();
@@ -233,7 +273,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
 size_t MeshDatabase::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(positions_) + bytes(vertex_normals_) + bytes(face_vertices_) + bytes(face_edges_) +
-         bytes(edge_vertices_) + bytes(edge_faces_) + bytes(vertex_face_) + bytes(mark_) +
+         bytes(edge_vertices_) + bytes(edge_faces_) + bytes(vertex_face_) +
          bytes(original_face_) + tree_.memory_bytes();
 }
 

@@ -132,8 +132,6 @@ class MeshDatabase {
   std::vector<std::array<int32_t, 2>> edge_vertices_;   // n_e x 2, smaller index first
   std::vector<std::array<int32_t, 2>> edge_faces_;      // n_e x 2, -1 when absent
   std::vector<int32_t> vertex_face_;                    // n_v: one face of each vertex's fan
-  std::vector<uint32_t> mark_;                          // n_v: scratch for incremental updates
-  uint32_t mark_generation_ = 0;
   std::vector<int32_t> original_face_;                  // n_f
   int32_t boundary_edges_ = 0;
   BoundingVolumeTree tree_;
