@@ -1,22 +1,21 @@
 // laptrainer-cli: the headless command line (ARCHITECTURE.md "Stable command-line contracts").
 // No Qt or VTK here: it must run on machines without a display.
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
-#include <chrono>
-#include <fstream>
-
 #include "haptics/mesh_database.h"
 #include "haptics/mesh_generators.h"
-#include "haptics/point_proxy.h"
 #include "haptics/mesh_repair.h"
 #include "haptics/mesh_validation.h"
+#include "haptics/point_proxy.h"
 #include "sim/load_error.h"
 #include "sim/mesh_loader.h"
 #include "sim/probe_path.h"
@@ -40,7 +39,8 @@ const char* const kUsage =
     "      diagnose a mesh (and optionally repair it and write the result)\n"
     "  probe --mesh FILE [--scale S] [--repair] --path CSV --probe point|segment\n"
     "        [--stiffness N/m] [--max-force N] [--out CSV]\n"
-    "      run a proxy along a path (one row per 1 kHz tick) against one mesh and write, per tick,\n"
+    "      run a proxy along a path (one row per 1 kHz tick) against one mesh and write, per "
+    "tick,\n"
     "      the proxy position, force, contact primitive and step time\n"
     "  generate-assets --out DIR\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR\n";
@@ -166,14 +166,16 @@ double parse_positive(const Args& args, const std::string& key, double fallback,
     if (used == args.get(key).size() && v > 0.0 && std::isfinite(v)) return v;
   } catch (const std::exception&) {
   }
-  std::cerr << "laptrainer-cli: " << key << " expects a positive number, got '" << args.get(key) << "'\n";
+  std::cerr << "laptrainer-cli: " << key << " expects a positive number, got '" << args.get(key)
+            << "'\n";
   *ok = false;
   return fallback;
 }
 
 int cmd_probe(int argc, char** argv) {
   Args args(argc, argv, {"--repair"});
-  if (!args.only({"--mesh", "--scale", "--repair", "--path", "--probe", "--stiffness", "--max-force", "--out"}) ||
+  if (!args.only({"--mesh", "--scale", "--repair", "--path", "--probe", "--stiffness",
+                  "--max-force", "--out"}) ||
       !args.has("--mesh") || !args.has("--path")) {
     if (!args.has("--mesh")) args.errors.push_back("probe needs --mesh FILE");
     if (!args.has("--path")) args.errors.push_back("probe needs --path CSV");

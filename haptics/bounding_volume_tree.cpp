@@ -1,8 +1,8 @@
 #include "haptics/bounding_volume_tree.h"
 
 #include <algorithm>
-#include <cstring>
 #include <array>
+#include <cstring>
 #include <limits>
 
 namespace lap::haptics {
@@ -125,7 +125,7 @@ void BoundingVolumeTree::build(const std::vector<Eigen::Vector3d>& centres, int3
     int32_t end;
     int32_t depth;
   };
-  nodes_.reserve(static_cast<size_t>(2 * (n / std::max(1, max_leaf_size / 2)) + 2));
+  nodes_.reserve(2 * static_cast<size_t>(n / std::max(1, max_leaf_size / 2)) + 2);
   std::vector<Task> tasks;
   tasks.push_back({-1, false, 0, n, 0});
   while (!tasks.empty()) {

@@ -4,18 +4,18 @@
 /// segment query (§4.3). Built once per mesh: primitives are sorted along a Morton (Z-order) curve
 /// of their centres and each range is split where the codes' highest differing bit changes, so
 /// the build is a radix sort plus a linear pass (10^6 triangles in tens of milliseconds); boxes
-/// come from one bottom-up refit. Refitted bottom-up, not rebuilt, when a mesh deforms. Boxes are stored in float, rounded outward so that they
-/// always contain the double-precision geometry (no contact is lost to rounding, however small
-/// the triangle). The query allocates nothing and never throws.
+/// come from one bottom-up refit. Refitted bottom-up, not rebuilt, when a mesh deforms. Boxes are
+/// stored in float, rounded outward so that they always contain the double-precision geometry (no
+/// contact is lost to rounding, however small the triangle). The query allocates nothing and never
+/// throws.
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 namespace lap::haptics {
 

@@ -32,8 +32,8 @@ ReferenceCrossing reference_first_crossing(const MeshDatabase& m, const Eigen::V
   best.t = std::numeric_limits<double>::infinity();
   for (int32_t f = 0; f < m.face_count(); ++f) {
     const auto& v = m.face_vertices(f);
-    const SegmentCrossing s = segment_crosses_triangle(p0, p1, m.position(v[0]), v[0],
-                                                      m.position(v[1]), v[1], m.position(v[2]), v[2]);
+    const SegmentCrossing s = segment_crosses_triangle(
+        p0, p1, m.position(v[0]), v[0], m.position(v[1]), v[1], m.position(v[2]), v[2]);
     if (s.hit && (two_sided || s.from_front) && s.t < best.t) {
       best.face = f;
       best.t = s.t;
@@ -46,17 +46,19 @@ ReferenceCrossing reference_first_crossing(const MeshDatabase& m, const Eigen::V
 
 bool reference_inside(const MeshDatabase& m, const Eigen::Vector3d& p) {
   // A ray far beyond the mesh in a direction unlikely to graze any edge or vertex exactly.
-  const Eigen::Vector3d dir = Eigen::Vector3d(0.5773502691896258, 0.5773502691896257, 0.5773502691896259)
-                                  .cross(Eigen::Vector3d(0.1234567, 0.7654321, 0.3141592))
-                                  .normalized();
+  const Eigen::Vector3d dir =
+      Eigen::Vector3d(0.5773502691896258, 0.5773502691896257, 0.5773502691896259)
+          .cross(Eigen::Vector3d(0.1234567, 0.7654321, 0.3141592))
+          .normalized();
   double reach = 0.0;
-  for (int32_t v = 0; v < m.vertex_count(); ++v) reach = std::max(reach, (m.position(v) - p).norm());
+  for (int32_t v = 0; v < m.vertex_count(); ++v)
+    reach = std::max(reach, (m.position(v) - p).norm());
   const Eigen::Vector3d far = p + dir * (2.0 * reach + 1.0);
   int crossings = 0;
   for (int32_t f = 0; f < m.face_count(); ++f) {
     const auto& v = m.face_vertices(f);
-    const SegmentCrossing s = segment_crosses_triangle(p, far, m.position(v[0]), v[0],
-                                                      m.position(v[1]), v[1], m.position(v[2]), v[2]);
+    const SegmentCrossing s = segment_crosses_triangle(
+        p, far, m.position(v[0]), v[0], m.position(v[1]), v[1], m.position(v[2]), v[2]);
     crossings += s.hit ? 1 : 0;
   }
   return (crossings % 2) == 1;

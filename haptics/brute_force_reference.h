@@ -3,9 +3,8 @@
 /// Exhaustive reference implementations (no tree, no local search) that the tests and benchmarks
 /// compare the proxies against: every face is examined every time.
 
-#include <cstdint>
-
 #include <Eigen/Core>
+#include <cstdint>
 
 #include "haptics/mesh_database.h"
 

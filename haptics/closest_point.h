@@ -12,7 +12,15 @@ namespace lap::haptics {
 
 /// Where on a triangle (a, b, c) the closest point lies. Edges are numbered by their first
 /// corner: edge 0 = ab, 1 = bc, 2 = ca.
-enum class TriangleFeature : uint8_t { kInterior, kVertexA, kVertexB, kVertexC, kEdgeAB, kEdgeBC, kEdgeCA };
+enum class TriangleFeature : uint8_t {
+  kInterior,
+  kVertexA,
+  kVertexB,
+  kVertexC,
+  kEdgeAB,
+  kEdgeBC,
+  kEdgeCA
+};
 
 /// Where on a segment the closest point lies.
 enum class SegmentFeature : uint8_t { kInterior, kEndA, kEndB };

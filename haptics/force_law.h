@@ -4,9 +4,8 @@
 /// law F = -(k1 sqrt|x| + k2 |x| + k3 |x|^2) x/|x|, always clamped to a maximum magnitude.
 /// Header-only and allocation-free: it runs in the haptic step.
 
-#include <cmath>
-
 #include <Eigen/Core>
+#include <cmath>
 
 namespace lap::haptics {
 
@@ -14,12 +13,12 @@ namespace lap::haptics {
 struct ForceLaw {
   enum class Kind { kHooke, kHookeDamped, kNonlinear };
   Kind kind = Kind::kHooke;
-  double stiffness_n_per_m = 500.0;      ///< k (Hooke) [N/m]
-  double damping_n_s_per_m = 0.0;        ///< b (Hooke + damping) [N s/m]
-  double k1_n_per_sqrt_m = 0.0;          ///< nonlinear: coefficient of sqrt|x| [N/m^0.5]
-  double k2_n_per_m = 0.0;               ///< nonlinear: coefficient of |x| [N/m]
-  double k3_n_per_m2 = 0.0;              ///< nonlinear: coefficient of |x|^2 [N/m^2]
-  double max_force_n = 10.0;             ///< magnitude clamp [N]
+  double stiffness_n_per_m = 500.0;  ///< k (Hooke) [N/m]
+  double damping_n_s_per_m = 0.0;    ///< b (Hooke + damping) [N s/m]
+  double k1_n_per_sqrt_m = 0.0;      ///< nonlinear: coefficient of sqrt|x| [N/m^0.5]
+  double k2_n_per_m = 0.0;           ///< nonlinear: coefficient of |x| [N/m]
+  double k3_n_per_m2 = 0.0;          ///< nonlinear: coefficient of |x|^2 [N/m^2]
+  double max_force_n = 10.0;         ///< magnitude clamp [N]
 };
 
 /// Force on the HIP for penetration x (IHIP -> HIP) changing at rate x_dot [m/s].

@@ -10,10 +10,14 @@ namespace lap::haptics {
 
 const char* to_string(PrimitiveKind kind) {
   switch (kind) {
-    case PrimitiveKind::kVertex: return "vertex";
-    case PrimitiveKind::kEdge: return "edge";
-    case PrimitiveKind::kFace: return "face";
-    case PrimitiveKind::kNone: break;
+    case PrimitiveKind::kVertex:
+      return "vertex";
+    case PrimitiveKind::kEdge:
+      return "edge";
+    case PrimitiveKind::kFace:
+      return "face";
+    case PrimitiveKind::kNone:
+      break;
   }
   return "none";
 }
@@ -51,7 +55,8 @@ MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSet
     }
   }
   auto faces_of = [&](int32_t v) {
-    return std::span<const int32_t>(around.data() + start[v], static_cast<size_t>(start[v + 1] - start[v]));
+    return std::span<const int32_t>(around.data() + start[v],
+                                    static_cast<size_t>(start[v + 1] - start[v]));
   };
 
   // Edges and fans, one vertex at a time over its own faces only. In face g, v's corner has an
@@ -180,10 +185,14 @@ Eigen::Vector3d MeshDatabase::edge_normal(int32_t e) const {
 
 Eigen::Vector3d MeshDatabase::normal(PrimitiveRef p) const {
   switch (p.kind) {
-    case PrimitiveKind::kVertex: return vertex_normals_[p.index];
-    case PrimitiveKind::kEdge: return edge_normal(p.index);
-    case PrimitiveKind::kFace: return face_normal(p.index);
-    case PrimitiveKind::kNone: break;
+    case PrimitiveKind::kVertex:
+      return vertex_normals_[p.index];
+    case PrimitiveKind::kEdge:
+      return edge_normal(p.index);
+    case PrimitiveKind::kFace:
+      return face_normal(p.index);
+    case PrimitiveKind::kNone:
+      break;
   }
   return Eigen::Vector3d::UnitY();
 }
@@ -222,7 +231,8 @@ inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
 void MeshDatabase::update_vertex_normals() {
   for (Eigen::Vector3d& n : vertex_normals_) n.setZero();
   for (const auto& t : face_vertices_) {
-    accumulate_face(t, positions_, &vertex_normals_[t[0]], &vertex_normals_[t[1]], &vertex_normals_[t[2]]);
+    accumulate_face(t, positions_, &vertex_normals_[t[0]], &vertex_normals_[t[1]],
+                    &vertex_normals_[t[2]]);
   }
   for (Eigen::Vector3d& n : vertex_normals_) n = unit_or_up(n);
 }
@@ -273,8 +283,8 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
 size_t MeshDatabase::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(positions_) + bytes(vertex_normals_) + bytes(face_vertices_) + bytes(face_edges_) +
-         bytes(edge_vertices_) + bytes(edge_faces_) + bytes(vertex_face_) +
-         bytes(original_face_) + tree_.memory_bytes();
+         bytes(edge_vertices_) + bytes(edge_faces_) + bytes(vertex_face_) + bytes(original_face_) +
+         tree_.memory_bytes();
 }
 
 }  // namespace lap::haptics

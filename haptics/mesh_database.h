@@ -13,13 +13,12 @@
 /// vertex's fan across its edges (a manifold vertex has exactly one fan), which keeps a
 /// 10^6-triangle database under 100 MB.
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "haptics/bounding_volume_tree.h"
 #include "haptics/triangle_mesh.h"
@@ -70,9 +69,13 @@ class MeshDatabase {
 
   // --- geometry (hot) ---
   [[nodiscard]] const Eigen::Vector3d& position(int32_t v) const { return positions_[v]; }
-  [[nodiscard]] const std::array<int32_t, 3>& face_vertices(int32_t f) const { return face_vertices_[f]; }
+  [[nodiscard]] const std::array<int32_t, 3>& face_vertices(int32_t f) const {
+    return face_vertices_[f];
+  }
   [[nodiscard]] const std::array<int32_t, 3>& face_edges(int32_t f) const { return face_edges_[f]; }
-  [[nodiscard]] const std::array<int32_t, 2>& edge_vertices(int32_t e) const { return edge_vertices_[e]; }
+  [[nodiscard]] const std::array<int32_t, 2>& edge_vertices(int32_t e) const {
+    return edge_vertices_[e];
+  }
   /// The one or two faces of an edge; the second is -1 on a boundary edge.
   [[nodiscard]] const std::array<int32_t, 2>& edge_faces(int32_t e) const { return edge_faces_[e]; }
   /// Calls visit(face) for each face around vertex v, walking its fan across its edges.
@@ -125,14 +128,14 @@ class MeshDatabase {
  private:
   void update_vertex_normal(int32_t v);
 
-  std::vector<Eigen::Vector3d> positions_;              // n_v x 3 [m]
-  std::vector<Eigen::Vector3d> vertex_normals_;         // n_v x 3, unit
-  std::vector<std::array<int32_t, 3>> face_vertices_;   // n_f x 3, tree order
-  std::vector<std::array<int32_t, 3>> face_edges_;      // n_f x 3: edge k joins corners k, k+1
-  std::vector<std::array<int32_t, 2>> edge_vertices_;   // n_e x 2, smaller index first
-  std::vector<std::array<int32_t, 2>> edge_faces_;      // n_e x 2, -1 when absent
-  std::vector<int32_t> vertex_face_;                    // n_v: one face of each vertex's fan
-  std::vector<int32_t> original_face_;                  // n_f
+  std::vector<Eigen::Vector3d> positions_;             // n_v x 3 [m]
+  std::vector<Eigen::Vector3d> vertex_normals_;        // n_v x 3, unit
+  std::vector<std::array<int32_t, 3>> face_vertices_;  // n_f x 3, tree order
+  std::vector<std::array<int32_t, 3>> face_edges_;     // n_f x 3: edge k joins corners k, k+1
+  std::vector<std::array<int32_t, 2>> edge_vertices_;  // n_e x 2, smaller index first
+  std::vector<std::array<int32_t, 2>> edge_faces_;     // n_e x 2, -1 when absent
+  std::vector<int32_t> vertex_face_;                   // n_v: one face of each vertex's fan
+  std::vector<int32_t> original_face_;                 // n_f
   int32_t boundary_edges_ = 0;
   BoundingVolumeTree tree_;
 };

@@ -157,8 +157,9 @@ TriangleMesh make_voxel_solid(int32_t nx, int32_t ny, int32_t nz, double cell,
             du[u] = 1.0;
             dv[v] = 1.0;
             const auto base = m.vertex_count();
-            for (const Eigen::Vector3d& p : {o, Eigen::Vector3d(o + du), Eigen::Vector3d(o + du + dv),
-                                             Eigen::Vector3d(o + dv)}) {
+            for (const Eigen::Vector3d& p :
+                 {o, Eigen::Vector3d(o + du), Eigen::Vector3d(o + du + dv),
+                  Eigen::Vector3d(o + dv)}) {
               m.positions.push_back(p * cell);
             }
             m.triangles.push_back({base, base + 1, base + 2});

@@ -37,13 +37,26 @@ inline Candidate evaluate(const MeshDatabase& m, PrimitiveRef p, const Eigen::Ve
       TriangleFeature f;
       c.q = closest_on_triangle(x, m.position(fv[0]), m.position(fv[1]), m.position(fv[2]), &f);
       switch (f) {
-        case TriangleFeature::kInterior: break;
-        case TriangleFeature::kVertexA: c.sub = {PrimitiveKind::kVertex, fv[0]}; break;
-        case TriangleFeature::kVertexB: c.sub = {PrimitiveKind::kVertex, fv[1]}; break;
-        case TriangleFeature::kVertexC: c.sub = {PrimitiveKind::kVertex, fv[2]}; break;
-        case TriangleFeature::kEdgeAB: c.sub = {PrimitiveKind::kEdge, fe[0]}; break;
-        case TriangleFeature::kEdgeBC: c.sub = {PrimitiveKind::kEdge, fe[1]}; break;
-        case TriangleFeature::kEdgeCA: c.sub = {PrimitiveKind::kEdge, fe[2]}; break;
+        case TriangleFeature::kInterior:
+          break;
+        case TriangleFeature::kVertexA:
+          c.sub = {PrimitiveKind::kVertex, fv[0]};
+          break;
+        case TriangleFeature::kVertexB:
+          c.sub = {PrimitiveKind::kVertex, fv[1]};
+          break;
+        case TriangleFeature::kVertexC:
+          c.sub = {PrimitiveKind::kVertex, fv[2]};
+          break;
+        case TriangleFeature::kEdgeAB:
+          c.sub = {PrimitiveKind::kEdge, fe[0]};
+          break;
+        case TriangleFeature::kEdgeBC:
+          c.sub = {PrimitiveKind::kEdge, fe[1]};
+          break;
+        case TriangleFeature::kEdgeCA:
+          c.sub = {PrimitiveKind::kEdge, fe[2]};
+          break;
       }
       break;
     }
@@ -55,7 +68,8 @@ inline Candidate evaluate(const MeshDatabase& m, PrimitiveRef p, const Eigen::Ve
   return c;
 }
 
-inline void consider(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3d& x, Candidate& best) {
+inline void consider(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3d& x,
+                     Candidate& best) {
   const Candidate c = evaluate(m, p, x);
   if (c.d2 < best.d2) best = c;
 }
@@ -293,8 +307,8 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
       if (l.stiffness_n_per_m > law->stiffness_n_per_m) law = &l;
     }
     const Eigen::Vector3d penetration = hip - ihip_W_;
-    const Eigen::Vector3d rate =
-        dt > 0.0 ? Eigen::Vector3d((penetration - prev_penetration_) / dt) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d rate = dt > 0.0 ? Eigen::Vector3d((penetration - prev_penetration_) / dt)
+                                          : Eigen::Vector3d::Zero();
     out.force_W = contact_force(*law, penetration, rate);
     prev_penetration_ = penetration;
     out.object = contacts_[0].object;

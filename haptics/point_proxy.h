@@ -19,12 +19,11 @@
 /// The step allocates nothing, takes no lock, never throws; a non-finite input or result zeroes
 /// the force, resets the proxy and is counted.
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <span>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "haptics/force_law.h"
 #include "haptics/mesh_database.h"
@@ -44,9 +43,9 @@ struct HapticObject {
 struct PointContact {
   int32_t object = -1;
   PrimitiveRef primitive;
-  int8_t side = 1;                                       ///< +1 front (normal side), -1 back
-  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();     ///< nearest point on the primitive
-  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();   ///< outward, towards the side touched
+  int8_t side = 1;                                      ///< +1 front (normal side), -1 back
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();    ///< nearest point on the primitive
+  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();  ///< outward, towards the side touched
 };
 
 /// What one step produced.
@@ -54,9 +53,9 @@ struct PointProxyOutput {
   Eigen::Vector3d ihip_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  ///< on the HIP (send to the device) [N]
   int32_t contact_count = 0;
-  int32_t object = -1;          ///< first contact's object, -1 in free space
-  PrimitiveRef primitive;       ///< first contact's primitive
-  bool fault = false;           ///< non-finite input or result: force zeroed, proxy reset
+  int32_t object = -1;     ///< first contact's object, -1 in free space
+  PrimitiveRef primitive;  ///< first contact's primitive
+  bool fault = false;      ///< non-finite input or result: force zeroed, proxy reset
 };
 
 /// Counters for tests and statistics.
@@ -83,7 +82,9 @@ class PointProxy {
   PointProxyOutput step(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
                         double dt) noexcept;
 
-  [[nodiscard]] std::span<const PointContact> contacts() const { return {contacts_.data(), static_cast<size_t>(count_)}; }
+  [[nodiscard]] std::span<const PointContact> contacts() const {
+    return {contacts_.data(), static_cast<size_t>(count_)};
+  }
   [[nodiscard]] const Eigen::Vector3d& ihip() const { return ihip_W_; }
   [[nodiscard]] const PointProxyStats& stats() const { return stats_; }
 

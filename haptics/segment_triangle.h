@@ -6,23 +6,22 @@
 /// exactly opposite values and a path through the edge cannot slip between them.
 /// Header-only: used in the haptic step (first contact, §4.3).
 
-#include <cstdint>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 
 namespace lap::haptics {
 
 /// Result of a crossing test.
 struct SegmentCrossing {
   bool hit = false;
-  double t = 0.0;      ///< crossing at p0 + t (p1 - p0), t in [0, 1]
+  double t = 0.0;           ///< crossing at p0 + t (p1 - p0), t in [0, 1]
   bool from_front = false;  ///< p0 on the side the (counter-clockwise) normal points to
 };
 
 /// Signed volume of (a - p0, b - p0, d): which side of the edge a->b the line p0 + s d passes.
-inline double edge_side(const Eigen::Vector3d& p0, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
-                        const Eigen::Vector3d& b) {
+inline double edge_side(const Eigen::Vector3d& p0, const Eigen::Vector3d& d,
+                        const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a - p0).cross(b - p0).dot(d);
 }
 
@@ -37,9 +36,9 @@ inline double canonical_edge_side(const Eigen::Vector3d& p0, const Eigen::Vector
 /// Tests segment p0 -> p1 against triangle (a, b, c) with vertex indices (ia, ib, ic).
 /// A crossing needs p0 strictly on one side of the triangle's plane and p1 on the other side or
 /// on the plane: a path that starts on the surface (a proxy leaving it) is not a new contact.
-inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                                const Eigen::Vector3d& a, int32_t ia,
-                                                const Eigen::Vector3d& b, int32_t ib,
+inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0,
+                                                const Eigen::Vector3d& p1, const Eigen::Vector3d& a,
+                                                int32_t ia, const Eigen::Vector3d& b, int32_t ib,
                                                 const Eigen::Vector3d& c, int32_t ic) {
   SegmentCrossing r;
   const Eigen::Vector3d n = (b - a).cross(c - a);
@@ -53,7 +52,8 @@ inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0, const
   const double e1 = canonical_edge_side(p0, d, b, ib, c, ic);
   const double e2 = canonical_edge_side(p0, d, c, ic, a, ia);
   // The line passes inside (or on the boundary) when all three sides agree in sign.
-  const bool inside = (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
+  const bool inside =
+      (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
   if (!inside || (e0 == 0.0 && e1 == 0.0 && e2 == 0.0)) return r;
   r.hit = true;
   r.t = s0 / (s0 - s1);

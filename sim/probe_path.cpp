@@ -29,19 +29,22 @@ std::vector<Eigen::Matrix<double, 6, 1>> load_probe_path(const std::filesystem::
       try {
         size_t used = 0;
         row[c] = std::stod(cells[c], &used);
-        numeric = cells[c].find_first_not_of(" \t", used) == std::string::npos && std::isfinite(row[c]);
+        numeric =
+            cells[c].find_first_not_of(" \t", used) == std::string::npos && std::isfinite(row[c]);
       } catch (const std::exception&) {
         numeric = false;
       }
     }
     if (!numeric) {
       if (rows.empty() && n == 1 && static_cast<int>(cells.size()) == columns) continue;  // header
-      throw LoadError(file.string() + ":" + std::to_string(n) + ": expected " + expected +
-                      ", got '" + line + "'");
+      std::string message = file.string();
+      message += ":" + std::to_string(n) + ": expected " + expected + ", got '" + line + "'";
+      throw LoadError(message);
     }
     rows.push_back(row);
   }
-  if (rows.empty()) throw LoadError(file.string() + ": the path has no rows (expected " + expected + " per line)");
+  if (rows.empty())
+    throw LoadError(file.string() + ": the path has no rows (expected " + expected + " per line)");
   return rows;
 }
 

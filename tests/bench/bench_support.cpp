@@ -39,14 +39,21 @@ void StepTimer::report(benchmark::State& state) {
 
 haptics::TriangleMesh table_4_1_object(int64_t triangles) {
   switch (triangles) {
-    case 12: return haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 1);
-    case 456: return haptics::make_uv_sphere(kSphereRadius, 13, 19);       // 2*19*12
-    case 1800: return haptics::make_uv_sphere(kSphereRadius, 31, 30);      // 2*30*30
-    case 64800: return haptics::make_uv_sphere(kSphereRadius, 181, 180);   // 2*180*180
-    case 1000000: return haptics::make_uv_sphere(kSphereRadius, 501, 1000);  // 2*1000*500
-    default: break;
+    case 12:
+      return haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 1);
+    case 456:
+      return haptics::make_uv_sphere(kSphereRadius, 13, 19);  // 2*19*12
+    case 1800:
+      return haptics::make_uv_sphere(kSphereRadius, 31, 30);  // 2*30*30
+    case 64800:
+      return haptics::make_uv_sphere(kSphereRadius, 181, 180);  // 2*180*180
+    case 1000000:
+      return haptics::make_uv_sphere(kSphereRadius, 501, 1000);  // 2*1000*500
+    default:
+      break;
   }
-  throw std::invalid_argument("no Table 4-1 object with " + std::to_string(triangles) + " triangles");
+  throw std::invalid_argument("no Table 4-1 object with " + std::to_string(triangles) +
+                              " triangles");
 }
 
 }  // namespace lap::bench

@@ -21,8 +21,8 @@ using haptics::HapticObject;
 using haptics::MeshDatabase;
 using haptics::PointProxy;
 
-constexpr double kDepth = 0.002;       // pressed 2 mm in
-constexpr double kSpeed = 0.02;        // sliding at 20 mm/s (palpation speed)
+constexpr double kDepth = 0.002;  // pressed 2 mm in
+constexpr double kSpeed = 0.02;   // sliding at 20 mm/s (palpation speed)
 constexpr double kDt = 0.001;
 
 // The HIP 2 mm under the surface, sliding at 20 mm/s: around the top face of the cube, or
@@ -36,7 +36,8 @@ Eigen::Vector3d slide_path(int64_t triangles, int64_t tick) {
   const double R = kSphereRadius - kDepth;
   const double phi = s / (R * 0.8);
   const double theta = 1.0 + 0.6 * std::sin(0.37 * phi);
-  return {R * std::sin(theta) * std::cos(phi), R * std::cos(theta), R * std::sin(theta) * std::sin(phi)};
+  return {R * std::sin(theta) * std::cos(phi), R * std::cos(theta),
+          R * std::sin(theta) * std::sin(phi)};
 }
 
 struct Scene {
@@ -60,7 +61,8 @@ void BM_PointProxySlide(benchmark::State& state) {
   PointProxy proxy;
   // Come down onto the surface from outside at the path's start, then warm up.
   const Eigen::Vector3d p0 = slide_path(n, 0);
-  const Eigen::Vector3d out = n == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
+  const Eigen::Vector3d out =
+      n == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
   proxy.reset(out);
   for (int i = 1; i <= 20; ++i) proxy.step({&object, 1}, out + (p0 - out) * (i / 20.0), kDt);
   int64_t tick = 0;
@@ -77,7 +79,8 @@ void BM_PointProxySlide(benchmark::State& state) {
   }
   timer.report(state);
   state.counters["triangles"] = static_cast<double>(sc.db.face_count());
-  state.counters["in_contact"] = static_cast<double>(contacts) / static_cast<double>(state.iterations());
+  state.counters["in_contact"] =
+      static_cast<double>(contacts) / static_cast<double>(state.iterations());
   state.counters["search_rounds"] = static_cast<double>(proxy.stats().search_iterations) /
                                     static_cast<double>(proxy.stats().steps);
 }
@@ -116,7 +119,8 @@ void BM_PointProxyFirstContact(benchmark::State& state) {
   }
   timer.report(state);
   state.counters["triangles"] = static_cast<double>(sc.db.face_count());
-  state.counters["contact_rate"] = static_cast<double>(made) / static_cast<double>(state.iterations());
+  state.counters["contact_rate"] =
+      static_cast<double>(made) / static_cast<double>(state.iterations());
 }
 
 void BM_PointProxyBruteForce(benchmark::State& state) {
@@ -124,7 +128,8 @@ void BM_PointProxyBruteForce(benchmark::State& state) {
   const Scene& sc = scene(n);
   haptics::BruteForcePointProxy proxy;
   const Eigen::Vector3d p0 = slide_path(n, 0);
-  const Eigen::Vector3d out = n == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
+  const Eigen::Vector3d out =
+      n == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
   proxy.reset(out);
   for (int i = 1; i <= 20; ++i) proxy.step(sc.db, out + (p0 - out) * (i / 20.0));
   int64_t tick = 0;
@@ -162,7 +167,8 @@ void BM_MeshDatabaseRefit(benchmark::State& state) {
     state.PauseTiming();
     phase += 0.1;
     const double s = 1.0 + 0.01 * std::sin(phase);
-    for (size_t v = 0; v < moved.size(); ++v) moved[v] = mesh.positions[v] * s;  // every vertex moves
+    for (size_t v = 0; v < moved.size(); ++v)
+      moved[v] = mesh.positions[v] * s;  // every vertex moves
     state.ResumeTiming();
     db.set_positions(moved);
     benchmark::ClobberMemory();

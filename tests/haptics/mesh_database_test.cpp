@@ -32,7 +32,8 @@ TEST(MeshDatabase, NeighbourListsOfAClosedSphereAreConsistent) {
     }
     // Faces are stored in tree order; original_face maps back to the input mesh.
     EXPECT_EQ(std::set<int32_t>(v.begin(), v.end()),
-              std::set<int32_t>(s.triangles[db.original_face(f)].begin(), s.triangles[db.original_face(f)].end()));
+              std::set<int32_t>(s.triangles[db.original_face(f)].begin(),
+                                s.triangles[db.original_face(f)].end()));
   }
   for (int32_t e = 0; e < db.edge_count(); ++e) EXPECT_GE(db.edge_faces(e)[1], 0);  // Figure 4-2(b)
   for (int32_t v = 0; v < db.vertex_count(); ++v) {
@@ -55,10 +56,12 @@ TEST(MeshDatabase, NormalsOfACube) {
     EXPECT_NEAR(db.vertex_normal(v).dot(db.position(v).cwiseSign().normalized()), 1.0, 1e-12);
   }
   for (int32_t e = 0; e < db.edge_count(); ++e) {
-    const Eigen::Vector3d mid = 0.5 * (db.position(db.edge_vertices(e)[0]) + db.position(db.edge_vertices(e)[1]));
+    const Eigen::Vector3d mid =
+        0.5 * (db.position(db.edge_vertices(e)[0]) + db.position(db.edge_vertices(e)[1]));
     const Eigen::Vector3d n = db.edge_normal(e);
     // Cube edges bisect their two faces; the face diagonals lie flat (normal = face normal).
-    const int nonzero = (std::abs(mid.x()) > 0.25) + (std::abs(mid.y()) > 0.25) + (std::abs(mid.z()) > 0.25);
+    const int nonzero =
+        (std::abs(mid.x()) > 0.25) + (std::abs(mid.y()) > 0.25) + (std::abs(mid.z()) > 0.25);
     if (nonzero == 2) {
       EXPECT_NEAR(n.norm(), 1.0, 1e-12);
       EXPECT_NEAR(n.dot(mid.normalized()), 1.0, 1e-12);
@@ -125,16 +128,20 @@ TEST(BoundingVolumeTree, FirstHitMatchesExhaustiveSearchOnRandomSegments) {
   for (int i = 0; i < 3000; ++i) {
     const Eigen::Vector3d p0(u(rng), u(rng), u(rng));
     // Short paths (a tick) and long ones (a jump across the object).
-    const Eigen::Vector3d p1 = i % 2 == 0 ? Eigen::Vector3d(p0 + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.05)
-                                          : Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d p1 =
+        i % 2 == 0 ? Eigen::Vector3d(p0 + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.05)
+                   : Eigen::Vector3d(u(rng), u(rng), u(rng));
     for (bool two_sided : {false, true}) {
       double t = 0.0;
-      const int32_t f = db.tree().first_hit(p0, p1, [&](int32_t k, double) {
-        const auto& v = db.face_vertices(k);
-        const SegmentCrossing s = segment_crosses_triangle(p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1],
-                                                          db.position(v[2]), v[2]);
-        return s.hit && (two_sided || s.from_front) ? s.t : -1.0;
-      }, &t);
+      const int32_t f = db.tree().first_hit(
+          p0, p1,
+          [&](int32_t k, double) {
+            const auto& v = db.face_vertices(k);
+            const SegmentCrossing s = segment_crosses_triangle(
+                p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1], db.position(v[2]), v[2]);
+            return s.hit && (two_sided || s.from_front) ? s.t : -1.0;
+          },
+          &t);
       const ReferenceCrossing r = reference_first_crossing(db, p0, p1, two_sided);
       ASSERT_EQ(f >= 0, r.face >= 0) << "segment " << i;
       if (f >= 0) {
@@ -156,12 +163,15 @@ TEST(BoundingVolumeTree, SubMicrometreTrianglesFarFromTheOriginAreHit) {
   const Eigen::Vector3d p0 = c + Eigen::Vector3d(3e-7, 1e-8, 0);
   const Eigen::Vector3d p1 = c - Eigen::Vector3d(0, 0, 0) + Eigen::Vector3d(1e-9, 2e-9, 0);
   double t = 0.0;
-  const int32_t f = db.tree().first_hit(p0, p1, [&](int32_t k, double) {
-    const auto& v = db.face_vertices(k);
-    const SegmentCrossing s = segment_crosses_triangle(p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1],
-                                                      db.position(v[2]), v[2]);
-    return s.hit && s.from_front ? s.t : -1.0;
-  }, &t);
+  const int32_t f = db.tree().first_hit(
+      p0, p1,
+      [&](int32_t k, double) {
+        const auto& v = db.face_vertices(k);
+        const SegmentCrossing s = segment_crosses_triangle(
+            p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1], db.position(v[2]), v[2]);
+        return s.hit && s.from_front ? s.t : -1.0;
+      },
+      &t);
   ASSERT_GE(f, 0);
   const ReferenceCrossing r = reference_first_crossing(db, p0, p1, false);
   ASSERT_GE(r.face, 0);
@@ -175,7 +185,8 @@ TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
   std::vector<Eigen::Vector3d> moved(m.positions.size());
   for (size_t i = 0; i < moved.size(); ++i) {
     const Eigen::Vector3d& p = m.positions[i];
-    moved[i] = p * (1.0 + 0.3 * std::sin(40.0 * p.x()) * std::cos(30.0 * p.y())) + Eigen::Vector3d(0.01, 0, 0);
+    moved[i] = p * (1.0 + 0.3 * std::sin(40.0 * p.x()) * std::cos(30.0 * p.y())) +
+               Eigen::Vector3d(0.01, 0, 0);
   }
   db.set_positions(moved);
   TriangleMesh m2 = m;
@@ -188,18 +199,22 @@ TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
     const Eigen::Vector3d p1(u(rng), u(rng), u(rng));
     auto query = [&](const MeshDatabase& d) {
       double t = -1.0;
-      const int32_t f = d.tree().first_hit(p0, p1, [&](int32_t k, double) {
-        const auto& v = d.face_vertices(k);
-        const SegmentCrossing s = segment_crosses_triangle(p0, p1, d.position(v[0]), v[0], d.position(v[1]), v[1],
-                                                          d.position(v[2]), v[2]);
-        return s.hit && s.from_front ? s.t : -1.0;
-      }, &t);
+      const int32_t f = d.tree().first_hit(
+          p0, p1,
+          [&](int32_t k, double) {
+            const auto& v = d.face_vertices(k);
+            const SegmentCrossing s = segment_crosses_triangle(
+                p0, p1, d.position(v[0]), v[0], d.position(v[1]), v[1], d.position(v[2]), v[2]);
+            return s.hit && s.from_front ? s.t : -1.0;
+          },
+          &t);
       return f >= 0 ? t : -1.0;
     };
     EXPECT_DOUBLE_EQ(query(db), query(fresh)) << i;
   }
   // Normals followed the deformation.
-  for (int32_t v = 0; v < db.vertex_count(); v += 37) EXPECT_TRUE(db.vertex_normal(v).isApprox(fresh.vertex_normal(v), 1e-12));
+  for (int32_t v = 0; v < db.vertex_count(); v += 37)
+    EXPECT_TRUE(db.vertex_normal(v).isApprox(fresh.vertex_normal(v), 1e-12));
 }
 
 TEST(BoundingVolumeTree, NodeBoxesContainTheirFaces) {

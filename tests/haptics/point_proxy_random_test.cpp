@@ -68,7 +68,8 @@ struct Shape {
 // Is p within distance tol of primitive `prim`?
 double distance_to_primitive(const MeshDatabase& db, PrimitiveRef prim, const Eigen::Vector3d& p) {
   switch (prim.kind) {
-    case PrimitiveKind::kVertex: return (db.position(prim.index) - p).norm();
+    case PrimitiveKind::kVertex:
+      return (db.position(prim.index) - p).norm();
     case PrimitiveKind::kEdge: {
       SegmentFeature f;
       const auto& e = db.edge_vertices(prim.index);
@@ -77,9 +78,12 @@ double distance_to_primitive(const MeshDatabase& db, PrimitiveRef prim, const Ei
     case PrimitiveKind::kFace: {
       TriangleFeature f;
       const auto& v = db.face_vertices(prim.index);
-      return (closest_on_triangle(p, db.position(v[0]), db.position(v[1]), db.position(v[2]), &f) - p).norm();
+      return (closest_on_triangle(p, db.position(v[0]), db.position(v[1]), db.position(v[2]), &f) -
+              p)
+          .norm();
     }
-    case PrimitiveKind::kNone: break;
+    case PrimitiveKind::kNone:
+      break;
   }
   return 1e9;
 }
@@ -104,7 +108,8 @@ bool history_rule_applies(const MeshDatabase& db, PrimitiveRef proxy, const Eige
     case PrimitiveKind::kEdge:
       for (int k = 0; k < 2; ++k) {
         around.push_back({PrimitiveKind::kVertex, db.edge_vertices(proxy.index)[k]});
-        if (db.edge_faces(proxy.index)[k] >= 0) around.push_back({PrimitiveKind::kFace, db.edge_faces(proxy.index)[k]});
+        if (db.edge_faces(proxy.index)[k] >= 0)
+          around.push_back({PrimitiveKind::kFace, db.edge_faces(proxy.index)[k]});
       }
       break;
     case PrimitiveKind::kVertex:
@@ -112,13 +117,16 @@ bool history_rule_applies(const MeshDatabase& db, PrimitiveRef proxy, const Eige
         around.push_back({PrimitiveKind::kFace, f});
         for (int k = 0; k < 3; ++k) {
           const auto& ev = db.edge_vertices(db.face_edges(f)[k]);
-          if (ev[0] == proxy.index || ev[1] == proxy.index) around.push_back({PrimitiveKind::kEdge, db.face_edges(f)[k]});
+          if (ev[0] == proxy.index || ev[1] == proxy.index)
+            around.push_back({PrimitiveKind::kEdge, db.face_edges(f)[k]});
         }
       });
       break;
-    case PrimitiveKind::kNone: return false;
+    case PrimitiveKind::kNone:
+      return false;
   }
-  if (std::abs(distance_to_primitive(db, proxy, hip) - d) > 1e-12) return false;  // IHIP is its nearest point
+  if (std::abs(distance_to_primitive(db, proxy, hip) - d) > 1e-12)
+    return false;  // IHIP is its nearest point
   for (const PrimitiveRef& p : around) {
     if (distance_to_primitive(db, p, hip) < d - 1e-12) return false;  // not a local minimum
   }
@@ -167,7 +175,8 @@ Counts run_shape(const Shape& shape, uint32_t seed) {
     const Eigen::Vector3d prev_ihip = proxy.ihip();
     const PointProxyOutput out = proxy.step(std::span<const HapticObject>(&object, 1), hip, dt);
     ++c.ticks;
-    if (!out.force_W.allFinite() || out.force_W.norm() > object.law.max_force_n + 1e-12) ++c.non_finite;
+    if (!out.force_W.allFinite() || out.force_W.norm() > object.law.max_force_n + 1e-12)
+      ++c.non_finite;
     const bool sample = tick % shape.sample_every == 0;
 
     if (out.contact_count > 0) {
@@ -191,19 +200,23 @@ Counts run_shape(const Shape& shape, uint32_t seed) {
           ++c.wrong_first_face;
         } else {
           const auto& v = db.face_vertices(r.face);
-          const SegmentCrossing s = segment_crosses_triangle(
-              prev_ihip, hip, db.position(v[0]), v[0], db.position(v[1]), v[1], db.position(v[2]), v[2]);
+          const SegmentCrossing s =
+              segment_crosses_triangle(prev_ihip, hip, db.position(v[0]), v[0], db.position(v[1]),
+                                       v[1], db.position(v[2]), v[2]);
           double t_proxy = -1.0;
           {
             const auto& w = db.face_vertices(out.primitive.index);
-            t_proxy = segment_crosses_triangle(prev_ihip, hip, db.position(w[0]), w[0], db.position(w[1]), w[1],
-                                               db.position(w[2]), w[2]).t;
+            t_proxy = segment_crosses_triangle(prev_ihip, hip, db.position(w[0]), w[0],
+                                               db.position(w[1]), w[1], db.position(w[2]), w[2])
+                          .t;
           }
-          if (out.primitive.kind != PrimitiveKind::kFace || std::abs(t_proxy - s.t) > 1e-12) ++c.wrong_first_face;
+          if (out.primitive.kind != PrimitiveKind::kFace || std::abs(t_proxy - s.t) > 1e-12)
+            ++c.wrong_first_face;
         }
       } else if (sample) {
         ++c.free_ticks_checked;
-        if (reference_first_crossing(db, prev_hip, hip, shape.two_sided).face >= 0) ++c.missed_first_contacts;
+        if (reference_first_crossing(db, prev_hip, hip, shape.two_sided).face >= 0)
+          ++c.missed_first_contacts;
       }
     }
 
@@ -233,8 +246,10 @@ Counts run_shape(const Shape& shape, uint32_t seed) {
 
 void print(const std::string& name, int32_t faces, const Counts& c) {
   std::printf(
-      "%-26s faces %7d ticks %7lld contact %7lld first %5lld | free-checked %6lld missed %lld wrong-face %lld | "
-      "inside-checked %5lld inside-free %lld ihip-off %lld ihip-inside %lld | convex %5lld equal %5lld "
+      "%-26s faces %7d ticks %7lld contact %7lld first %5lld | free-checked %6lld missed %lld "
+      "wrong-face %lld | "
+      "inside-checked %5lld inside-free %lld ihip-off %lld ihip-inside %lld | convex %5lld equal "
+      "%5lld "
       "fig2-11 %4lld unexplained %lld | side-flips %lld non-finite %lld\n",
       name.c_str(), faces, static_cast<long long>(c.ticks), static_cast<long long>(c.contact_ticks),
       static_cast<long long>(c.first_contacts), static_cast<long long>(c.free_ticks_checked),
@@ -261,13 +276,19 @@ void expect_clean(const std::string& name, const Counts& c) {
 std::vector<Shape> generated_shapes() {
   std::vector<Shape> s;
   s.push_back({"sphere r30mm", make_uv_sphere(0.03, 60, 120), true, false, 100000, 1});
-  s.push_back({"ellipsoid", make_mapped_sphere(50, 100, [](const Eigen::Vector3d& u) {
-                 return Eigen::Vector3d(0.04 * u.x(), 0.02 * u.y(), 0.03 * u.z());
-               }), true, false, 100000, 1});
+  s.push_back({"ellipsoid",
+               make_mapped_sphere(50, 100,
+                                  [](const Eigen::Vector3d& u) {
+                                    return Eigen::Vector3d(0.04 * u.x(), 0.02 * u.y(),
+                                                           0.03 * u.z());
+                                  }),
+               true, false, 100000, 1});
   s.push_back({"cube 6cm", make_box(Eigen::Vector3d(0.06, 0.06, 0.06), 8), true, false, 100000, 1});
   s.push_back({"thin plate 8cm", make_plate(0.08, 16), false, true, 100000, 1});
-  s.push_back({"L block", make_voxel_solid(3, 3, 2, 0.015, [](int i, int j, int) { return !(i >= 1 && j >= 1); }),
-               false, false, 100000, 1});
+  s.push_back(
+      {"L block",
+       make_voxel_solid(3, 3, 2, 0.015, [](int i, int j, int) { return !(i >= 1 && j >= 1); }),
+       false, false, 100000, 1});
   s.push_back({"stand-in liver", make_stand_in_liver(), false, false, 100000, 2});
   return s;
 }

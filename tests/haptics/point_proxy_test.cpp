@@ -43,7 +43,8 @@ TEST(PointProxy, PlaneForceIsStiffnessTimesDepth) {
     PointProxy proxy;
     proxy.reset(Eigen::Vector3d(0.013, 0.06, -0.021));
     const Eigen::Vector3d target(0.013, 0.05 - depth, -0.021);
-    const PointProxyOutput out = move(proxy, objects, Eigen::Vector3d(0.013, 0.06, -0.021), target, 10);
+    const PointProxyOutput out =
+        move(proxy, objects, Eigen::Vector3d(0.013, 0.06, -0.021), target, 10);
     ASSERT_EQ(out.contact_count, 1);
     EXPECT_NEAR(out.force_W.y(), 700.0 * depth, 1e-9 * 700.0 * depth);
     EXPECT_NEAR(out.force_W.x(), 0.0, 1e-12);
@@ -107,7 +108,8 @@ TEST(PointProxy, CubeApproachedFromTheTopKeepsTheForceUp) {
   proxy.reset({0.048, 0.06, 0.0});
   PointProxyOutput out = move(proxy, objects, {0.048, 0.06, 0.0}, {0.048, 0.049, 0.0}, 10);
   ASSERT_EQ(out.contact_count, 1);
-  out = move(proxy, objects, {0.048, 0.049, 0.0}, {0.048, 0.040, 0.0}, 20);  // 2 mm from the side, 10 mm deep
+  out = move(proxy, objects, {0.048, 0.049, 0.0}, {0.048, 0.040, 0.0},
+             20);  // 2 mm from the side, 10 mm deep
   ASSERT_EQ(out.contact_count, 1);
   EXPECT_NEAR(out.force_W.normalized().y(), 1.0, 1e-12);
   EXPECT_NEAR(out.force_W.norm(), 500.0 * 0.010, 1e-9);
@@ -157,7 +159,8 @@ TEST(PointProxy, SlidingOverAnEdgeFromOutsideFollowsTheEdge) {
   // prism is the edge itself; Local search from the face steps down to it.
   Eigen::Vector3d q;
   int32_t rounds = 0;
-  const PrimitiveRef edge = PointProxy::local_search(db, out.primitive, {0.0502, 0.0502, 0.01}, &q, &rounds);
+  const PrimitiveRef edge =
+      PointProxy::local_search(db, out.primitive, {0.0502, 0.0502, 0.01}, &q, &rounds);
   EXPECT_EQ(edge.kind, PrimitiveKind::kEdge);
   EXPECT_TRUE(q.isApprox(Eigen::Vector3d(0.05, 0.05, 0.01), 1e-12));
 }
@@ -200,18 +203,19 @@ TEST(PointProxy, LShapedBlockInnerCornerPushesOutOfBothFaces) {
   // x in [1, 2] cm meets the wall x = 1 cm rising to y = 2 cm. The HIP pressed into the floor
   // slides into the wall: the IHIP stops at the concave edge and the force points up and away.
   const double c = 0.01;
-  const MeshDatabase db = MeshDatabase::build(make_voxel_solid(2, 2, 1, c, [](int i, int j, int) {
-    return !(i == 1 && j == 1);
-  }));
+  const MeshDatabase db = MeshDatabase::build(
+      make_voxel_solid(2, 2, 1, c, [](int i, int j, int) { return !(i == 1 && j == 1); }));
   const HapticObject objects[] = {object_of(db, 500.0)};
   PointProxy proxy;
   const Eigen::Vector3d start(0.016, 0.012, 0.005);
   proxy.reset(start);
   move(proxy, objects, start, {0.016, 0.009, 0.005}, 10);  // 1 mm into the floor
-  const PointProxyOutput out = move(proxy, objects, {0.016, 0.009, 0.005}, {0.008, 0.009, 0.005}, 80);
+  const PointProxyOutput out =
+      move(proxy, objects, {0.016, 0.009, 0.005}, {0.008, 0.009, 0.005}, 80);
   ASSERT_EQ(out.contact_count, 1);
   EXPECT_EQ(out.primitive.kind, PrimitiveKind::kEdge);
-  EXPECT_TRUE(out.ihip_W.isApprox(Eigen::Vector3d(0.01, 0.01, 0.005), 1e-12)) << out.ihip_W.transpose();
+  EXPECT_TRUE(out.ihip_W.isApprox(Eigen::Vector3d(0.01, 0.01, 0.005), 1e-12))
+      << out.ihip_W.transpose();
   EXPECT_TRUE(out.force_W.isApprox(Eigen::Vector3d(0.002, 0.001, 0.0) * 500.0, 1e-9))
       << out.force_W.transpose();
 }
@@ -274,7 +278,8 @@ TEST(PointProxy, SlidingAlongOneObjectNeverEntersItsNeighbour) {
   // Two boxes side by side: a low one (top at y = 1 cm) and a tall one to its right (wall at
   // x = 2 cm). Pressed into the low box's top, the HIP slides right into the tall box: the IHIP
   // stops at the tall box's wall instead of sliding into it.
-  const MeshDatabase low = MeshDatabase::build(make_voxel_solid(2, 1, 1, 0.01, [](int, int, int) { return true; }));
+  const MeshDatabase low =
+      MeshDatabase::build(make_voxel_solid(2, 1, 1, 0.01, [](int, int, int) { return true; }));
   TriangleMesh tall_mesh = make_voxel_solid(1, 3, 1, 0.01, [](int, int, int) { return true; });
   tall_mesh.transform(Eigen::Affine3d(Eigen::Translation3d(0.02, 0.0, 0.0)));
   const MeshDatabase tall = MeshDatabase::build(tall_mesh);
@@ -289,9 +294,11 @@ TEST(PointProxy, SlidingAlongOneObjectNeverEntersItsNeighbour) {
     EXPECT_LE(out.ihip_W.x(), 0.02 + 1e-12) << "tick " << i;  // never inside the tall box
   }
   EXPECT_EQ(out.contact_count, 2);
-  EXPECT_TRUE(out.ihip_W.isApprox(Eigen::Vector3d(0.02, 0.01, 0.005), 1e-12)) << out.ihip_W.transpose();
+  EXPECT_TRUE(out.ihip_W.isApprox(Eigen::Vector3d(0.02, 0.01, 0.005), 1e-12))
+      << out.ihip_W.transpose();
   // Both surfaces push: up from the low box, left from the tall one (the stiffer law applies).
-  EXPECT_TRUE(out.force_W.isApprox(Eigen::Vector3d(-0.005, 0.001, 0.0) * 800.0, 1e-9)) << out.force_W.transpose();
+  EXPECT_TRUE(out.force_W.isApprox(Eigen::Vector3d(-0.005, 0.001, 0.0) * 800.0, 1e-9))
+      << out.force_W.transpose();
 }
 
 TEST(ForceLaw, HookeDampedAndNonlinear) {
@@ -302,7 +309,8 @@ TEST(ForceLaw, HookeDampedAndNonlinear) {
   law.kind = ForceLaw::Kind::kHookeDamped;
   law.damping_n_s_per_m = 2.0;
   // Penetrating at 0.1 m/s adds b v; withdrawing fast never pulls the HIP in.
-  EXPECT_TRUE(contact_force(law, x, Eigen::Vector3d(0, -0.1, 0)).isApprox(Eigen::Vector3d(0, 0.8, 0)));
+  EXPECT_TRUE(
+      contact_force(law, x, Eigen::Vector3d(0, -0.1, 0)).isApprox(Eigen::Vector3d(0, 0.8, 0)));
   EXPECT_TRUE(contact_force(law, x, Eigen::Vector3d(0, 1.0, 0)).isZero());
   law.kind = ForceLaw::Kind::kNonlinear;
   law.k1_n_per_sqrt_m = 3.0;
@@ -322,7 +330,8 @@ TEST(PointProxy, ForceIsClampedToTheMaterialMaximum) {
   o.law.max_force_n = 3.0;
   PointProxy proxy;
   proxy.reset({0, 0.06, 0});
-  const PointProxyOutput out = move(proxy, std::span<const HapticObject>(&o, 1), {0, 0.06, 0}, {0, 0.03, 0}, 40);
+  const PointProxyOutput out =
+      move(proxy, std::span<const HapticObject>(&o, 1), {0, 0.06, 0}, {0, 0.03, 0}, 40);
   EXPECT_NEAR(out.force_W.norm(), 3.0, 1e-12);
 }
 

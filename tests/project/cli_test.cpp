@@ -62,21 +62,25 @@ TEST(CliMeshInfo, DiagnosesAndRepairs) {
 TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
   TempDir dir;
   // A 10 cm cube centred at the origin, as OBJ; the path comes down onto the top face.
-  std::string obj = "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
-                    "v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
-                    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  std::string obj =
+      "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
+      "v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
+      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
   const auto mesh = dir.write("box.obj", obj);
   std::string path = "x,y,z\n";
-  for (int i = 0; i <= 20; ++i) path += "0.01,0.0" + std::to_string(60 - i) + ",0.02\n";  // 60 -> 40 mm
+  for (int i = 0; i <= 20; ++i)
+    path += "0.01,0.0" + std::to_string(60 - i) + ",0.02\n";  // 60 -> 40 mm
   const auto csv = dir.write("path.csv", path);
   const auto out = dir.path() / "out.csv";
-  const CommandResult r = run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() +
-                                      " --probe point --stiffness 400 --out " + out.string());
+  const CommandResult r =
+      run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() +
+                  " --probe point --stiffness 400 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream in(out);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns");
+  EXPECT_EQ(line,
+            "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns");
   int rows = 0;
   while (std::getline(in, line)) {
     std::stringstream ss(line);
@@ -96,13 +100,23 @@ TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
 
 TEST(CliProbe, BadPathRowsAreNamedByLine) {
   TempDir dir;
-  const auto mesh = dir.write("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const auto mesh = dir.write(
+      "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
   const auto csv = dir.write("p.csv", "0,0,0\n0.1,0.2\n");
-  const CommandResult r = run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string());
+  const CommandResult r =
+      run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find(csv.string() + ":2: expected 3 numbers x,y,z in metres, got '0.1,0.2'"), std::string::npos) << r.err;
-  EXPECT_EQ(run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() + " --probe ray").exit_code, 64);
-  EXPECT_EQ(run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() + " --stiffness -3").exit_code, 64);
+  EXPECT_NE(r.err.find(csv.string() + ":2: expected 3 numbers x,y,z in metres, got '0.1,0.2'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() +
+                        " --probe ray")
+                .exit_code,
+            64);
+  EXPECT_EQ(run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() +
+                        " --stiffness -3")
+                .exit_code,
+            64);
 }
 
 TEST(AppHeadless, WithoutADisplayItSaysSoAndRunsTheDefaultScenario) {
