@@ -38,7 +38,8 @@ std::vector<Eigen::Matrix<double, 6, 1>> load_probe_path(const std::filesystem::
     if (!numeric) {
       if (rows.empty() && n == 1 && static_cast<int>(cells.size()) == columns) continue;  // header
       std::string message = file.string();
-      message += ":" + std::to_string(n) + ": expected " + expected + ", got '" + line + "'";
+      message.append(":").append(std::to_string(n)).append(": expected ").append(expected);
+      message.append(", got '").append(line).append("'");
       throw LoadError(message);
     }
     rows.push_back(row);
