@@ -90,30 +90,24 @@ void radix_sort(std::vector<uint64_t>& keys, std::vector<int32_t>& values) {
 
 }  // namespace
 
-void BoundingVolumeTree::build(const std::vector<Eigen::Vector3d>& centres, int32_t max_leaf_size,
-                               std::vector<int32_t>* order) {
-  const auto n = static_cast<int32_t>(centres.size());
+uint64_t BoundingVolumeTree::morton_code(const Eigen::Vector3d& p, const Eigen::Vector3d& origin,
+                                         const Eigen::Vector3d& scale) {
+  uint64_t code = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double q = std::clamp((p[a] - origin[a]) * scale[a], 0.0, 2097151.0);
+    code |= spread_bits(static_cast<uint64_t>(q)) << static_cast<unsigned>(2 - a);
+  }
+  return code;
+}
+
+void BoundingVolumeTree::build_from_codes(std::vector<uint64_t>& codes, int32_t max_leaf_size,
+                                          std::vector<int32_t>* order) {
+  const auto n = static_cast<int32_t>(codes.size());
   nodes_.clear();
   depth_ = 0;
   order->resize(n);
   for (int32_t i = 0; i < n; ++i) (*order)[i] = i;
   if (n == 0) return;
-
-  // Morton codes of the centres, 21 bits per axis over their bounds.
-  Eigen::AlignedBox3d cbox;
-  for (const auto& c : centres) cbox.extend(c);
-  const Eigen::Vector3d lo = cbox.min();
-  Eigen::Vector3d scale;
-  for (int a = 0; a < 3; ++a) scale[a] = cbox.sizes()[a] > 0.0 ? 2097151.0 / cbox.sizes()[a] : 0.0;
-  std::vector<uint64_t> codes(n);
-  for (int32_t i = 0; i < n; ++i) {
-    uint64_t code = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double q = std::clamp((centres[i][a] - lo[a]) * scale[a], 0.0, 2097151.0);
-      code |= spread_bits(static_cast<uint64_t>(q)) << static_cast<unsigned>(2 - a);
-    }
-    codes[i] = code;
-  }
   radix_sort(codes, *order);
 
   // Top-down over the sorted codes, splitting each range where its highest differing bit
@@ -125,7 +119,9 @@ void BoundingVolumeTree::build(const std::vector<Eigen::Vector3d>& centres, int3
     int32_t end;
     int32_t depth;
   };
-  nodes_.reserve(2 * static_cast<size_t>(n / std::max(1, max_leaf_size / 2)) + 2);
+  // Leaves average about 3/4 full: reserving for that avoids both regrowth and a shrinking copy.
+  nodes_.reserve(
+      2 * static_cast<size_t>(n) * 4 / (3 * static_cast<size_t>(std::max(1, max_leaf_size))) + 64);
   std::vector<Task> tasks;
   tasks.push_back({-1, false, 0, n, 0});
   while (!tasks.empty()) {
@@ -155,7 +151,7 @@ void BoundingVolumeTree::build(const std::vector<Eigen::Vector3d>& centres, int3
     tasks.push_back({index, true, mid, t.end, t.depth + 1});
     tasks.push_back({index, false, t.begin, mid, t.depth + 1});  // popped next: index + 1
   }
-  nodes_.shrink_to_fit();
+  if (nodes_.capacity() > nodes_.size() + nodes_.size() / 4) nodes_.shrink_to_fit();
 }
 
 }  // namespace lap::haptics

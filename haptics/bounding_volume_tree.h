@@ -40,7 +40,25 @@ class BoundingVolumeTree {
   /// tree order (order[k] = original index of the k-th primitive in tree order). The boxes are
   /// not set: call refit() with the primitives' boxes in tree order next.
   void build(const std::vector<Eigen::Vector3d>& centres, int32_t max_leaf_size,
-             std::vector<int32_t>* order);
+             std::vector<int32_t>* order) {
+    build(
+        static_cast<int32_t>(centres.size()), [&centres](int32_t i) { return centres[i]; },
+        max_leaf_size, order);
+  }
+  /// The same with the centres given by a function of the index (no array of them).
+  template <typename Centre>
+  void build(int32_t n, const Centre& centre, int32_t max_leaf_size, std::vector<int32_t>* order) {
+    Eigen::AlignedBox3d bounds;
+    for (int32_t i = 0; i < n; ++i) bounds.extend(centre(i));
+    Eigen::Vector3d scale;
+    for (int a = 0; a < 3; ++a) {
+      const double extent = bounds.max()[a] - bounds.min()[a];
+      scale[a] = extent > 0.0 ? 2097151.0 / extent : 0.0;
+    }
+    std::vector<uint64_t> codes(static_cast<size_t>(n));
+    for (int32_t i = 0; i < n; ++i) codes[i] = morton_code(centre(i), bounds.min(), scale);
+    build_from_codes(codes, max_leaf_size, order);
+  }
 
   /// Recomputes every box, children before parents, in O(n); the topology is kept.
   /// extend(k, lo, hi) grows the double bounds lo/hi[3] by primitive k (tree order).
@@ -138,11 +156,17 @@ class BoundingVolumeTree {
   [[nodiscard]] int32_t depth() const { return depth_; }
   [[nodiscard]] size_t memory_bytes() const { return nodes_.capacity() * sizeof(BvhNode); }
 
+  /// 63-bit Morton code of p: 21 bits per axis of (p - origin) * scale, clamped.
+  static uint64_t morton_code(const Eigen::Vector3d& p, const Eigen::Vector3d& origin,
+                              const Eigen::Vector3d& scale);
+
   /// Stores a double box in float, rounded outward.
   static void set_box(BvhNode& node, const Eigen::AlignedBox3d& box);
   static Eigen::AlignedBox3d to_box(const BvhNode& node);
 
  private:
+  void build_from_codes(std::vector<uint64_t>& codes, int32_t max_leaf_size,
+                        std::vector<int32_t>* order);
   static bool segment_touches(const BvhNode& n, const Eigen::Vector3d& p0,
                               const Eigen::Vector3d& inv, double t_max) {
     double t0 = 0.0;

@@ -6,6 +6,8 @@
 #include <span>
 #include <stdexcept>
 
+#include "haptics/corner_angle.h"
+
 namespace lap::haptics {
 
 const char* to_string(PrimitiveKind kind) {
@@ -160,8 +162,12 @@ MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSet
     }
     db.vertex_face_[v] = corner[first].face;
   }
-  db.edge_vertices_.shrink_to_fit();
-  db.edge_faces_.shrink_to_fit();
+  // A closed mesh has exactly 3F/2 edges, the capacity reserved: shrink only open meshes with
+  // real slack (shrinking copies the arrays).
+  if (db.edge_vertices_.capacity() > db.edge_vertices_.size() + db.edge_vertices_.size() / 8) {
+    db.edge_vertices_.shrink_to_fit();
+    db.edge_faces_.shrink_to_fit();
+  }
   db.vertex_normals_.resize(nv);
   db.update_vertex_normals();
   return db;
@@ -213,8 +219,8 @@ inline void accumulate_face(const std::array<int32_t, 3>& t, const std::vector<E
   const double twice_area = n.norm();
   if (!(twice_area > 0.0)) return;
   const Eigen::Vector3d unit = n / twice_area;
-  const double angle_a = std::atan2(twice_area, ab.dot(ac));
-  const double angle_b = std::atan2(twice_area, -ab.dot(bc));
+  const double angle_a = corner_angle(twice_area, ab.dot(ac));
+  const double angle_b = corner_angle(twice_area, -ab.dot(bc));
   const double angle_c = 3.14159265358979323846 - angle_a - angle_b;
   if (out0 != nullptr) *out0 += angle_a * unit;
   if (out1 != nullptr) *out1 += angle_b * unit;
@@ -260,8 +266,12 @@ void MeshDatabase::refit_tree() {
   });
 }
 
-void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions) {
+void MeshDatabase::move_vertices(std::span<const Eigen::Vector3d> positions) {
   std::copy(positions.begin(), positions.end(), positions_.begin());
+}
+
+void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions) {
+  move_vertices(positions);
   update_vertex_normals();
   refit_tree();
 }

@@ -56,7 +56,9 @@ class MeshDatabase {
   /// The same when only `moved` vertices changed (local deformation, §6.5): normals are
   /// recomputed only around them; the tree is refitted. No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved);
-  /// The two halves of set_positions, for callers that schedule them apart.
+  /// The three parts of set_positions, for callers that schedule them apart: copy the
+  /// positions, refit the tree (O(n)), recompute all vertex normals (O(n)).
+  void move_vertices(std::span<const Eigen::Vector3d> positions);
   void refit_tree();
   void update_vertex_normals();
 

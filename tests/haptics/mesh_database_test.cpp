@@ -6,6 +6,7 @@
 #include <set>
 
 #include "haptics/brute_force_reference.h"
+#include "haptics/corner_angle.h"
 #include "haptics/mesh_generators.h"
 #include "haptics/mesh_repair.h"
 #include "haptics/segment_triangle.h"
@@ -232,6 +233,30 @@ TEST(BoundingVolumeTree, NodeBoxesContainTheirFaces) {
     }
   }
   EXPECT_LE(db.tree().depth(), BoundingVolumeTree::kMaxDepth);
+}
+
+}  // namespace
+}  // namespace lap::haptics
+
+namespace lap::haptics {
+namespace {
+
+TEST(CornerAngle, AgreesWithStdAtan2) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_real_distribution<double> e(-12.0, 12.0);
+  double worst = 0.0;
+  for (int i = 0; i < 1000000; ++i) {
+    const double scale = std::pow(10.0, e(rng));
+    const double y = std::abs(u(rng)) * scale;
+    const double x = u(rng) * scale;
+    worst = std::max(worst, std::abs(corner_angle(y, x) - std::atan2(y, x)));
+  }
+  EXPECT_LT(worst, 2e-15);
+  EXPECT_EQ(corner_angle(1.0, 0.0), std::atan2(1.0, 0.0));    // right angle, exactly
+  EXPECT_EQ(corner_angle(1.0, 1.0), std::atan2(1.0, 1.0));    // 45 degrees, exactly
+  EXPECT_EQ(corner_angle(0.0, -2.0), std::atan2(0.0, -2.0));  // straight angle
+  EXPECT_EQ(corner_angle(0.0, 0.0), 0.0);
 }
 
 }  // namespace
