@@ -60,7 +60,7 @@ uint64_t spread_bits(uint64_t x) {
   return x;
 }
 
-// LSD radix sort of (key, value) pairs by their 63-bit keys, 11 bits per pass (the counts stay
+// LSD radix sort of (key, value) pairs by their low 33 bits, 11 bits per pass (the counts stay
 // in the first-level cache).
 void radix_sort(std::vector<uint64_t>& keys, std::vector<int32_t>& values) {
   constexpr unsigned kBits = 11;
@@ -69,7 +69,7 @@ void radix_sort(std::vector<uint64_t>& keys, std::vector<int32_t>& values) {
   std::vector<uint64_t> k2(n);
   std::vector<int32_t> v2(n);
   std::array<size_t, kBuckets> count{};
-  for (unsigned shift = 0; shift < 63; shift += kBits) {
+  for (unsigned shift = 0; shift < 33; shift += kBits) {
     count.fill(0);
     for (uint64_t k : keys) ++count[(k >> shift) & (kBuckets - 1)];
     size_t sum = 0;
@@ -108,6 +108,9 @@ void BoundingVolumeTree::build_from_codes(std::vector<uint64_t>& codes, int32_t 
   order->resize(n);
   for (int32_t i = 0; i < n; ++i) (*order)[i] = i;
   if (n == 0) return;
+  // Only the top 33 bits (11 per axis: cells of 1/2048 of the bounds) order the primitives;
+  // finer order would not change the tree, whose small ranges are halved anyway.
+  for (uint64_t& c : codes) c >>= 30U;
   radix_sort(codes, *order);
 
   // Top-down over the sorted codes, splitting each range where its highest differing bit
