@@ -23,7 +23,8 @@ inline const std::array<double, 9>& atan_table() {
 
 // atan(t) for t in [0, 1].
 inline double atan_unit(double t) {
-  const auto k = static_cast<int>(t * 8.0 + 0.5);
+  // t >= 0, so adding 0.5 and truncating rounds to nearest (and compiles to no call).
+  const auto k = static_cast<int>(t * 8.0 + 0.5);  // NOLINT(bugprone-incorrect-roundings)
   const double c = k / 8.0;
   const double d = (t - c) / (1.0 + t * c);
   const double d2 = d * d;
