@@ -270,7 +270,9 @@ void expect_clean(const std::string& name, const Counts& c) {
   EXPECT_EQ(c.ihip_inside, 0) << name;
   EXPECT_EQ(c.convex_unexplained, 0) << name;
   EXPECT_EQ(c.side_flips, 0) << name;
-  EXPECT_GT(c.first_contacts, 10) << name << ": the motion must actually touch the surface";
+  // The motion must actually touch the surface, repeatedly (about one first contact per 700
+  // ticks in full runs; sanitizer builds run a twentieth of the ticks).
+  EXPECT_GE(c.first_contacts, std::max<int64_t>(3, c.ticks / 2000)) << name;
 }
 
 std::vector<Shape> generated_shapes() {
