@@ -54,6 +54,29 @@ TEST(PointProxy, PlaneForceIsStiffnessTimesDepth) {
   }
 }
 
+TEST(PointProxy, SubMicrometreTrianglesAreCollidedWithInMetres) {
+  // A sphere of radius 0.5 micrometre (edges of about 0.1 micrometre) placed 0.2 m from the
+  // origin, where a float step is 1.5e-8 m: no tolerance or size limit may hide it.
+  const double R = 5e-7;
+  TriangleMesh m = make_uv_sphere(R, 12, 24);
+  const Eigen::Vector3d c(0.2, -0.1, 0.15);
+  m.transform(Eigen::Affine3d(Eigen::Translation3d(c)));
+  const MeshDatabase db = MeshDatabase::build(m);
+  const HapticObject objects[] = {object_of(db, 1e6)};
+  PointProxy proxy;
+  const Eigen::Vector3d start = c + Eigen::Vector3d(0, 3 * R, 0);
+  proxy.reset(start);
+  const PointProxyOutput out = move(proxy, objects, start, c + Eigen::Vector3d(0, 0.8 * R, 0), 10);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_GT(out.force_W.y(), 0.0);
+  // Shallow inside a convex shape: the IHIP is the nearest surface point (exhaustive reference)
+  // and the force is k times that distance.
+  const ReferenceClosest r = reference_closest_point(db, c + Eigen::Vector3d(0, 0.8 * R, 0));
+  EXPECT_LT((out.ihip_W - r.point).norm(), 1e-15);
+  EXPECT_NEAR(out.force_W.norm(), 1e6 * r.distance, 1e-9 * 1e6 * r.distance);
+  EXPECT_GT(r.distance, 0.1 * R);
+}
+
 TEST(PointProxy, LeavingThePlaneReleasesAndZeroesTheForce) {
   const MeshDatabase db = MeshDatabase::build(make_box(Eigen::Vector3d(0.2, 0.1, 0.2), 2));
   const HapticObject objects[] = {object_of(db)};
