@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "haptics/corner_angle.h"
+#include "haptics/segment_triangle.h"
 
 namespace lap::haptics {
 
@@ -264,6 +265,24 @@ void MeshDatabase::refit_tree() {
       }
     }
   });
+}
+
+MeshDatabase::Crossing MeshDatabase::first_crossing(const Eigen::Vector3d& p0,
+                                                    const Eigen::Vector3d& p1,
+                                                    bool two_sided) const {
+  Crossing c;
+  c.face = tree_.first_hit(
+      p0, p1,
+      [&](int32_t f, double t_max) {
+        const auto& v = face_vertices_[f];
+        const SegmentCrossing s = segment_crosses_triangle(
+            p0, p1, positions_[v[0]], v[0], positions_[v[1]], v[1], positions_[v[2]], v[2]);
+        if (!s.hit || !(two_sided || s.from_front) || s.t > t_max) return -1.0;
+        c.from_front = s.from_front;  // first_hit keeps exactly the hits with t <= t_max
+        return s.t;
+      },
+      &c.t);
+  return c;
 }
 
 void MeshDatabase::move_vertices(std::span<const Eigen::Vector3d> positions) {

@@ -121,6 +121,16 @@ class MeshDatabase {
   /// Normal of any primitive.
   [[nodiscard]] Eigen::Vector3d normal(PrimitiveRef p) const;
 
+  /// The first face the segment p0 -> p1 crosses (§4.3 first contact): by the tree, with the
+  /// watertight crossing test; from the front only unless two_sided. No allocation.
+  struct Crossing {
+    int32_t face = -1;       ///< -1: none
+    double t = 0.0;          ///< at p0 + t (p1 - p0)
+    bool from_front = true;  ///< p0 was on the side the face normal points to
+  };
+  [[nodiscard]] Crossing first_crossing(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                        bool two_sided) const;
+
   [[nodiscard]] const BoundingVolumeTree& tree() const { return tree_; }
   /// Index of face f in the mesh the database was built from (faces are stored in tree order).
   [[nodiscard]] int32_t original_face(int32_t f) const { return original_face_[f]; }

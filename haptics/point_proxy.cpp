@@ -3,7 +3,6 @@
 #include <limits>
 
 #include "haptics/closest_point.h"
-#include "haptics/segment_triangle.h"
 
 namespace lap::haptics {
 namespace {
@@ -242,28 +241,13 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
       for (int32_t c = 0; c < count_; ++c) skip = skip || contacts_[c].object == oi;
       for (int32_t r = 0; r < n_leaving; ++r) skip = skip || leaving[r].object == oi;
       if (skip) continue;
-      const MeshDatabase& m = *o.mesh;
-      const Eigen::Vector3d p0 = o.prev_pose_WO.inverse() * ihip_W_;
-      const Eigen::Vector3d p1 = o.pose_WO.inverse() * x;
-      const bool two_sided = o.two_sided;
-      double t = 0.0;
-      const int32_t face = m.tree().first_hit(
-          p0, p1,
-          [&](int32_t f, double) {
-            const auto& v = m.face_vertices(f);
-            const SegmentCrossing s = segment_crosses_triangle(
-                p0, p1, m.position(v[0]), v[0], m.position(v[1]), v[1], m.position(v[2]), v[2]);
-            return s.hit && (two_sided || s.from_front) ? s.t : -1.0;
-          },
-          &t);
-      if (face >= 0 && t < best_t) {
-        const auto& v = m.face_vertices(face);
-        best_front = segment_crosses_triangle(p0, p1, m.position(v[0]), v[0], m.position(v[1]),
-                                              v[1], m.position(v[2]), v[2])
-                         .from_front;
-        best_t = t;
+      const MeshDatabase::Crossing c = o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W_,
+                                                              o.pose_WO.inverse() * x, o.two_sided);
+      if (c.face >= 0 && c.t < best_t) {
+        best_t = c.t;
         best_object = oi;
-        best_face = face;
+        best_face = c.face;
+        best_front = c.from_front;
       }
     }
     if (best_object < 0) break;

@@ -133,20 +133,12 @@ TEST(BoundingVolumeTree, FirstHitMatchesExhaustiveSearchOnRandomSegments) {
         i % 2 == 0 ? Eigen::Vector3d(p0 + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.05)
                    : Eigen::Vector3d(u(rng), u(rng), u(rng));
     for (bool two_sided : {false, true}) {
-      double t = 0.0;
-      const int32_t f = db.tree().first_hit(
-          p0, p1,
-          [&](int32_t k, double) {
-            const auto& v = db.face_vertices(k);
-            const SegmentCrossing s = segment_crosses_triangle(
-                p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1], db.position(v[2]), v[2]);
-            return s.hit && (two_sided || s.from_front) ? s.t : -1.0;
-          },
-          &t);
+      const MeshDatabase::Crossing c = db.first_crossing(p0, p1, two_sided);
       const ReferenceCrossing r = reference_first_crossing(db, p0, p1, two_sided);
-      ASSERT_EQ(f >= 0, r.face >= 0) << "segment " << i;
-      if (f >= 0) {
-        EXPECT_DOUBLE_EQ(t, r.t);
+      ASSERT_EQ(c.face >= 0, r.face >= 0) << "segment " << i;
+      if (c.face >= 0) {
+        EXPECT_DOUBLE_EQ(c.t, r.t);
+        EXPECT_EQ(c.from_front, r.from_front);
         ++hits;
       }
     }
@@ -163,20 +155,11 @@ TEST(BoundingVolumeTree, SubMicrometreTrianglesFarFromTheOriginAreHit) {
   const Eigen::Vector3d c(0.3, -0.2, 0.25);
   const Eigen::Vector3d p0 = c + Eigen::Vector3d(3e-7, 1e-8, 0);
   const Eigen::Vector3d p1 = c - Eigen::Vector3d(0, 0, 0) + Eigen::Vector3d(1e-9, 2e-9, 0);
-  double t = 0.0;
-  const int32_t f = db.tree().first_hit(
-      p0, p1,
-      [&](int32_t k, double) {
-        const auto& v = db.face_vertices(k);
-        const SegmentCrossing s = segment_crosses_triangle(
-            p0, p1, db.position(v[0]), v[0], db.position(v[1]), v[1], db.position(v[2]), v[2]);
-        return s.hit && s.from_front ? s.t : -1.0;
-      },
-      &t);
-  ASSERT_GE(f, 0);
+  const MeshDatabase::Crossing hit = db.first_crossing(p0, p1, false);
+  ASSERT_GE(hit.face, 0);
   const ReferenceCrossing r = reference_first_crossing(db, p0, p1, false);
   ASSERT_GE(r.face, 0);
-  EXPECT_DOUBLE_EQ(t, r.t);  // the path may pass through an edge: same t, either face
+  EXPECT_DOUBLE_EQ(hit.t, r.t);  // the path may pass through an edge: same t, either face
 }
 
 TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
@@ -199,17 +182,8 @@ TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
     const Eigen::Vector3d p0(u(rng), u(rng), u(rng));
     const Eigen::Vector3d p1(u(rng), u(rng), u(rng));
     auto query = [&](const MeshDatabase& d) {
-      double t = -1.0;
-      const int32_t f = d.tree().first_hit(
-          p0, p1,
-          [&](int32_t k, double) {
-            const auto& v = d.face_vertices(k);
-            const SegmentCrossing s = segment_crosses_triangle(
-                p0, p1, d.position(v[0]), v[0], d.position(v[1]), v[1], d.position(v[2]), v[2]);
-            return s.hit && s.from_front ? s.t : -1.0;
-          },
-          &t);
-      return f >= 0 ? t : -1.0;
+      const MeshDatabase::Crossing c = d.first_crossing(p0, p1, false);
+      return c.face >= 0 ? c.t : -1.0;
     };
     EXPECT_DOUBLE_EQ(query(db), query(fresh)) << i;
   }
