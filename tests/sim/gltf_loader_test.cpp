@@ -125,6 +125,12 @@ std::string make_json(const std::string& buffer_entry) {
 })";
 }
 
+// The buffer entry of a .gltf whose binary data is embedded as a base64 data URI.
+std::string embedded_entry(const std::string& buffer) {
+  return R"({"byteLength": )" + std::to_string(buffer.size()) +
+         R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) + "\"}";
+}
+
 // What the scene must contain, computed here with Eigen from the node definitions above.
 std::vector<Eigen::Vector3d> expected_positions() {
   Eigen::Affine3d parent = Eigen::Affine3d::Identity();
@@ -171,9 +177,7 @@ void check_scene(const TriangleMesh& m) {
 TEST(GltfLoader, EmbeddedBufferNestedTransformsAndSeveralPrimitives) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
-  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
-                            "\"}";
+  const std::string entry = embedded_entry(buffer);
   check_scene(load_mesh(dir.write("scene.gltf", make_json(entry))));
 }
 
@@ -208,9 +212,7 @@ TEST(GltfLoader, BinaryGlb) {
 TEST(GltfLoader, TextureCoordinatesSurvive) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
-  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
-                            "\"}";
+  const std::string entry = embedded_entry(buffer);
   std::string json = make_json(entry);
   // Keep only node 1's mesh so every vertex has texture coordinates.
   json.replace(json.find(R"("nodes": [0, 2, 3])"), 18, R"("nodes": [0])");
@@ -239,9 +241,7 @@ TEST(GltfLoaderErrors, IndexOutsideVertices) {
   std::string buffer = make_buffer();
   const uint16_t bad = 9;
   std::memcpy(buffer.data() + 128, &bad, 2);
-  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
-                            "\"}";
+  const std::string entry = embedded_entry(buffer);
   const auto f = dir.write("bad.gltf", make_json(entry));
   try {
     (void)load_mesh(f);
@@ -255,9 +255,7 @@ TEST(GltfLoaderErrors, IndexOutsideVertices) {
 TEST(GltfLoaderErrors, NodeNamesMissingMesh) {
   test::TempDir dir;
   const std::string buffer = make_buffer();
-  const std::string entry = R"({"byteLength": )" + std::to_string(buffer.size()) +
-                            R"(, "uri": "data:application/octet-stream;base64,)" + base64(buffer) +
-                            "\"}";
+  const std::string entry = embedded_entry(buffer);
   std::string json = make_json(entry);
   json.replace(json.find(R"("mesh": 1, "translation": [0, 0, -5])"), 9, R"("mesh": 7)");
   const auto f = dir.write("bad.gltf", json);
