@@ -54,6 +54,7 @@ struct Counts {
   int64_t convex_unexplained = 0;
   int64_t side_flips = 0;
   int64_t non_finite = 0;
+  int64_t search_limit_hits = 0;
 };
 
 struct Shape {
@@ -241,6 +242,7 @@ Counts run_shape(const Shape& shape, uint32_t seed) {
       }
     }
   }
+  c.search_limit_hits = proxy.stats().search_limit_hits;
   return c;
 }
 
@@ -270,6 +272,7 @@ void expect_clean(const std::string& name, const Counts& c) {
   EXPECT_EQ(c.ihip_inside, 0) << name;
   EXPECT_EQ(c.convex_unexplained, 0) << name;
   EXPECT_EQ(c.side_flips, 0) << name;
+  EXPECT_EQ(c.search_limit_hits, 0) << name << ": a local search ran into its round bound";
   // The motion must actually touch the surface, repeatedly (about one first contact per 700
   // ticks in full runs; sanitizer builds run a twentieth of the ticks).
   EXPECT_GE(c.first_contacts, std::max<int64_t>(3, c.ticks / 2000)) << name;
