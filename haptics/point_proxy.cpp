@@ -67,9 +67,20 @@ inline Candidate evaluate(const MeshDatabase& m, PrimitiveRef p, const Eigen::Ve
   return c;
 }
 
+// A primitive stands for the lowest-dimensional feature holding its nearest point (a face
+// whose nearest point is on an edge stands for that edge, and so on down to a vertex), with that
+// feature's own distance. Comparing canonical candidates only, every accepted move strictly
+// lowers one consistently computed distance: no two routines' roundings can make the search
+// ping-pong between a face and its edge.
+inline Candidate canonical(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3d& x) {
+  Candidate c = evaluate(m, p, x);
+  for (int k = 0; k < 2 && c.sub.kind != PrimitiveKind::kNone; ++k) c = evaluate(m, c.sub, x);
+  return c;
+}
+
 inline void consider(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3d& x,
                      Candidate& best) {
-  const Candidate c = evaluate(m, p, x);
+  const Candidate c = canonical(m, p, x);
   if (c.d2 < best.d2) best = c;
 }
 
@@ -78,15 +89,11 @@ inline void consider(const MeshDatabase& m, PrimitiveRef p, const Eigen::Vector3
 PrimitiveRef PointProxy::local_search(const MeshDatabase& m, PrimitiveRef start,
                                       const Eigen::Vector3d& p, Eigen::Vector3d* q,
                                       int32_t* rounds) {
-  Candidate cur = evaluate(m, start, p);
+  // Start from the feature holding the nearest point of the contacted primitive (§4.3 plus the
+  // step down that breaks a face/edge tie, see canonical()).
+  Candidate cur = canonical(m, start, p);
   int32_t r = 0;
   for (; r < kMaxSearchRounds; ++r) {
-    if (cur.sub.kind != PrimitiveKind::kNone) {
-      // The nearest point sits on a lower-dimensional feature: continue from there (§4.3, the
-      // tie a strict "closer" test cannot break).
-      cur = evaluate(m, cur.sub, p);
-      continue;
-    }
     Candidate best = cur;
     switch (cur.prim.kind) {
       case PrimitiveKind::kFace: {
