@@ -42,11 +42,6 @@ void BoundingVolumeTree::set_box(BvhNode& node, const Eigen::AlignedBox3d& box) 
   }
 }
 
-Eigen::AlignedBox3d BoundingVolumeTree::to_box(const BvhNode& node) {
-  return {Eigen::Vector3d(node.lo[0], node.lo[1], node.lo[2]),
-          Eigen::Vector3d(node.hi[0], node.hi[1], node.hi[2])};
-}
-
 namespace {
 
 // Spreads the low 21 bits of x to every third bit.

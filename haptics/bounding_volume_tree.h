@@ -129,29 +129,6 @@ class BoundingVolumeTree {
     return best;
   }
 
-  /// Visits every leaf primitive whose box contains the point p (within `margin`).
-  template <typename Visit>
-  void for_each_near(const Eigen::Vector3d& p, double margin, const Visit& visit) const {
-    if (nodes_.empty()) return;
-    std::array<int32_t, kMaxDepth + 4> stack{};
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const BvhNode& node = nodes_[stack[--top]];
-      bool inside = true;
-      for (int a = 0; a < 3; ++a) {
-        inside = inside && p[a] >= node.lo[a] - margin && p[a] <= node.hi[a] + margin;
-      }
-      if (!inside) continue;
-      if (node.count > 0) {
-        for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
-      } else {
-        stack[top++] = static_cast<int32_t>(&node - nodes_.data()) + 1;
-        stack[top++] = node.first;
-      }
-    }
-  }
-
   [[nodiscard]] const std::vector<BvhNode>& nodes() const { return nodes_; }
   [[nodiscard]] int32_t depth() const { return depth_; }
   [[nodiscard]] size_t memory_bytes() const { return nodes_.capacity() * sizeof(BvhNode); }
@@ -162,7 +139,6 @@ class BoundingVolumeTree {
 
   /// Stores a double box in float, rounded outward.
   static void set_box(BvhNode& node, const Eigen::AlignedBox3d& box);
-  static Eigen::AlignedBox3d to_box(const BvhNode& node);
 
  private:
   void build_from_codes(std::vector<uint64_t>& codes, int32_t max_leaf_size,

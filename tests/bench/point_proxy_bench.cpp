@@ -41,6 +41,13 @@ Eigen::Vector3d slide_path(int64_t triangles, int64_t tick) {
           R * std::sin(theta) * std::sin(phi)};
 }
 
+// A point outside the object above the slide path's start (1 cm over the cube, 1.2 times the
+// radius for a sphere), from which the benchmarks come down into contact.
+Eigen::Vector3d slide_approach(int64_t triangles) {
+  const Eigen::Vector3d p0 = slide_path(triangles, 0);
+  return triangles == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
+}
+
 struct Scene {
   haptics::TriangleMesh mesh;
   MeshDatabase db;
@@ -62,8 +69,7 @@ void BM_PointProxySlide(benchmark::State& state) {
   PointProxy proxy;
   // Come down onto the surface from outside at the path's start, then warm up.
   const Eigen::Vector3d p0 = slide_path(n, 0);
-  const Eigen::Vector3d out =
-      n == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
+  const Eigen::Vector3d out = slide_approach(n);
   proxy.reset(out);
   for (int i = 1; i <= 20; ++i) proxy.step({&object, 1}, out + (p0 - out) * (i / 20.0), kDt);
   int64_t tick = 0;
@@ -136,8 +142,7 @@ void BM_PointProxyBruteForce(benchmark::State& state) {
   const Scene& sc = scene(n);
   haptics::BruteForcePointProxy proxy;
   const Eigen::Vector3d p0 = slide_path(n, 0);
-  const Eigen::Vector3d out =
-      n == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
+  const Eigen::Vector3d out = slide_approach(n);
   proxy.reset(out);
   for (int i = 1; i <= 20; ++i) proxy.step(sc.db, out + (p0 - out) * (i / 20.0));
   int64_t tick = 0;
