@@ -129,6 +129,33 @@ class BoundingVolumeTree {
     return best;
   }
 
+  /// Visits every primitive k (tree order) in a leaf whose box, grown by r on every side, the
+  /// segment p0 -> p1 touches: a conservative cover of the capsule of radius r around the
+  /// segment (the volume a moving segment sweeps, §5.3). `visit(k)` is called once per such
+  /// primitive, in no particular order.
+  template <typename Visit>
+  void for_each_near_segment(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double r,
+                             const Visit& visit) const {
+    if (nodes_.empty()) return;
+    const Eigen::Vector3d d = p1 - p0;
+    Eigen::Vector3d inv;
+    for (int a = 0; a < 3; ++a) inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
+    std::array<int32_t, kMaxDepth + 4> stack{};
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const int32_t i = stack[--top];
+      const BvhNode& node = nodes_[i];
+      if (!segment_touches_grown(node, p0, inv, r)) continue;
+      if (node.count > 0) {
+        for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = i + 1;
+      }
+    }
+  }
+
   [[nodiscard]] const std::vector<BvhNode>& nodes() const { return nodes_; }
   [[nodiscard]] int32_t depth() const { return depth_; }
   [[nodiscard]] size_t memory_bytes() const { return nodes_.capacity() * sizeof(BvhNode); }
@@ -152,6 +179,20 @@ class BoundingVolumeTree {
       double tb = (static_cast<double>(n.hi[a]) - p0[a]) * inv[a];
       if (ta > tb) std::swap(ta, tb);
       // NaN (0 * inf for a segment lying in a slab face) compares false: keep the interval.
+      if (ta > t0) t0 = ta;
+      if (tb < t1) t1 = tb;
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+  static bool segment_touches_grown(const BvhNode& n, const Eigen::Vector3d& p0,
+                                    const Eigen::Vector3d& inv, double r) {
+    double t0 = 0.0;
+    double t1 = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      double ta = (static_cast<double>(n.lo[a]) - r - p0[a]) * inv[a];
+      double tb = (static_cast<double>(n.hi[a]) + r - p0[a]) * inv[a];
+      if (ta > tb) std::swap(ta, tb);
       if (ta > t0) t0 = ta;
       if (tb < t1) t1 = tb;
       if (t0 > t1) return false;

@@ -1,8 +1,11 @@
 #include "haptics/brute_force_reference.h"
 
+#include <algorithm>
 #include <limits>
+#include <vector>
 
 #include "haptics/closest_point.h"
+#include "haptics/segment_segment.h"
 #include "haptics/segment_triangle.h"
 
 namespace lap::haptics {
@@ -62,6 +65,72 @@ bool reference_inside(const MeshDatabase& m, const Eigen::Vector3d& p) {
     crossings += s.hit ? 1 : 0;
   }
   return (crossings % 2) == 1;
+}
+
+ReferenceSegmentDistance reference_segment_distance(const MeshDatabase& m, const Eigen::Vector3d& a,
+                                                    const Eigen::Vector3d& b) {
+  ReferenceSegmentDistance best;
+  best.distance = std::numeric_limits<double>::infinity();
+  auto consider = [&](int32_t f, const Eigen::Vector3d& on_segment,
+                      const Eigen::Vector3d& on_surface) {
+    const double d = (on_segment - on_surface).norm();
+    if (d < best.distance) {
+      best.distance = d;
+      best.face = f;
+      best.on_segment = on_segment;
+      best.on_surface = on_surface;
+    }
+  };
+  for (int32_t f = 0; f < m.face_count(); ++f) {
+    const auto& v = m.face_vertices(f);
+    const Eigen::Vector3d& p0 = m.position(v[0]);
+    const Eigen::Vector3d& p1 = m.position(v[1]);
+    const Eigen::Vector3d& p2 = m.position(v[2]);
+    const SegmentCrossing s = segment_crosses_triangle(a, b, p0, v[0], p1, v[1], p2, v[2]);
+    if (s.hit) {
+      const Eigen::Vector3d x = a + s.t * (b - a);
+      consider(f, x, x);
+      continue;
+    }
+    TriangleFeature feature;
+    consider(f, a, closest_on_triangle(a, p0, p1, p2, &feature));
+    consider(f, b, closest_on_triangle(b, p0, p1, p2, &feature));
+    for (int k = 0; k < 3; ++k) {
+      const SegmentPair cp =
+          closest_segment_segment(a, b, m.position(v[k]), m.position(v[(k + 1) % 3]));
+      consider(f, cp.p, cp.q);
+    }
+  }
+  return best;
+}
+
+bool reference_segment_penetrates(const MeshDatabase& m, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b, double tolerance) {
+  // The segment alternates between outside and inside at each crossing of the surface; every
+  // inside stretch is measured by the depth of its midpoint (and the end points').
+  std::vector<double> ts;
+  for (int32_t f = 0; f < m.face_count(); ++f) {
+    const auto& v = m.face_vertices(f);
+    const SegmentCrossing s = segment_crosses_triangle(
+        a, b, m.position(v[0]), v[0], m.position(v[1]), v[1], m.position(v[2]), v[2]);
+    if (s.hit) ts.push_back(s.t);
+  }
+  std::sort(ts.begin(), ts.end());
+  // A crossing through an edge or vertex is reported by each face there: count it once.
+  ts.erase(std::unique(ts.begin(), ts.end(), [](double x, double y) { return y - x < 1e-12; }),
+           ts.end());
+  ts.insert(ts.begin(), 0.0);
+  ts.push_back(1.0);
+  bool inside = reference_inside(m, a);
+  for (size_t i = 0; i + 1 < ts.size(); ++i) {
+    if (inside) {
+      for (double t : {ts[i], 0.5 * (ts[i] + ts[i + 1]), ts[i + 1]}) {
+        if (reference_closest_point(m, a + t * (b - a)).distance > tolerance) return true;
+      }
+    }
+    inside = !inside;
+  }
+  return false;
 }
 
 void BruteForcePointProxy::reset(const Eigen::Vector3d& hip) {

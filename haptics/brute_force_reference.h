@@ -32,6 +32,25 @@ struct ReferenceCrossing {
 /// Is p inside the closed mesh? Parity of crossings along a ray in a fixed irrational direction.
 [[nodiscard]] bool reference_inside(const MeshDatabase& mesh, const Eigen::Vector3d& p);
 
+/// Distance from segment a-b to the whole surface (0 when they intersect), by testing every
+/// face: segment–triangle distance from the triangle's three edges against the segment and the
+/// segment's end points against the triangle, or zero when the segment crosses the triangle.
+struct ReferenceSegmentDistance {
+  int32_t face = -1;
+  double distance = 0.0;
+  Eigen::Vector3d on_segment = Eigen::Vector3d::Zero();
+  Eigen::Vector3d on_surface = Eigen::Vector3d::Zero();
+};
+[[nodiscard]] ReferenceSegmentDistance reference_segment_distance(const MeshDatabase& mesh,
+                                                                  const Eigen::Vector3d& a,
+                                                                  const Eigen::Vector3d& b);
+
+/// Does segment a-b reach into the interior of the closed mesh by more than `tolerance`? True
+/// when it crosses a face with both sides of the crossing more than `tolerance` from that face's
+/// plane, or when its end points or midpoint lie inside (parity) more than `tolerance` deep.
+[[nodiscard]] bool reference_segment_penetrates(const MeshDatabase& mesh, const Eigen::Vector3d& a,
+                                                const Eigen::Vector3d& b, double tolerance);
+
 /// A point proxy built only from the exhaustive queries: first contact by testing the path
 /// against every face, then the IHIP at the globally nearest surface point while inside.
 class BruteForcePointProxy {

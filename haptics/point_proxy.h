@@ -30,6 +30,8 @@
 
 namespace lap::haptics {
 
+class SegmentDatabase;
+
 /// One object as the proxy sees it for one tick.
 struct HapticObject {
   const MeshDatabase* mesh = nullptr;
@@ -37,6 +39,8 @@ struct HapticObject {
   Eigen::Isometry3d prev_pose_WO = Eigen::Isometry3d::Identity();  ///< at the previous tick
   bool two_sided = false;  ///< contact from either side (thin, open surfaces)
   ForceLaw law;
+  /// The ray-based extension of `mesh` (chapter 5); needed by the segment proxy only.
+  const SegmentDatabase* segments = nullptr;
 };
 
 /// One contact of the proxy.

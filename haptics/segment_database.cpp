@@ -1,0 +1,253 @@
+#include "haptics/segment_database.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "haptics/segment_segment.h"
+#include "haptics/segment_triangle.h"
+
+namespace lap::haptics {
+namespace {
+
+// Flat groups larger than this list only their edge neighbours as PCPs (a finely tessellated
+// plane would otherwise give every triangle a list as long as the plane).
+constexpr int32_t kMaxGroupPcps = 16;
+
+int32_t find_root(std::vector<int32_t>& parent, int32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+}  // namespace
+
+SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
+                                       const SegmentDatabaseSettings& settings) {
+  SegmentDatabase db;
+  db.mesh_ = &mesh;
+  const int32_t nf = mesh.face_count();
+  const int32_t ne = mesh.edge_count();
+
+  // Convexity of each edge from the far vertex of its second face against the first face's
+  // plane; flat edges join faces into the thesis' "faces".
+  db.contactable_.assign(ne, 0);
+  std::vector<int32_t> parent(nf);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double sin_flat = std::sin(settings.flat_angle_rad);
+  for (int32_t e = 0; e < ne; ++e) {
+    const auto& ef = mesh.edge_faces(e);
+    if (ef[1] < 0) {
+      db.contactable_[e] = 1;  // boundary: the probe can rest on it from either side
+      continue;
+    }
+    const Eigen::Vector3d n0 = mesh.face_normal(ef[0]);
+    const Eigen::Vector3d n1 = mesh.face_normal(ef[1]);
+    const auto& ev = mesh.edge_vertices(e);
+    const auto& t1 = mesh.face_vertices(ef[1]);
+    int32_t far = t1[0];
+    for (int32_t v : t1) {
+      if (v != ev[0] && v != ev[1]) far = v;
+    }
+    const Eigen::Vector3d edge = mesh.position(ev[1]) - mesh.position(ev[0]);
+    const Eigen::Vector3d w = mesh.position(far) - mesh.position(ev[0]);
+    // Height of the far vertex over face 0's plane, relative to its distance from the edge line:
+    // the sine of the dihedral's deviation from flat.
+    const double dist_from_line = edge.cross(w).norm() / std::max(edge.norm(), 1e-300);
+    const double height = n0.dot(w);
+    const double sine = dist_from_line > 0.0 ? height / dist_from_line : 0.0;
+    if (sine < -sin_flat) {
+      db.contactable_[e] = 1;  // convex
+    } else if (std::abs(sine) <= sin_flat && n0.dot(n1) > 0.0) {
+      const int32_t a = find_root(parent, ef[0]);
+      const int32_t b = find_root(parent, ef[1]);
+      if (a != b) parent[a] = b;
+    }
+  }
+  db.flat_group_.resize(nf);
+  std::vector<int32_t> group_id(nf, -1);
+  std::vector<int32_t> group_size;
+  for (int32_t f = 0; f < nf; ++f) {
+    const int32_t r = find_root(parent, f);
+    if (group_id[r] < 0) {
+      group_id[r] = db.flat_groups_++;
+      group_size.push_back(0);
+    }
+    db.flat_group_[f] = group_id[r];
+    ++group_size[group_id[r]];
+  }
+
+  // Figure 5-5 neighbours.
+  db.face_neighbours_.resize(nf);
+  for (int32_t f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k)
+      db.face_neighbours_[f][k] = mesh.other_face(mesh.face_edges(f)[k], f);
+  }
+  db.edge_neighbours_.assign(ne, {-1, -1, -1, -1});
+  for (int32_t e = 0; e < ne; ++e) {
+    int n = 0;
+    for (int32_t f : mesh.edge_faces(e)) {
+      if (f < 0) continue;
+      for (int32_t g : mesh.face_edges(f)) {
+        if (g != e && n < 4) db.edge_neighbours_[e][n++] = g;
+      }
+    }
+  }
+
+  // Members of each small flat group, for the face PCPs.
+  std::vector<int32_t> group_start(db.flat_groups_ + 1, 0);
+  for (int32_t f = 0; f < nf; ++f) ++group_start[db.flat_group_[f] + 1];
+  std::partial_sum(group_start.begin(), group_start.end(), group_start.begin());
+  std::vector<int32_t> group_faces(nf);
+  {
+    std::vector<int32_t> fill(group_start.begin(), group_start.end() - 1);
+    for (int32_t f = 0; f < nf; ++f) group_faces[fill[db.flat_group_[f]]++] = f;
+  }
+
+  // Face PCPs: its edges; the faces (and their edges) of its flat group, or only the flat
+  // neighbours across its edges when the group is large.
+  db.face_pcp_start_.assign(nf + 1, 0);
+  std::vector<PrimitiveRef> list;
+  for (int32_t f = 0; f < nf; ++f) {
+    list.clear();
+    auto add = [&list](PrimitiveRef p) {
+      if (std::find(list.begin(), list.end(), p) == list.end()) list.push_back(p);
+    };
+    for (int32_t e : mesh.face_edges(f)) add({PrimitiveKind::kEdge, e});
+    const int32_t g = db.flat_group_[f];
+    if (group_start[g + 1] - group_start[g] <= kMaxGroupPcps) {
+      for (int32_t i = group_start[g]; i < group_start[g + 1]; ++i) {
+        const int32_t h = group_faces[i];
+        if (h == f) continue;
+        add({PrimitiveKind::kFace, h});
+        for (int32_t e : mesh.face_edges(h)) add({PrimitiveKind::kEdge, e});
+      }
+    } else {
+      for (int32_t h : db.face_neighbours_[f]) {
+        if (h >= 0 && db.flat_group_[h] == g) add({PrimitiveKind::kFace, h});
+      }
+    }
+    db.face_pcp_.insert(db.face_pcp_.end(), list.begin(), list.end());
+    db.face_pcp_start_[f + 1] = static_cast<int32_t>(db.face_pcp_.size());
+  }
+
+  // Edge PCPs: its faces, and the contactable edges at its two vertices (where a probe resting
+  // on the edge slides next).
+  db.edge_pcp_start_.assign(ne + 1, 0);
+  for (int32_t e = 0; e < ne; ++e) {
+    list.clear();
+    for (int32_t f : mesh.edge_faces(e)) {
+      if (f >= 0) list.push_back({PrimitiveKind::kFace, f});
+    }
+    for (int32_t v : mesh.edge_vertices(e)) {
+      mesh.for_each_vertex_face(v, [&](int32_t f) {
+        const int c = mesh.corner_of(f, v);
+        for (int32_t g : {mesh.face_edges(f)[c], mesh.face_edges(f)[(c + 2) % 3]}) {
+          const PrimitiveRef p{PrimitiveKind::kEdge, g};
+          if (g != e && db.contactable_[g] != 0 &&
+              std::find(list.begin(), list.end(), p) == list.end()) {
+            list.push_back(p);
+          }
+        }
+      });
+    }
+    db.edge_pcp_.insert(db.edge_pcp_.end(), list.begin(), list.end());
+    db.edge_pcp_start_[e + 1] = static_cast<int32_t>(db.edge_pcp_.size());
+  }
+
+  // Second tree, over the contactable edges (§5.2), split by the edges' centres.
+  std::vector<int32_t> edges;
+  for (int32_t e = 0; e < ne; ++e) {
+    if (db.contactable_[e] != 0) edges.push_back(e);
+  }
+  std::vector<int32_t> order;
+  db.edge_tree_.build(
+      static_cast<int32_t>(edges.size()),
+      [&](int32_t i) {
+        const auto& ev = mesh.edge_vertices(edges[i]);
+        return Eigen::Vector3d(0.5 * (mesh.position(ev[0]) + mesh.position(ev[1])));
+      },
+      settings.max_leaf_edges, &order);
+  db.tree_edges_.resize(edges.size());
+  for (size_t k = 0; k < edges.size(); ++k) db.tree_edges_[k] = edges[order[k]];
+  db.refit_edge_tree();
+  return db;
+}
+
+void SegmentDatabase::refit_edge_tree() {
+  const MeshDatabase& mesh = *mesh_;
+  edge_tree_.refit([&](int32_t k, double* lo, double* hi) {
+    for (int32_t v : mesh.edge_vertices(tree_edges_[k])) {
+      const Eigen::Vector3d& p = mesh.position(v);
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
+    }
+  });
+}
+
+int32_t SegmentDatabase::first_face_crossing(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                             double* t) const {
+  const MeshDatabase& mesh = *mesh_;
+  const Eigen::Vector3d d = p1 - p0;
+  return mesh.tree().first_hit(
+      p0, p1,
+      [&](int32_t f, double t_max) {
+        const auto& v = mesh.face_vertices(f);
+        const Eigen::Vector3d& a = mesh.position(v[0]);
+        const Eigen::Vector3d& b = mesh.position(v[1]);
+        const Eigen::Vector3d& c = mesh.position(v[2]);
+        const Eigen::Vector3d n = (b - a).cross(c - a);
+        const double s0 = n.dot(p0 - a);
+        const double s1 = n.dot(p1 - a);
+        if (!(s0 >= 0.0 && s1 < 0.0)) return -1.0;  // front to back only (closed surfaces)
+        const double e0 = canonical_edge_side(p0, d, a, v[0], b, v[1]);
+        const double e1 = canonical_edge_side(p0, d, b, v[1], c, v[2]);
+        const double e2 = canonical_edge_side(p0, d, c, v[2], a, v[0]);
+        const bool inside =
+            (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
+        if (!inside) return -1.0;
+        const double tt = s0 / (s0 - s1);
+        return tt <= t_max ? tt : -1.0;
+      },
+      t);
+}
+
+int32_t SegmentDatabase::first_edge_crossing(const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
+                                             const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
+                                             double* tau, double* u, double* v) const {
+  const MeshDatabase& mesh = *mesh_;
+  // The swept segment lies within max(|a1 - a0|, |b1 - b0|) of the final one.
+  const double r = std::max((a1 - a0).norm(), (b1 - b0).norm());
+  int32_t best = -1;
+  double best_tau = 2.0;
+  edge_tree_.for_each_near_segment(a1, b1, r, [&](int32_t k) {
+    const int32_t e = tree_edges_[k];
+    const auto& ev = mesh.edge_vertices(e);
+    const MovingSegmentHit h =
+        moving_segment_crosses_segment(a0, b0, a1, b1, mesh.position(ev[0]), mesh.position(ev[1]));
+    if (h.hit && h.tau < best_tau) {
+      best_tau = h.tau;
+      best = e;
+      *u = h.u;
+      *v = h.v;
+    }
+  });
+  *tau = best_tau;
+  return best;
+}
+
+size_t SegmentDatabase::memory_bytes() const {
+  return face_neighbours_.capacity() * sizeof(face_neighbours_[0]) +
+         edge_neighbours_.capacity() * sizeof(edge_neighbours_[0]) +
+         (face_pcp_start_.capacity() + edge_pcp_start_.capacity() + flat_group_.capacity() +
+          tree_edges_.capacity()) *
+             sizeof(int32_t) +
+         (face_pcp_.capacity() + edge_pcp_.capacity()) * sizeof(PrimitiveRef) +
+         contactable_.capacity() + edge_tree_.memory_bytes();
+}
+
+}  // namespace lap::haptics

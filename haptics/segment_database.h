@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// The extended database of ray-based rendering (thesis §5.2) over one MeshDatabase:
+/// - neighbours as in Figure 5-5: each face's three faces across its edges; each edge's four
+///   edges that share a face with it (its faces and vertices are in the MeshDatabase);
+/// - the possible contacted primitives (PCPs, Figure 5-6): for a face, its edges and the faces
+///   and edges of the same flat "face" (coplanar triangles joined across flat edges); for an
+///   edge, its faces and the other contactable edges at its two vertices;
+/// - which edges a segment's interior can touch first (convex and boundary edges: a straight
+///   probe cannot first meet a closed surface at a concave or flat edge), and a second
+///   bounding-box tree over those edges (§5.2).
+/// And the two first-contact queries of §5.3: an end point's path crossing a face (A.5, A.7)
+/// and the moving segment crossing an edge (A.8), both exact.
+///
+/// Built once after the MeshDatabase (setup, may allocate); refit_edge_tree() follows a
+/// deformation without allocating. The queries allocate nothing and never throw.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "haptics/bounding_volume_tree.h"
+#include "haptics/mesh_database.h"
+
+namespace lap::haptics {
+
+struct SegmentDatabaseSettings {
+  int32_t max_leaf_edges = 4;
+  /// Dihedral angle below which an edge counts as flat (joins a "face" and is never a
+  /// first contact of the probe's interior) [rad].
+  double flat_angle_rad = 1e-6;
+};
+
+class SegmentDatabase {
+ public:
+  /// `mesh` must outlive the database and keep its topology.
+  static SegmentDatabase build(const MeshDatabase& mesh, const SegmentDatabaseSettings& s = {});
+
+  [[nodiscard]] const MeshDatabase& mesh() const { return *mesh_; }
+
+  // --- neighbours (Figure 5-5) ---
+  /// The faces across face f's three edges (-1 across a boundary edge).
+  [[nodiscard]] const std::array<int32_t, 3>& face_neighbours(int32_t f) const {
+    return face_neighbours_[f];
+  }
+  /// The other edges of edge e's faces (up to four; -1 where absent).
+  [[nodiscard]] const std::array<int32_t, 4>& edge_neighbours(int32_t e) const {
+    return edge_neighbours_[e];
+  }
+  // --- possible contacted primitives (Figure 5-6) ---
+  [[nodiscard]] std::span<const PrimitiveRef> face_pcps(int32_t f) const {
+    return {face_pcp_.data() + face_pcp_start_[f],
+            static_cast<size_t>(face_pcp_start_[f + 1] - face_pcp_start_[f])};
+  }
+  [[nodiscard]] std::span<const PrimitiveRef> edge_pcps(int32_t e) const {
+    return {edge_pcp_.data() + edge_pcp_start_[e],
+            static_cast<size_t>(edge_pcp_start_[e + 1] - edge_pcp_start_[e])};
+  }
+  /// The flat "face" (coplanar, edge-connected triangles) face f belongs to.
+  [[nodiscard]] int32_t flat_group(int32_t f) const { return flat_group_[f]; }
+  [[nodiscard]] int32_t flat_group_count() const { return flat_groups_; }
+  /// True when the probe's interior can first touch edge e (convex or boundary).
+  [[nodiscard]] bool contactable(int32_t e) const { return contactable_[e] != 0; }
+  [[nodiscard]] int32_t contactable_edge_count() const {
+    return static_cast<int32_t>(tree_edges_.size());
+  }
+
+  /// Earliest crossing of an end point's path p0 -> p1 into a face from its front (A.7). A
+  /// start exactly on the face plane counts, so an end point resting on the surface cannot slip
+  /// in. Returns the face (-1: none) and the parameter in *t.
+  [[nodiscard]] int32_t first_face_crossing(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                            double* t) const;
+  /// Earliest crossing of the moving segment (a0, b0) -> (a1, b1) with a contactable edge (A.8,
+  /// exact), found through the edge tree. Returns the edge (-1: none); *tau the time, *u and *v
+  /// the parameters on the probe (0 at a) and on the edge (0 at its first vertex).
+  [[nodiscard]] int32_t first_edge_crossing(const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
+                                            const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
+                                            double* tau, double* u, double* v) const;
+
+  /// Recomputes the edge tree's boxes after the mesh moved (topology and convexity kept).
+  void refit_edge_tree();
+
+  [[nodiscard]] const BoundingVolumeTree& edge_tree() const { return edge_tree_; }
+  [[nodiscard]] size_t memory_bytes() const;
+
+ private:
+  const MeshDatabase* mesh_ = nullptr;
+  std::vector<std::array<int32_t, 3>> face_neighbours_;
+  std::vector<std::array<int32_t, 4>> edge_neighbours_;
+  std::vector<int32_t> face_pcp_start_;
+  std::vector<PrimitiveRef> face_pcp_;
+  std::vector<int32_t> edge_pcp_start_;
+  std::vector<PrimitiveRef> edge_pcp_;
+  std::vector<int32_t> flat_group_;
+  int32_t flat_groups_ = 0;
+  std::vector<uint8_t> contactable_;
+  std::vector<int32_t> tree_edges_;  // edge index of each edge-tree slot
+  BoundingVolumeTree edge_tree_;
+};
+
+}  // namespace lap::haptics

@@ -1,0 +1,160 @@
+#pragma once
+/// \file
+/// Ray-based haptic rendering (thesis chapter 5): the probe is a line segment from its tip `a`
+/// to its handle end `b`. The *virtual* probe follows the device; the *ideal* probe (the IHIP of
+/// chapter 4, for a segment) never enters an object.
+///
+/// How the ideal probe moves (our extension of §5.3 to concave organs; see haptics/README.md):
+/// each tick it moves from where it was towards the virtual probe, its two end points
+/// travelling in straight lines, and that whole motion is checked exactly for first contacts
+/// (an end point's path crossing a face, A.7; the moving segment crossing a convex edge, A.8)
+/// through the two trees of §5.2. A contact stops the motion there and becomes a constraint
+/// (a plane the contact point of the probe must stay on the outside of); the rest of the
+/// motion is re-planned as the nearest configuration to the virtual probe that satisfies every
+/// constraint (a least-squares problem over the two end points) and checked again. Because
+/// every motion of the ideal probe is swept and checked, it cannot pass through any part of a
+/// concave mesh, however far from the current contacts.
+///
+/// The constraints are the thesis' contacts and are tracked by local search between ticks
+/// (only PCPs): an end point on a face follows the point proxy's Neighborhood Watch; a
+/// segment–edge contact slides to the neighbouring convex edges; the α/β test of Figure 5-9
+/// turns an edge contact whose plane would cut one of the edge's faces into contact with that
+/// face. Contacts of one object whose normals agree within θε form one *segment–face* contact
+/// with the contour points A and B of Figure 5-13c, held while |θ| < θε.
+///
+/// Response (§5.4): each contact has an equilibrium point on the probe — the contact point for
+/// point–polygon and segment–edge, equation 5-2 for segment–face — and a spring along its
+/// normal from the penetration of the virtual probe there (the object's ForceLaw). Forces are
+/// split to the two ends by equations 5-1, 5-4 and 5-5 (the lever rule); the net torque is
+/// equation 5-3.
+///
+/// The step allocates nothing, takes no lock, never throws; a non-finite input or result zeroes
+/// the force, resets the proxy and is counted.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "haptics/point_proxy.h"
+#include "haptics/segment_database.h"
+
+namespace lap::haptics {
+
+/// The thesis' three contact types (Figure 5-3).
+enum class SegmentContactKind : uint8_t { kPointPolygon, kSegmentEdge, kSegmentFace };
+[[nodiscard]] const char* to_string(SegmentContactKind kind);
+
+/// One constraint on the ideal probe: its point at parameter u (0 at a, 1 at b) stays on the
+/// outside of the plane through `point` with normal `normal`.
+struct SegmentConstraint {
+  int32_t object = -1;
+  PrimitiveRef feature;    ///< end point: the point proxy's primitive; interior: an edge
+  bool at_end = false;     ///< u is 0 or 1 and the feature is tracked as a point contact
+  bool face_hold = false;  ///< part of a segment–face contact with |θ| < θε (held)
+  double u = 0.0;
+  Eigen::Vector3d point_O = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_O = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();
+  double lambda = 0.0;  ///< multiplier of the last placement (0: not pressing)
+};
+
+/// One thesis contact (a group of constraints of one object).
+struct SegmentContact {
+  int32_t object = -1;
+  SegmentContactKind kind = SegmentContactKind::kPointPolygon;
+  PrimitiveRef primitive;      ///< the first constraint's feature
+  double u_a = 0.0;            ///< contour point A (segment–face), else the contact point
+  double u_b = 0.0;            ///< contour point B (segment–face), else the contact point
+  double u_equilibrium = 0.0;  ///< where the force acts (eq. 5-2 for segment–face)
+  double theta_rad = 0.0;      ///< probe angle to the face (segment–face)
+  double depth_m = 0.0;        ///< penetration of the virtual probe at the equilibrium point
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();  ///< equilibrium point, ideal probe
+  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  ///< on the probe [N]
+};
+
+struct SegmentProxySettings {
+  double theta_epsilon_rad = 1.0 * M_PI / 180.0;  ///< θε of §5.3/eq. 5-2 (the thesis: 1°)
+  double skin_m = 1e-6;  ///< clearance the ideal probe keeps from a constraint plane
+};
+
+struct SegmentProxyOutput {
+  Eigen::Vector3d ideal_a_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d ideal_b_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();    ///< net force on the probe [N]
+  Eigen::Vector3d torque_W = Eigen::Vector3d::Zero();   ///< about the virtual end b [N m]
+  Eigen::Vector3d force_a_W = Eigen::Vector3d::Zero();  ///< share at end a (eq. 5-1/5-4/5-5)
+  Eigen::Vector3d force_b_W = Eigen::Vector3d::Zero();  ///< share at end b
+  int32_t contact_count = 0;
+  bool fault = false;
+};
+
+struct SegmentProxyStats {
+  int64_t steps = 0;
+  int64_t first_contacts = 0;  ///< contacts found by the swept check with none before
+  int64_t swept_hits = 0;      ///< all contacts found by the swept check
+  int64_t releases = 0;
+  int64_t placements = 0;            ///< constrained placements + swept checks over all steps
+  int64_t placement_limit_hits = 0;  ///< steps that ran out of placements (probe stopped safe)
+  int64_t constraint_overflows = 0;  ///< contacts not added because the list was full
+  int64_t faults = 0;
+};
+
+class SegmentProxy {
+ public:
+  static constexpr int kMaxConstraints = 8;
+  static constexpr int kMaxPlacements = 8;
+
+  explicit SegmentProxy(const SegmentProxySettings& settings = {}) : settings_(settings) {}
+
+  /// Places the probe in free space at a_W -> b_W.
+  void reset(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W);
+
+  /// One haptic tick. Every object must carry a SegmentDatabase (HapticObject::segments).
+  SegmentProxyOutput step(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
+                          const Eigen::Vector3d& b_W, double dt) noexcept;
+
+  [[nodiscard]] std::span<const SegmentContact> contacts() const {
+    return {contacts_.data(), static_cast<size_t>(contact_count_)};
+  }
+  [[nodiscard]] std::span<const SegmentConstraint> constraints() const {
+    return {constraints_.data(), static_cast<size_t>(constraint_count_)};
+  }
+  [[nodiscard]] const Eigen::Vector3d& ideal_a() const { return ideal_a_; }
+  [[nodiscard]] const Eigen::Vector3d& ideal_b() const { return ideal_b_; }
+  [[nodiscard]] const SegmentProxyStats& stats() const { return stats_; }
+  [[nodiscard]] const SegmentProxySettings& settings() const { return settings_; }
+
+  /// Net torque of the last step's contact forces about point p_W (eq. 5-3).
+  [[nodiscard]] Eigen::Vector3d torque_about(const Eigen::Vector3d& p_W) const;
+
+ private:
+  void track(std::span<const HapticObject> objects);
+  void place(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, Eigen::Vector3d* a,
+             Eigen::Vector3d* b);
+  bool sweep(std::span<const HapticObject> objects, bool first_pass, const Eigen::Vector3d& a0,
+             const Eigen::Vector3d& b0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
+             double* tau, SegmentConstraint* hit) const;
+  void add_constraint(const SegmentConstraint& c);
+  void respond(std::span<const HapticObject> objects, double dt, SegmentProxyOutput* out);
+  void remove_constraint(int i);
+
+  SegmentProxySettings settings_;
+  std::array<SegmentConstraint, kMaxConstraints> constraints_{};
+  int32_t constraint_count_ = 0;
+  std::array<SegmentContact, kMaxConstraints> contacts_{};
+  int32_t contact_count_ = 0;
+  Eigen::Vector3d ideal_a_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d ideal_b_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d virtual_a_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d virtual_b_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d prev_virtual_a_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d prev_virtual_b_ = Eigen::Vector3d::Zero();
+  bool initialised_ = false;
+  SegmentProxyStats stats_;
+};
+
+}  // namespace lap::haptics

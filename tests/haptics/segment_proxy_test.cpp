@@ -1,0 +1,356 @@
+// Segment (ray-based) proxy, thesis chapter 5, against analytic answers.
+
+#include "haptics/segment_proxy.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "haptics/brute_force_reference.h"
+#include "haptics/mesh_generators.h"
+#include "haptics/segment_segment.h"
+
+namespace lap::haptics {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDt = 0.001;
+constexpr double kK = 500.0;
+
+struct Body {
+  explicit Body(const TriangleMesh& m, const Eigen::Vector3d& offset = Eigen::Vector3d::Zero())
+      : mesh(MeshDatabase::build(m)), segments(SegmentDatabase::build(mesh)) {
+    object.mesh = &mesh;
+    object.segments = &segments;
+    object.law.stiffness_n_per_m = kK;
+    object.law.max_force_n = 1e9;  // analytic tests look at the unclamped law
+    object.pose_WO.translation() = offset;
+    object.prev_pose_WO = object.pose_WO;
+  }
+  Body(const Body&) = delete;
+  MeshDatabase mesh;
+  SegmentDatabase segments;
+  HapticObject object;
+};
+
+// Moves the virtual probe linearly from (a0, b0) to (a1, b1) in `steps` ticks.
+SegmentProxyOutput move(SegmentProxy& proxy, std::span<const HapticObject> objects,
+                        const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
+                        const Eigen::Vector3d& a1, const Eigen::Vector3d& b1, int steps) {
+  SegmentProxyOutput out;
+  for (int i = 1; i <= steps; ++i) {
+    const double s = static_cast<double>(i) / steps;
+    out = proxy.step(objects, a0 + s * (a1 - a0), b0 + s * (b1 - b0), kDt);
+  }
+  return out;
+}
+
+// Largest depth of the segment inside the axis-aligned box |x| <= h (0 when outside).
+double depth_in_box(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double h) {
+  double worst = 0.0;
+  for (int i = 0; i <= 1000; ++i) {
+    const Eigen::Vector3d p = a + (b - a) * (i / 1000.0);
+    const double d = h - p.cwiseAbs().maxCoeff();
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+TEST(SegmentSegment, ClosestPointsMatchSampling) {
+  const Eigen::Vector3d p0(0, 0, 0), p1(1, 0, 0), q0(0.5, 1, -1), q1(0.5, 1, 1);
+  const SegmentPair cp = closest_segment_segment(p0, p1, q0, q1);
+  EXPECT_NEAR(cp.s, 0.5, 1e-12);
+  EXPECT_NEAR(cp.t, 0.5, 1e-12);
+  EXPECT_NEAR((cp.p - cp.q).norm(), 1.0, 1e-12);
+}
+
+TEST(SegmentSegment, MovingSegmentCrossingTimeIsExact) {
+  // A segment along x at height 1 - τ (falling), rotating about z; the static edge along z at
+  // the origin. It touches when its line passes through the origin.
+  const Eigen::Vector3d c(0.3, 0, -1), d(0.3, 0, 1);
+  const Eigen::Vector3d a0(0, 1, 0), b0(1, 1, 0), a1(0, -1, 0), b1(1, -1, 0);
+  const MovingSegmentHit h = moving_segment_crosses_segment(a0, b0, a1, b1, c, d);
+  ASSERT_TRUE(h.hit);
+  EXPECT_NEAR(h.tau, 0.5, 1e-12);
+  EXPECT_NEAR(h.u, 0.3, 1e-12);
+  EXPECT_NEAR(h.v, 0.5, 1e-12);
+  // A motion that passes beside the edge's end is no crossing.
+  const Eigen::Vector3d c2(0.3, 0, 0.5), d2(0.3, 0, 1);
+  EXPECT_FALSE(moving_segment_crosses_segment(a0, b0, a1, b1, c2, d2).hit);
+  // Rotation: the segment swings through the edge although both ends stay on one side of it
+  // along x (a quadratic with the crossing inside the tick).
+  const Eigen::Vector3d r_a0(-1, 0.5, 0), r_b0(1, 0.5, 0), r_a1(-1, 0.5, 0), r_b1(1, -0.5, 0);
+  const MovingSegmentHit r = moving_segment_crosses_segment(
+      r_a0, r_b0, r_a1, r_b1, Eigen::Vector3d(0.5, 0, -1), Eigen::Vector3d(0.5, 0, 1));
+  ASSERT_TRUE(r.hit);
+  // The line through (-1, .5) and (1, .5 - τ) passes (0.5, 0) when .5 - 1.5 τ / 2 = 0.
+  EXPECT_NEAR(r.tau, 2.0 / 3.0, 1e-12);
+}
+
+TEST(SegmentDatabase, CubeEdgesPcpsAndFlatFaces) {
+  const MeshDatabase mesh = MeshDatabase::build(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+  const SegmentDatabase sd = SegmentDatabase::build(mesh);
+  // 6 faces of 8 triangles: 6 flat groups; only the 12 cube edges (2 segments each) are convex.
+  EXPECT_EQ(sd.flat_group_count(), 6);
+  EXPECT_EQ(sd.contactable_edge_count(), 24);
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    int faces = 0;
+    int edges = 0;
+    for (const PrimitiveRef& p : sd.face_pcps(f)) {
+      faces += p.kind == PrimitiveKind::kFace ? 1 : 0;
+      edges += p.kind == PrimitiveKind::kEdge ? 1 : 0;
+      if (p.kind == PrimitiveKind::kFace) {
+        EXPECT_EQ(sd.flat_group(p.index), sd.flat_group(f));
+      }
+    }
+    EXPECT_EQ(faces, 7);   // the rest of its cube face
+    EXPECT_EQ(edges, 16);  // every edge of that cube face (2x2 squares, 2 triangles each)
+  }
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    for (const PrimitiveRef& p : sd.edge_pcps(e)) {
+      if (p.kind == PrimitiveKind::kEdge) {
+        EXPECT_TRUE(sd.contactable(p.index));
+      }
+    }
+  }
+}
+
+// Probe lying flat on a cube face (Figure 5-13c, eq. 5-1 and 5-2).
+TEST(SegmentProxy, FlatOnCubeFaceFollowsEquation5_2) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 1));
+  const std::vector<HapticObject> objects{cube.object};
+  SegmentProxy proxy;
+  const double L = 0.1;
+  const double depth = 0.002;
+  const Eigen::Vector3d a0(-0.05, 0.12, 0.01), b0(0.05, 0.12, 0.01);
+  const Eigen::Vector3d down(0, -0.02 - depth, 0);
+  SegmentProxyOutput out = move(proxy, objects, a0, b0, a0 + down, b0 + down, 200);
+  ASSERT_EQ(out.contact_count, 1);
+  const SegmentContact& c = proxy.contacts()[0];
+  EXPECT_EQ(c.kind, SegmentContactKind::kSegmentFace);
+  EXPECT_NEAR(c.u_a, 0.0, 1e-12);
+  EXPECT_NEAR(c.u_b, 1.0, 1e-12);
+  EXPECT_NEAR(c.u_equilibrium, 0.5, 1e-9);
+  EXPECT_NEAR(out.force_W.y(), kK * depth, 1e-6);
+  EXPECT_NEAR(out.force_a_W.y(), 0.5 * kK * depth, 1e-6);
+  EXPECT_NEAR(out.force_b_W.y(), 0.5 * kK * depth, 1e-6);
+  // The ideal probe lies on the face (within the skin).
+  EXPECT_NEAR(out.ideal_a_W.y(), 0.1, 2e-6);
+  EXPECT_NEAR(out.ideal_b_W.y(), 0.1, 2e-6);
+
+  // Tilt by θ with end a deeper: L1 = (x1 + x2)/2 + (θ/θε)(x1 - x2)/2, x1 = 0, x2 = L.
+  const double eps = proxy.settings().theta_epsilon_rad;
+  for (double frac : {0.25, 0.5, -0.5, 0.9}) {
+    const double theta = frac * eps;
+    const Eigen::Vector3d mid = 0.5 * (a0 + b0) + down;
+    const Eigen::Vector3d dir(std::cos(theta), std::sin(theta), 0.0);
+    const Eigen::Vector3d a = mid - 0.5 * L * dir;
+    const Eigen::Vector3d b = mid + 0.5 * L * dir;
+    for (int i = 0; i < 20; ++i) out = proxy.step(objects, a, b, kDt);
+    ASSERT_EQ(out.contact_count, 1) << frac;
+    const SegmentContact& t = proxy.contacts()[0];
+    ASSERT_EQ(t.kind, SegmentContactKind::kSegmentFace) << frac;
+    EXPECT_NEAR(t.theta_rad, theta, 1e-9);
+    const double L1 = 0.5 * (0.0 + L) + frac * 0.5 * (0.0 - L);
+    EXPECT_NEAR(t.u_equilibrium * L, L1, 1e-9) << frac;
+    // Penetration of the virtual probe at the equilibrium point, spring force there, and the
+    // split of eq. 5-1: F1 = L2/L F, F2 = L1/L F.
+    const Eigen::Vector3d x = a + (L1 / L) * (b - a);
+    const double d = 0.1 - x.y();
+    EXPECT_NEAR(out.force_W.y(), kK * d, 1e-6) << frac;
+    EXPECT_NEAR(out.force_a_W.y(), (L - L1) / L * kK * d, 1e-6) << frac;
+    EXPECT_NEAR(out.force_b_W.y(), L1 / L * kK * d, 1e-6) << frac;
+    EXPECT_NEAR(out.force_W.x(), 0.0, 1e-9);
+  }
+  // Past θε the higher end lifts off: a point–polygon contact at the deeper end, whose force
+  // equals the segment–face force at θ = θε (no jump at the switch).
+  const double theta = 1.5 * eps;
+  const Eigen::Vector3d mid = 0.5 * (a0 + b0) + down + Eigen::Vector3d(0, 0.001, 0);
+  const Eigen::Vector3d dir(std::cos(theta), std::sin(theta), 0.0);
+  out = move(proxy, objects, proxy.ideal_a(), proxy.ideal_b(), mid - 0.5 * L * dir,
+             mid + 0.5 * L * dir, 1);
+  for (int i = 0; i < 5; ++i)
+    out = proxy.step(objects, mid - 0.5 * L * dir, mid + 0.5 * L * dir, kDt);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_EQ(proxy.contacts()[0].kind, SegmentContactKind::kPointPolygon);
+  EXPECT_NEAR(proxy.contacts()[0].u_equilibrium, 0.0, 1e-12);
+  const double tip_depth = 0.1 - (mid - 0.5 * L * dir).y();
+  EXPECT_NEAR(out.force_W.norm(), kK * tip_depth, 1e-6);
+  EXPECT_NEAR(out.force_b_W.norm(), 0.0, 1e-12);
+}
+
+// Figure 2-12: a rod pushed sideways against an edge feels a force back along its motion.
+TEST(SegmentProxy, RodPushedAgainstEdgeFeelsForceBackAlongMotion) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 3));
+  const std::vector<HapticObject> objects{cube.object};
+  SegmentProxy proxy;
+  // A rod across the edge x = y = 0.1 (along z), at 45°, touching it only there.
+  const Eigen::Vector3d corner(0.1, 0.1, 0.02);
+  const Eigen::Vector3d along = Eigen::Vector3d(1, -1, 0).normalized();
+  const Eigen::Vector3d push = Eigen::Vector3d(-1, -1, 0).normalized();
+  const Eigen::Vector3d start = corner - 0.01 * push;
+  const double half = 0.05;
+  const double depth = 0.003;
+  SegmentProxyOutput out =
+      move(proxy, objects, start - half * along, start + half * along,
+           corner + depth * push - half * along, corner + depth * push + half * along, 100);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_EQ(proxy.contacts()[0].kind, SegmentContactKind::kSegmentEdge);
+  EXPECT_NEAR(proxy.contacts()[0].u_equilibrium, 0.5, 1e-9);
+  EXPECT_NEAR((out.force_W - (-kK * depth) * push).norm(), 0.0, 1e-6);
+  // Sliding along the edge while pushing: the (frictionless) force stays perpendicular to it.
+  const Eigen::Vector3d slide(0, 0, 0.03);
+  out = move(proxy, objects, corner + depth * push - half * along,
+             corner + depth * push + half * along, corner + depth * push - half * along + slide,
+             corner + depth * push + half * along + slide, 100);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_NEAR(out.force_W.z(), 0.0, 1e-9);
+  EXPECT_NEAR((out.force_W - (-kK * depth) * push).norm(), 0.0, 1e-6);
+  // The force is split equally between the ends, and there is no torque about the contact.
+  EXPECT_NEAR((out.force_a_W - out.force_b_W).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(proxy.torque_about(proxy.contacts()[0].point_W).norm(), 0.0, 2e-6);
+}
+
+// §5 introduction: rotating the probe about a cube corner in continuous contact.
+TEST(SegmentProxy, RodRotatedAboutCubeCornerKeepsContactWithoutPassThrough) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+  const std::vector<HapticObject> objects{cube.object};
+  SegmentProxy proxy;
+  const Eigen::Vector3d corner(0.1, 0.1, 0.1);
+  const Eigen::Vector3d diag = Eigen::Vector3d(1, 1, 1).normalized();
+  const Eigen::Vector3d e1 = Eigen::Vector3d(1, -1, 0).normalized();
+  const Eigen::Vector3d e2 = diag.cross(e1);
+  const double half = 0.06;
+  const double press = 0.001;  // the virtual rod is held 1 mm into the corner
+  auto rod = [&](double phi, double offset, Eigen::Vector3d* a, Eigen::Vector3d* b) {
+    const Eigen::Vector3d d = std::cos(phi) * e1 + std::sin(phi) * e2;
+    const Eigen::Vector3d centre = corner + offset * diag;
+    *a = centre - half * d;
+    *b = centre + half * d;
+  };
+  Eigen::Vector3d a;
+  Eigen::Vector3d b;
+  rod(0.0, 0.01, &a, &b);
+  proxy.reset(a, b);
+  Eigen::Vector3d a1;
+  Eigen::Vector3d b1;
+  rod(0.0, -press, &a1, &b1);
+  SegmentProxyOutput out = move(proxy, objects, a, b, a1, b1, 50);
+  ASSERT_GT(out.contact_count, 0);
+  int lost = 0;
+  double worst_depth = 0.0;
+  const int ticks = 720;  // one full turn, 0.5° per tick
+  for (int i = 1; i <= ticks; ++i) {
+    rod(2.0 * kPi * i / ticks, -press, &a, &b);
+    out = proxy.step(objects, a, b, kDt);
+    lost += out.contact_count == 0 || out.force_W.norm() <= 0.0 ? 1 : 0;
+    worst_depth = std::max(worst_depth, depth_in_box(out.ideal_a_W, out.ideal_b_W, 0.1));
+    // The corner pushes back out of the corner, never along the rod.
+    EXPECT_GT(out.force_W.dot(diag), 0.0) << i;
+  }
+  EXPECT_EQ(lost, 0);
+  EXPECT_LT(worst_depth, 1e-9);
+}
+
+// Figure 5-14/5-15: touching two objects at once gives a torque (eq. 5-3) and the split of
+// equations 5-4 and 5-5.
+TEST(SegmentProxy, TwoObjectsGiveTorqueOfEquation5_3) {
+  Body left(make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 1), Eigen::Vector3d(-0.06, 0.0, 0.0));
+  Body right(make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 1), Eigen::Vector3d(0.06, 0.0, 0.0));
+  std::vector<HapticObject> objects{left.object, right.object};
+  objects[1].law.stiffness_n_per_m = 2.0 * kK;
+  SegmentProxy proxy;
+  // A rod along x over both boxes (tops at y = 0.02), lowered to y = 0.019; the right box is
+  // twice as stiff.
+  const Eigen::Vector3d a0(-0.09, 0.05, 0.0), b0(0.09, 0.05, 0.0);
+  const Eigen::Vector3d down(0, -0.031, 0);
+  const SegmentProxyOutput out = move(proxy, objects, a0, b0, a0 + down, b0 + down, 100);
+  ASSERT_EQ(out.contact_count, 2);
+  const double fa = kK * (0.02 - 0.019);        // left box
+  const double fb = 2.0 * kK * (0.02 - 0.019);  // right box
+  EXPECT_NEAR(out.force_W.y(), fa + fb, 1e-6);
+  // Each box's contact is a segment–face contact over its top (x in [-0.08, -0.04] and
+  // [0.04, 0.08]) with the force at its middle: r = -0.06 and 0.06 from the rod's centre.
+  Eigen::Vector3d torque_centre = Eigen::Vector3d::Zero();
+  torque_centre += Eigen::Vector3d(-0.06, 0, 0).cross(Eigen::Vector3d(0, fa, 0));
+  torque_centre += Eigen::Vector3d(0.06, 0, 0).cross(Eigen::Vector3d(0, fb, 0));
+  const Eigen::Vector3d centre = 0.5 * (a0 + b0) + down;
+  EXPECT_NEAR((proxy.torque_about(centre) - torque_centre).norm(), 0.0, 1e-6);
+  EXPECT_GT(torque_centre.norm(), 0.01);
+  // Eq. 5-4/5-5 with L1 = L2 = L/2 = 0.09: F1 = (L2 + r)/L F for each force, r measured from
+  // the centre towards end 2 (b).
+  const double L = 0.18;
+  const double f1 = (0.09 - (-0.06)) / L * fa + (0.09 - 0.06) / L * fb;
+  const double f2 = (0.09 + (-0.06)) / L * fa + (0.09 + 0.06) / L * fb;
+  EXPECT_NEAR(out.force_a_W.y(), f1, 1e-6);
+  EXPECT_NEAR(out.force_b_W.y(), f2, 1e-6);
+  // The torque reported about end b is the same moment.
+  EXPECT_NEAR((out.torque_W - proxy.torque_about(b0 + down)).norm(), 0.0, 1e-12);
+}
+
+// Figure 5-1: a side contact that a point probe at the tip misses.
+TEST(SegmentProxy, SideContactMissedByPointProbeIsFelt) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+  const std::vector<HapticObject> objects{cube.object};
+  // A vertical rod longer than the cube, swept sideways into its -x face.
+  const Eigen::Vector3d a0(-0.15, -0.15, 0.0), b0(-0.15, 0.15, 0.0);
+  const Eigen::Vector3d push(0.053, 0, 0);  // 3 mm past the face
+  PointProxy point;
+  PointProxyOutput p;
+  for (int i = 1; i <= 100; ++i) p = point.step(objects, a0 + push * (i / 100.0), kDt);
+  EXPECT_EQ(p.contact_count, 0);
+  EXPECT_EQ(p.force_W.norm(), 0.0);
+  SegmentProxy proxy;
+  const SegmentProxyOutput out = move(proxy, objects, a0, b0, a0 + push, b0 + push, 100);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_EQ(proxy.contacts()[0].kind, SegmentContactKind::kSegmentFace);
+  EXPECT_NEAR(out.force_W.x(), -kK * 0.003, 1e-6);
+  EXPECT_NEAR(out.ideal_a_W.x(), -0.1, 2e-6);
+  EXPECT_LT(depth_in_box(out.ideal_a_W, out.ideal_b_W, 0.1), 1e-9);
+}
+
+TEST(SegmentProxy, PullingAwayReleasesAndNonFiniteInputFaults) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 1));
+  const std::vector<HapticObject> objects{cube.object};
+  SegmentProxy proxy;
+  const Eigen::Vector3d a0(0.0, 0.15, 0.0), b0(0.0, 0.25, 0.0);
+  SegmentProxyOutput out = move(proxy, objects, a0, b0, a0 - Eigen::Vector3d(0, 0.052, 0),
+                                b0 - Eigen::Vector3d(0, 0.052, 0), 100);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_EQ(proxy.contacts()[0].kind, SegmentContactKind::kPointPolygon);
+  EXPECT_NEAR(out.force_W.y(), kK * 0.002, 1e-6);
+  EXPECT_NEAR(out.force_b_W.norm(), 0.0, 1e-12);  // all at the tip (eq. 5-1 with L1 = 0)
+  out = move(proxy, objects, a0 - Eigen::Vector3d(0, 0.052, 0), b0 - Eigen::Vector3d(0, 0.052, 0),
+             a0, b0, 100);
+  EXPECT_EQ(out.contact_count, 0);
+  EXPECT_EQ(out.force_W.norm(), 0.0);
+  EXPECT_GE(proxy.stats().releases, 1);
+  const double nan = std::nan("");
+  out = proxy.step(objects, Eigen::Vector3d(nan, 0, 0), b0, kDt);
+  EXPECT_TRUE(out.fault);
+  EXPECT_EQ(out.force_W.norm(), 0.0);
+  EXPECT_EQ(proxy.stats().faults, 1);
+}
+
+TEST(BruteForceReference, SegmentDistanceAndPenetration) {
+  const MeshDatabase cube = MeshDatabase::build(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+  const ReferenceSegmentDistance d = reference_segment_distance(
+      cube, Eigen::Vector3d(0.15, 0.15, 0), Eigen::Vector3d(0.15, 0.3, 0));
+  EXPECT_NEAR(d.distance, std::sqrt(2.0) * 0.05, 1e-12);
+  EXPECT_EQ(reference_segment_distance(cube, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0.3, 0))
+                .distance,
+            0.0);
+  EXPECT_FALSE(reference_segment_penetrates(cube, Eigen::Vector3d(0.15, 0.15, 0),
+                                            Eigen::Vector3d(0.15, 0.3, 0), 1e-9));
+  EXPECT_TRUE(reference_segment_penetrates(cube, Eigen::Vector3d(-0.2, 0.05, 0),
+                                           Eigen::Vector3d(0.2, 0.05, 0), 1e-9));
+  EXPECT_TRUE(reference_segment_penetrates(cube, Eigen::Vector3d(0.0, 0.0, 0),
+                                           Eigen::Vector3d(0.01, 0.0, 0), 1e-9));
+  // Grazing the corner edge from outside is not penetration.
+  EXPECT_FALSE(reference_segment_penetrates(cube, Eigen::Vector3d(0.05, 0.15 + 1e-7, 0),
+                                            Eigen::Vector3d(0.15 + 1e-7, 0.05, 0), 1e-9));
+}
+
+}  // namespace
+}  // namespace lap::haptics
