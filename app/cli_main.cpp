@@ -16,6 +16,7 @@
 #include "haptics/mesh_repair.h"
 #include "haptics/mesh_validation.h"
 #include "haptics/point_proxy.h"
+#include "haptics/segment_proxy.h"
 #include "sim/load_error.h"
 #include "sim/mesh_loader.h"
 #include "sim/probe_path.h"
@@ -172,6 +173,10 @@ double parse_positive(const Args& args, const std::string& key, double fallback,
   return fallback;
 }
 
+bool db_has_boundary(const lap::haptics::TriangleMesh& mesh) {
+  return !lap::haptics::validate_mesh(mesh).boundary_edges.empty();
+}
+
 int cmd_probe(int argc, char** argv) {
   Args args(argc, argv, {"--repair"});
   if (!args.only({"--mesh", "--scale", "--repair", "--path", "--probe", "--stiffness",
@@ -185,11 +190,6 @@ int cmd_probe(int argc, char** argv) {
   if (kind != "point" && kind != "segment") {
     args.errors.push_back("--probe expects point or segment, got '" + kind + "'");
     return usage_error(args);
-  }
-  if (kind == "segment") {
-    std::cerr << "laptrainer-cli probe: the segment (ray-based) probe is not available yet; use "
-                 "--probe point\n";
-    return kExitProblems;
   }
   bool ok = true;
   lap::sim::MeshLoadSettings load;
@@ -213,7 +213,13 @@ int cmd_probe(int argc, char** argv) {
       std::cerr << "  (add --repair to fix what can be fixed)\n";
       return kExitProblems;
     }
-    const auto path = lap::sim::load_probe_path(args.get("--path"), 3);
+    const bool segment = kind == "segment";
+    if (segment && db_has_boundary(mesh)) {
+      std::cerr << args.get("--mesh")
+                << ": the segment probe needs a closed mesh (this one has boundary edges)\n";
+      return kExitProblems;
+    }
+    const auto path = lap::sim::load_probe_path(args.get("--path"), segment ? 6 : 3);
     const lap::haptics::MeshDatabase db = lap::haptics::MeshDatabase::build(mesh);
     object.mesh = &db;
     object.two_sided = db.has_boundary();
@@ -227,6 +233,37 @@ int cmd_probe(int argc, char** argv) {
     }
     std::ostream& out = args.has("--out") ? static_cast<std::ostream&>(file) : std::cout;
     out.precision(12);
+    if (segment) {
+      const lap::haptics::SegmentDatabase sd = lap::haptics::SegmentDatabase::build(db);
+      object.segments = &sd;
+      out << "tick,ideal_a_x,ideal_a_y,ideal_a_z,ideal_b_x,ideal_b_y,ideal_b_z,force_x,force_y,"
+             "force_z,torque_x,torque_y,torque_z,contact_type,primitive_kind,primitive_id,"
+             "step_ns\n";
+      lap::haptics::SegmentProxy proxy;
+      proxy.reset(path.front().head<3>(), path.front().tail<3>());
+      for (size_t i = 0; i < path.size(); ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const lap::haptics::SegmentProxyOutput r =
+            proxy.step(std::span<const lap::haptics::HapticObject>(&object, 1), path[i].head<3>(),
+                       path[i].tail<3>(), 0.001);
+        const auto t1 = std::chrono::steady_clock::now();
+        std::string type = "none";
+        lap::haptics::PrimitiveRef prim;
+        if (!proxy.contacts().empty()) {
+          type = lap::haptics::to_string(proxy.contacts()[0].kind);
+          prim = proxy.contacts()[0].primitive;
+        }
+        int32_t id = prim.index;
+        if (prim.kind == lap::haptics::PrimitiveKind::kFace) id = db.original_face(id);
+        out << i << ',' << r.ideal_a_W.x() << ',' << r.ideal_a_W.y() << ',' << r.ideal_a_W.z()
+            << ',' << r.ideal_b_W.x() << ',' << r.ideal_b_W.y() << ',' << r.ideal_b_W.z() << ','
+            << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ','
+            << r.torque_W.x() << ',' << r.torque_W.y() << ',' << r.torque_W.z() << ',' << type
+            << ',' << lap::haptics::to_string(prim.kind) << ',' << id << ','
+            << std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count() << '\n';
+      }
+      return kExitOk;
+    }
     out << "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns\n";
     lap::haptics::PointProxy proxy;
     proxy.reset(path.front().head<3>());

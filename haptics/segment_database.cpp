@@ -224,9 +224,17 @@ int32_t SegmentDatabase::first_edge_crossing(const Eigen::Vector3d& a0, const Ei
   const double r = std::max((a1 - a0).norm(), (b1 - b0).norm());
   int32_t best = -1;
   double best_tau = 2.0;
+  // And within the box of the four end point positions (the swept patch is in their hull).
+  const Eigen::Vector3d lo = a0.cwiseMin(b0).cwiseMin(a1).cwiseMin(b1);
+  const Eigen::Vector3d hi = a0.cwiseMax(b0).cwiseMax(a1).cwiseMax(b1);
   edge_tree_.for_each_near_segment(a1, b1, r, [&](int32_t k) {
     const int32_t e = tree_edges_[k];
     const auto& ev = mesh.edge_vertices(e);
+    const Eigen::Vector3d& c = mesh.position(ev[0]);
+    const Eigen::Vector3d& d = mesh.position(ev[1]);
+    if ((c.cwiseMax(d).array() < lo.array()).any() || (c.cwiseMin(d).array() > hi.array()).any()) {
+      return;
+    }
     const MovingSegmentHit h =
         moving_segment_crosses_segment(a0, b0, a1, b1, mesh.position(ev[0]), mesh.position(ev[1]));
     if (h.hit && h.tau < best_tau) {

@@ -41,7 +41,7 @@ Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e, const E
                                     const Eigen::Vector3d& side) {
   const auto& ev = mesh.edge_vertices(e);
   const Eigen::Vector3d axis = mesh.position(ev[1]) - mesh.position(ev[0]);
-  const Eigen::Vector3d edge_n = mesh.edge_normal(e);
+  Eigen::Vector3d edge_n = mesh.edge_normal(e);
   Eigen::Vector3d m = w.cross(axis);
   const double norm = m.norm();
   if (!(norm > 1e-9 * w.norm() * axis.norm())) return edge_n;
@@ -353,11 +353,21 @@ SegmentProxyOutput SegmentProxy::step(std::span<const HapticObject> objects,
     Eigen::Vector3d cb;
     place(a_W, b_W, &ca, &cb);
     ++stats_.placements;
+    // A pass moves each end point at most kMaxPassMotion, so that the swept check stays local
+    // even when the virtual probe is far inside (the rest is done by the next passes).
+    const double motion = std::max((ca - sa).norm(), (cb - sb).norm());
+    const bool partial = motion > kMaxPassMotion;
+    if (partial) {
+      const double f = kMaxPassMotion / motion;
+      ca = sa + f * (ca - sa);
+      cb = sb + f * (cb - sb);
+    }
     double tau = 2.0;
     SegmentConstraint hit;
     if (!sweep(objects, pass == 0, sa, sb, ca, cb, &tau, &hit)) {
       sa = ca;
       sb = cb;
+      if (partial) continue;
       clean = true;
       break;
     }

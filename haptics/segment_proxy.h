@@ -107,6 +107,8 @@ class SegmentProxy {
  public:
   static constexpr int kMaxConstraints = 8;
   static constexpr int kMaxPlacements = 8;
+  /// Largest end-point motion of one placement pass [m] (a tool moves about 1 mm per tick).
+  static constexpr double kMaxPassMotion = 0.004;
 
   explicit SegmentProxy(const SegmentProxySettings& settings = {}) : settings_(settings) {}
 

@@ -7,9 +7,11 @@
 #include <cmath>
 #include <vector>
 
+#include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_database.h"
 #include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
+#include "haptics/segment_proxy.h"
 #include "tests/support/counting_allocator.h"
 
 namespace lap::haptics {
@@ -61,6 +63,54 @@ TEST(PointProxyAllocation, StepAndRefitAllocateNothing) {
   // The path really exercised the proxy.
   EXPECT_GT(proxy.stats().first_contacts, 10);
   EXPECT_GT(proxy.stats().releases, 10);
+}
+
+TEST(SegmentProxyAllocation, SegmentAndGripperStepsAllocateNothing) {
+  const MeshDatabase sphere = MeshDatabase::build(make_uv_sphere(0.03, 40, 80));
+  const SegmentDatabase sphere_segments = SegmentDatabase::build(sphere);
+  TriangleMesh box_mesh = make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 6);
+  box_mesh.transform(Eigen::Affine3d(Eigen::Translation3d(0.05, 0.0, 0.0)));
+  const MeshDatabase box = MeshDatabase::build(box_mesh);
+  const SegmentDatabase box_segments = SegmentDatabase::build(box);
+  HapticObject objects[2];
+  objects[0].mesh = &sphere;
+  objects[0].segments = &sphere_segments;
+  objects[1].mesh = &box;
+  objects[1].segments = &box_segments;
+  SegmentProxy proxy;
+  LaparoscopicGripper gripper;
+  auto run = [&](int from, int to) {
+    for (int i = from; i < to; ++i) {
+      const double t = i * 0.001;
+      // The tip dives into the sphere and sweeps across to the box; the shaft swings.
+      const Eigen::Vector3d tip(0.045 * std::sin(1.3 * t), 0.033 * std::cos(2.1 * t) - 0.004,
+                                0.01 * std::sin(0.7 * t));
+      const Eigen::Vector3d dir =
+          Eigen::Vector3d(0.6 * std::sin(0.9 * t), 1.0, 0.4 * std::cos(0.5 * t)).normalized();
+      objects[1].prev_pose_WO = objects[1].pose_WO;
+      objects[1].pose_WO = Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.002 * std::sin(t), 0.0));
+      const SegmentProxyOutput out = proxy.step(objects, tip, tip + 0.1 * dir, 0.001);
+      ASSERT_TRUE(out.force_W.allFinite());
+      GripperPose pose;
+      pose.hinge_W = tip;
+      pose.shaft_dir_W = dir;
+      pose.open_dir_W = dir.cross(Eigen::Vector3d::UnitZ()).normalized();
+      pose.opening_rad = 0.5 + 0.4 * std::sin(3.0 * t);
+      const GripperOutput g = gripper.step(objects, pose, 0.001);
+      ASSERT_TRUE(g.force_W.allFinite());
+    }
+  };
+  run(0, 1000);
+  int64_t allocations = -1;
+  {
+    test::AllocationCounter counter;
+    run(1000, 21000);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0);
+  EXPECT_GT(proxy.stats().first_contacts, 10);
+  EXPECT_GT(proxy.stats().releases, 10);
+  EXPECT_GT(gripper.proxy(1).stats().swept_hits, 10);
 }
 
 TEST(PointProxyAllocation, TheCounterCounts) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "haptics/brute_force_reference.h"
+#include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_generators.h"
 #include "haptics/segment_segment.h"
 
@@ -350,6 +351,50 @@ TEST(BruteForceReference, SegmentDistanceAndPenetration) {
   // Grazing the corner edge from outside is not penetration.
   EXPECT_FALSE(reference_segment_penetrates(cube, Eigen::Vector3d(0.05, 0.15 + 1e-7, 0),
                                             Eigen::Vector3d(0.15 + 1e-7, 0.05, 0), 1e-9));
+}
+
+}  // namespace
+}  // namespace lap::haptics
+
+namespace lap::haptics {
+namespace {
+
+// §7.6.2: closing the gripper on a small block between its jaws.
+TEST(LaparoscopicGripper, SqueezeGrowsWithClosureOnABlockBetweenTheJaws) {
+  Body block(make_box(Eigen::Vector3d(0.006, 0.01, 0.01), 1), Eigen::Vector3d(0, -0.012, 0));
+  const std::vector<HapticObject> objects{block.object};
+  GripperGeometry geometry;
+  geometry.jaw_length_m = 0.02;
+  LaparoscopicGripper gripper(geometry);
+  GripperPose pose;
+  pose.hinge_W = Eigen::Vector3d(0, 0.0, 0);
+  pose.shaft_dir_W = Eigen::Vector3d::UnitY();  // jaws point down around the block
+  pose.open_dir_W = Eigen::Vector3d::UnitX();
+  pose.opening_rad = 1.2;
+  gripper.reset(pose);
+  // Closing from 1.2 rad to 0.1 rad: the jaws meet the block's x = ±3 mm faces.
+  double last = 0.0;
+  double first_touch = -1.0;
+  GripperOutput out;
+  for (int i = 0; i <= 220; ++i) {
+    pose.opening_rad = 1.2 - 1.1 * i / 220.0;
+    out = gripper.step(objects, pose, kDt);
+    if (out.squeeze_n > 0.0 && first_touch < 0.0) first_touch = pose.opening_rad;
+    EXPECT_GE(out.squeeze_n, last - 1e-9) << i;  // monotone in closure
+    last = out.squeeze_n;
+  }
+  ASSERT_GT(first_touch, 0.0);
+  // First touch where the jaw reaches the block's side: the jaw tip's half-width
+  // 0.02 sin(φ/2) = 3 mm with the block's top at 7 mm below the hinge → at most that angle.
+  EXPECT_LT(first_touch, 2.0 * std::asin(0.003 / 0.007) + 0.02);
+  EXPECT_GT(last, 0.5);
+  // Symmetric squeeze: the two jaw forces cancel sideways; the block pushes the tool up.
+  EXPECT_NEAR(out.force_W.x(), 0.0, 1e-6 + 1e-3 * last);
+  EXPECT_FALSE(out.fault);
+  // Opening again releases.
+  pose.opening_rad = 1.2;
+  for (int i = 0; i < 50; ++i) out = gripper.step(objects, pose, kDt);
+  EXPECT_EQ(out.squeeze_n, 0.0);
 }
 
 }  // namespace

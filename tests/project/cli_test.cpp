@@ -98,6 +98,49 @@ TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
   EXPECT_EQ(rows, 21);
 }
 
+TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesStiffnessTimesDepth) {
+  TempDir dir;
+  std::string obj =
+      "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
+      "v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
+      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  const auto mesh = dir.write("box.obj", obj);
+  // A 6 cm rod lying along x, lowered from 60 to 40 mm onto the top face (y = 50 mm).
+  std::string path = "x1,y1,z1,x2,y2,z2\n";
+  for (int i = 0; i <= 20; ++i) {
+    const std::string y = "0.0" + std::to_string(60 - i);
+    path += "-0.03," + y + ",0.01,0.03," + y + ",0.01\n";
+  }
+  const auto csv = dir.write("path.csv", path);
+  const auto out = dir.path() / "out.csv";
+  const CommandResult r =
+      run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() +
+                  " --probe segment --stiffness 400 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(out);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line,
+            "tick,ideal_a_x,ideal_a_y,ideal_a_z,ideal_b_x,ideal_b_y,ideal_b_z,force_x,force_y,"
+            "force_z,torque_x,torque_y,torque_z,contact_type,primitive_kind,primitive_id,step_ns");
+  int rows = 0;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::vector<std::string> c;
+    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 17U) << line;
+    const double y = 0.060 - 0.001 * rows;
+    const double depth = std::max(0.0, 0.05 - y);
+    EXPECT_NEAR(std::stod(c[8]), 400.0 * depth, 1e-5) << line;
+    if (depth > 0.0) {
+      EXPECT_EQ(c[13], "segment-face") << line;
+      EXPECT_NEAR(std::stod(c[2]), 0.05, 2e-6) << line;  // the ideal rod lies on the face
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 21);
+}
+
 TEST(CliProbe, BadPathRowsAreNamedByLine) {
   TempDir dir;
   const auto mesh = dir.write(
