@@ -59,14 +59,16 @@ TEST(CliMeshInfo, DiagnosesAndRepairs) {
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "fixed.obj"));
 }
 
+// A 10 cm cube centred at the origin, as OBJ.
+constexpr const char* kBoxObj =
+    "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
+    "v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
 TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
   TempDir dir;
-  // A 10 cm cube centred at the origin, as OBJ; the path comes down onto the top face.
-  std::string obj =
-      "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
-      "v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
-      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
-  const auto mesh = dir.write("box.obj", obj);
+  // The path comes down onto the top face.
+  const auto mesh = dir.write("box.obj", kBoxObj);
   std::string path = "x,y,z\n";
   for (int i = 0; i <= 20; ++i)
     path += "0.01,0.0" + std::to_string(60 - i) + ",0.02\n";  // 60 -> 40 mm
@@ -100,11 +102,7 @@ TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
 
 TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesStiffnessTimesDepth) {
   TempDir dir;
-  std::string obj =
-      "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n"
-      "v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n"
-      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
-  const auto mesh = dir.write("box.obj", obj);
+  const auto mesh = dir.write("box.obj", kBoxObj);
   // A 6 cm rod lying along x, lowered from 60 to 40 mm onto the top face (y = 50 mm).
   std::string path = "x1,y1,z1,x2,y2,z2\n";
   for (int i = 0; i <= 20; ++i) {
