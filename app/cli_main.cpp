@@ -173,10 +173,6 @@ double parse_positive(const Args& args, const std::string& key, double fallback,
   return fallback;
 }
 
-bool db_has_boundary(const lap::haptics::TriangleMesh& mesh) {
-  return !lap::haptics::validate_mesh(mesh).boundary_edges.empty();
-}
-
 int cmd_probe(int argc, char** argv) {
   Args args(argc, argv, {"--repair"});
   if (!args.only({"--mesh", "--scale", "--repair", "--path", "--probe", "--stiffness",
@@ -214,7 +210,7 @@ int cmd_probe(int argc, char** argv) {
       return kExitProblems;
     }
     const bool segment = kind == "segment";
-    if (segment && db_has_boundary(mesh)) {
+    if (segment && !d.closed()) {
       std::cerr << args.get("--mesh")
                 << ": the segment probe needs a closed mesh (this one has boundary edges)\n";
       return kExitProblems;
