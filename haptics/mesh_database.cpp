@@ -286,6 +286,7 @@ MeshDatabase::Crossing MeshDatabase::first_crossing(const Eigen::Vector3d& p0,
 }
 
 void MeshDatabase::move_vertices(std::span<const Eigen::Vector3d> positions) {
+  ++revision_;
   std::copy(positions.begin(), positions.end(), positions_.begin());
 }
 
@@ -298,6 +299,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions) {
 void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
                                  std::span<const int32_t> moved) {
   for (int32_t v : moved) positions_[v] = positions[v];
+  ++revision_;
   // The normals that change are those of the moved vertices and of their neighbours. A vertex
   // next to several moved ones is simply recomputed several times: cheaper, for the few
   // hundred vertices a local deformation moves, than a mark per vertex of the mesh.

@@ -62,6 +62,9 @@ class MeshDatabase {
   void refit_tree();
   void update_vertex_normals();
 
+  /// Incremented whenever vertices move: caches of geometry (the segment proxy's) compare it.
+  [[nodiscard]] uint64_t revision() const { return revision_; }
+
   // --- sizes ---
   [[nodiscard]] int32_t vertex_count() const { return static_cast<int32_t>(positions_.size()); }
   [[nodiscard]] int32_t edge_count() const { return static_cast<int32_t>(edge_vertices_.size()); }
@@ -150,6 +153,7 @@ class MeshDatabase {
   std::vector<int32_t> original_face_;                 // n_f
   int32_t boundary_edges_ = 0;
   BoundingVolumeTree tree_;
+  uint64_t revision_ = 0;
 };
 
 }  // namespace lap::haptics

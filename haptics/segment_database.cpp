@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "haptics/closest_point.h"
 #include "haptics/segment_segment.h"
 #include "haptics/segment_triangle.h"
 
@@ -189,31 +190,38 @@ void SegmentDatabase::refit_edge_tree() {
   });
 }
 
+double SegmentDatabase::face_crossing(int32_t f, const Eigen::Vector3d& p0,
+                                      const Eigen::Vector3d& p1) const {
+  const MeshDatabase& mesh = *mesh_;
+  const auto& v = mesh.face_vertices(f);
+  return front_crossing_time(p0, p1, mesh.position(v[0]), v[0], mesh.position(v[1]), v[1],
+                             mesh.position(v[2]), v[2]);
+}
+
 int32_t SegmentDatabase::first_face_crossing(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                                              double* t) const {
-  const MeshDatabase& mesh = *mesh_;
-  const Eigen::Vector3d d = p1 - p0;
-  return mesh.tree().first_hit(
+  return mesh_->tree().first_hit(
       p0, p1,
       [&](int32_t f, double t_max) {
-        const auto& v = mesh.face_vertices(f);
-        const Eigen::Vector3d& a = mesh.position(v[0]);
-        const Eigen::Vector3d& b = mesh.position(v[1]);
-        const Eigen::Vector3d& c = mesh.position(v[2]);
-        const Eigen::Vector3d n = (b - a).cross(c - a);
-        const double s0 = n.dot(p0 - a);
-        const double s1 = n.dot(p1 - a);
-        if (!(s0 >= 0.0 && s1 < 0.0)) return -1.0;  // front to back only (closed surfaces)
-        const double e0 = canonical_edge_side(p0, d, a, v[0], b, v[1]);
-        const double e1 = canonical_edge_side(p0, d, b, v[1], c, v[2]);
-        const double e2 = canonical_edge_side(p0, d, c, v[2], a, v[0]);
-        const bool inside =
-            (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
-        if (!inside) return -1.0;
-        const double tt = s0 / (s0 - s1);
+        const double tt = face_crossing(f, p0, p1);
         return tt <= t_max ? tt : -1.0;
       },
       t);
+}
+
+MovingSegmentHit SegmentDatabase::edge_crossing(int32_t e, const Eigen::Vector3d& a0,
+                                                const Eigen::Vector3d& b0,
+                                                const Eigen::Vector3d& a1,
+                                                const Eigen::Vector3d& b1) const {
+  const MeshDatabase& mesh = *mesh_;
+  const auto& ev = mesh.edge_vertices(e);
+  const Eigen::Vector3d& c = mesh.position(ev[0]);
+  const Eigen::Vector3d& d = mesh.position(ev[1]);
+  const MovingSegmentHit any = moving_segment_crosses_segment(a0, b0, a1, b1, c, d);
+  // Boundary edges of open surfaces have no inside: every crossing counts there.
+  if (!any.hit || mesh.edge_faces(e)[1] < 0) return any;
+  const Eigen::Vector3d outward = mesh.edge_normal(e);
+  return moving_segment_crosses_segment(a0, b0, a1, b1, c, d, &outward);
 }
 
 int32_t SegmentDatabase::first_edge_crossing(const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
@@ -235,8 +243,7 @@ int32_t SegmentDatabase::first_edge_crossing(const Eigen::Vector3d& a0, const Ei
     if ((c.cwiseMax(d).array() < lo.array()).any() || (c.cwiseMin(d).array() > hi.array()).any()) {
       return;
     }
-    const MovingSegmentHit h =
-        moving_segment_crosses_segment(a0, b0, a1, b1, mesh.position(ev[0]), mesh.position(ev[1]));
+    const MovingSegmentHit h = edge_crossing(e, a0, b0, a1, b1);
     if (h.hit && h.tau < best_tau) {
       best_tau = h.tau;
       best = e;
@@ -246,6 +253,48 @@ int32_t SegmentDatabase::first_edge_crossing(const Eigen::Vector3d& a0, const Ei
   });
   *tau = best_tau;
   return best;
+}
+
+int32_t SegmentDatabase::faces_near_point(const Eigen::Vector3d& p, double r,
+                                          std::span<int32_t> out) const {
+  const MeshDatabase& mesh = *mesh_;
+  int32_t n = 0;
+  const double r2 = r * r;
+  mesh.tree().for_each_near_segment(p, p, r, [&](int32_t f) {
+    if (n < 0) return;
+    const auto& v = mesh.face_vertices(f);
+    TriangleFeature feature{};
+    const Eigen::Vector3d q = closest_on_triangle(p, mesh.position(v[0]), mesh.position(v[1]),
+                                                  mesh.position(v[2]), &feature);
+    if ((q - p).squaredNorm() > r2) return;
+    if (n == static_cast<int32_t>(out.size())) {
+      n = -1;
+      return;
+    }
+    out[n++] = f;
+  });
+  return n;
+}
+
+int32_t SegmentDatabase::edges_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                            double r, std::span<int32_t> out) const {
+  const MeshDatabase& mesh = *mesh_;
+  int32_t n = 0;
+  const double r2 = r * r;
+  edge_tree_.for_each_near_segment(a, b, r, [&](int32_t k) {
+    if (n < 0) return;
+    const int32_t e = tree_edges_[k];
+    const auto& ev = mesh.edge_vertices(e);
+    const SegmentPair cp =
+        closest_segment_segment(a, b, mesh.position(ev[0]), mesh.position(ev[1]));
+    if ((cp.p - cp.q).squaredNorm() > r2) return;
+    if (n == static_cast<int32_t>(out.size())) {
+      n = -1;
+      return;
+    }
+    out[n++] = e;
+  });
+  return n;
 }
 
 size_t SegmentDatabase::memory_bytes() const {

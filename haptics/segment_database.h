@@ -22,6 +22,7 @@
 
 #include "haptics/bounding_volume_tree.h"
 #include "haptics/mesh_database.h"
+#include "haptics/segment_segment.h"
 
 namespace lap::haptics {
 
@@ -77,6 +78,21 @@ class SegmentDatabase {
   [[nodiscard]] int32_t first_edge_crossing(const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
                                             const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
                                             double* tau, double* u, double* v) const;
+
+  /// The two crossing tests for one primitive: A.7 for face f (the parameter, -1: none) and A.8
+  /// for contactable edge e (entering crossings only where the edge has an inside).
+  [[nodiscard]] double face_crossing(int32_t f, const Eigen::Vector3d& p0,
+                                     const Eigen::Vector3d& p1) const;
+  [[nodiscard]] MovingSegmentHit edge_crossing(int32_t e, const Eigen::Vector3d& a0,
+                                               const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
+                                               const Eigen::Vector3d& b1) const;
+
+  /// The faces within distance r of p (exact), and the contactable edges within r of the
+  /// segment a -> b, written to `out`: the count, or -1 when more than out.size() qualify.
+  /// For the segment proxy's sweep cache; no allocation.
+  int32_t faces_near_point(const Eigen::Vector3d& p, double r, std::span<int32_t> out) const;
+  int32_t edges_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r,
+                             std::span<int32_t> out) const;
 
   /// Recomputes the edge tree's boxes after the mesh moved (topology and convexity kept).
   void refit_edge_tree();

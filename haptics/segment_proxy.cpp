@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "haptics/segment_segment.h"
+#include "haptics/segment_triangle.h"
 
 namespace lap::haptics {
 namespace {
@@ -135,22 +136,25 @@ void SegmentProxy::remove_constraint(int i) {
   --constraint_count_;
 }
 
-void SegmentProxy::add_constraint(const SegmentConstraint& c) {
+bool SegmentProxy::add_constraint(const SegmentConstraint& c) {
   for (int i = 0; i < constraint_count_; ++i) {
     SegmentConstraint& k = constraints_[i];
     if (k.object == c.object && k.feature == c.feature && k.at_end == c.at_end &&
         (!c.at_end || k.u == c.u)) {
+      const bool same = std::abs(k.u - c.u) < 1e-9 && (k.point_W - c.point_W).norm() < 1e-12 &&
+                        k.normal_W.dot(c.normal_W) > 1.0 - 1e-12;
       const bool hold = k.face_hold;
       k = c;
       k.face_hold = hold;
-      return;
+      return !same;
     }
   }
   if (constraint_count_ == kMaxConstraints) {
     ++stats_.constraint_overflows;
-    return;
+    return false;
   }
   constraints_[constraint_count_++] = c;
+  return true;
 }
 
 // Local search for every constraint (§5.3, PCPs only), against the new virtual probe.
@@ -236,8 +240,42 @@ void SegmentProxy::track(std::span<const HapticObject> objects) {
 // The configuration nearest the virtual probe (least squares over the two end points) that
 // keeps every constraint point outside its plane by the skin: a small convex QP solved by
 // Hildreth's dual coordinate ascent (each constraint touches one point of the probe).
-void SegmentProxy::place(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, Eigen::Vector3d* a,
-                         Eigen::Vector3d* b) {
+//
+// A segment–edge constraint is really "the probe's line stays outside the edge's line", which
+// the plane at a fixed u only linearises: once the probe turns, another point of it is nearest
+// the edge. So the QP is solved again with each edge constraint moved to the new nearest point
+// (and its normal to the new probe direction) until they stop moving — a few sequential
+// linearisations; without this the swept check finds the same edge crossed at once and the
+// placement makes no progress.
+void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
+                         const Eigen::Vector3d& b_W, Eigen::Vector3d* a, Eigen::Vector3d* b) {
+  for (int outer = 0; outer < 4; ++outer) {
+    solve_placement(a_W, b_W, a, b);
+    bool moved = false;
+    for (int i = 0; i < constraint_count_; ++i) {
+      SegmentConstraint& c = constraints_[i];
+      if (c.at_end || c.feature.kind != PrimitiveKind::kEdge) continue;
+      const HapticObject& o = objects[c.object];
+      const MeshDatabase& m = o.segments->mesh();
+      const Eigen::Isometry3d inv = o.pose_WO.inverse();
+      const Eigen::Vector3d pa = inv * *a;
+      const Eigen::Vector3d pb = inv * *b;
+      const auto& ev = m.edge_vertices(c.feature.index);
+      const SegmentPair cp = closest_segment_segment(pa, pb, m.position(ev[0]), m.position(ev[1]));
+      if (cp.s <= 0.0 || cp.s >= 1.0 || std::abs(cp.s - c.u) < 1e-9) continue;
+      c.u = cp.s;
+      c.point_O = cp.q;
+      c.normal_O = edge_contact_normal(m, c.feature.index, pb - pa, c.normal_O);
+      c.point_W = o.pose_WO * c.point_O;
+      c.normal_W = o.pose_WO.linear() * c.normal_O;
+      moved = true;
+    }
+    if (!moved) break;
+  }
+}
+
+void SegmentProxy::solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W,
+                                   Eigen::Vector3d* a, Eigen::Vector3d* b) {
   *a = a_W;
   *b = b_W;
   for (int i = 0; i < constraint_count_; ++i) constraints_[i].lambda = 0.0;
@@ -261,19 +299,205 @@ void SegmentProxy::place(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W,
   }
 }
 
-// Exact swept check of the ideal probe's motion (a0, b0) -> (a1, b1) against every object: end
-// point paths against faces (A.7), the moving segment against convex edges (A.8). In the first
-// pass objects move from their previous pose, so a moving organ cannot sweep through the probe.
-bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
-                         const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
-                         const Eigen::Vector3d& a1, const Eigen::Vector3d& b1, double* tau,
-                         SegmentConstraint* hit) const {
-  double best = 2.0;
+bool SegmentProxy::cache_covers(std::span<const HapticObject> objects, const Eigen::Vector3d& a0,
+                                const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
+                                const Eigen::Vector3d& b1) const {
+  const SweepCache& c = cache_;
+  if (!c.valid || c.object_count != static_cast<int32_t>(objects.size())) return false;
+  const double ra2 = c.radius_a * c.radius_a;
+  const double rb2 = c.radius_b * c.radius_b;
+  if ((a0 - c.a).squaredNorm() >= ra2 || (a1 - c.a).squaredNorm() >= ra2 ||
+      (b0 - c.b).squaredNorm() >= rb2 || (b1 - c.b).squaredNorm() >= rb2) {
+    return false;
+  }
+  for (int32_t k = 0; k < c.object_count; ++k) {
+    const HapticObject& o = objects[k];
+    if (o.segments == nullptr) continue;
+    if (o.segments->mesh().revision() != c.revisions[k] ||
+        o.pose_WO.matrix().topRows<3>() != c.poses[k]) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Refills the sweep cache around the probe (a, b) for end-point motions up to ra and rb. A point
+// of the probe at u then moves less than r(u) = (1 - u) ra + u rb, so the edges are gathered
+// within that tapered capsule, covered by four capsules that are finer towards the slower end
+// (a tool's tip moves slowly while its handle end swings).
+bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b, double ra, double rb) {
+  SweepCache& c = cache_;
+  c.valid = false;
+  if (objects.size() > static_cast<size_t>(kCacheObjects)) return false;
+  ++stats_.cache_rebuilds;
+  constexpr std::array<double, 5> kBreaks = {0.0, 1.0 / 64.0, 1.0 / 16.0, 1.0 / 4.0, 1.0};
+  std::array<int32_t, kCacheEdges> scratch{};
+  c.face_count = {0, 0};
+  c.edge_count = 0;
   for (int32_t k = 0; k < static_cast<int32_t>(objects.size()); ++k) {
     const HapticObject& o = objects[k];
     if (o.segments == nullptr) continue;
     const SegmentDatabase& sd = *o.segments;
-    const MeshDatabase& m = sd.mesh();
+    const Eigen::Isometry3d inv = o.pose_WO.inverse();
+    const Eigen::Vector3d A = inv * a;
+    const Eigen::Vector3d B = inv * b;
+    for (int end = 0; end < 2; ++end) {
+      const int32_t room = kCacheFaces - c.face_count[end];
+      const int32_t n = sd.faces_near_point(end == 0 ? A : B, end == 0 ? ra : rb,
+                                            {scratch.data(), static_cast<size_t>(room)});
+      if (n < 0) return false;
+      const MeshDatabase& m = sd.mesh();
+      for (int32_t i = 0; i < n; ++i) {
+        CachedFace& cf = c.faces[end][c.face_count[end]++];
+        cf.object = k;
+        cf.index = scratch[i];
+        cf.vertex = m.face_vertices(scratch[i]);
+        for (int j = 0; j < 3; ++j) cf.p[j] = m.position(cf.vertex[j]);
+      }
+    }
+    const int32_t first_edge = c.edge_count;
+    for (size_t piece = 0; piece + 1 < kBreaks.size(); ++piece) {
+      // Pieces measured from the slower end.
+      double u0 = kBreaks[piece];
+      double u1 = kBreaks[piece + 1];
+      if (rb < ra) {
+        u0 = 1.0 - kBreaks[piece + 1];
+        u1 = 1.0 - kBreaks[piece];
+      }
+      const double r = std::max((1.0 - u0) * ra + u0 * rb, (1.0 - u1) * ra + u1 * rb);
+      const int32_t n = sd.edges_near_segment(lerp(A, B, u0), lerp(A, B, u1), r,
+                                              {scratch.data(), scratch.size()});
+      if (n < 0) return false;
+      for (int32_t i = 0; i < n; ++i) {
+        bool seen = false;
+        for (int32_t j = first_edge; j < c.edge_count && !seen; ++j) {
+          seen = c.edges[j].index == scratch[i];
+        }
+        if (seen) continue;
+        if (c.edge_count == kCacheEdges) return false;
+        const MeshDatabase& m = sd.mesh();
+        CachedEdge& ce = c.edges[c.edge_count++];
+        ce.object = k;
+        ce.index = scratch[i];
+        ce.c = m.position(m.edge_vertices(scratch[i])[0]);
+        ce.d = m.position(m.edge_vertices(scratch[i])[1]);
+        ce.closed = m.edge_faces(scratch[i])[1] >= 0;
+        ce.outward = m.edge_normal(scratch[i]);
+      }
+    }
+    c.poses[k] = o.pose_WO.matrix().topRows<3>();
+    c.revisions[k] = sd.mesh().revision();
+  }
+  c.a = a;
+  c.b = b;
+  c.radius_a = ra;
+  c.radius_b = rb;
+  c.object_count = static_cast<int32_t>(objects.size());
+  c.valid = true;
+  return true;
+}
+
+// Exact swept check of the ideal probe's motion (a0, b0) -> (a1, b1) against every object: end
+// point paths against faces (A.7), the moving segment against convex edges (A.8). In the first
+// pass objects move from their previous pose, so a moving organ cannot sweep through the probe.
+// The candidates come from the sweep cache when it covers the motion, else from the trees.
+bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
+                         const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,
+                         const Eigen::Vector3d& a1, const Eigen::Vector3d& b1, double* tau,
+                         SegmentConstraint* hit) {
+  double best = 2.0;
+  bool moving = false;
+  if (first_pass) {
+    for (const HapticObject& o : objects) {
+      moving = moving || o.pose_WO.matrix() != o.prev_pose_WO.matrix();
+    }
+  }
+  auto face_hit = [&](int32_t k, int32_t f, int end, const Eigen::Vector3d& p0,
+                      const Eigen::Vector3d& p1, double t) {
+    best = t;
+    hit->object = k;
+    hit->feature = {PrimitiveKind::kFace, f};
+    hit->at_end = true;
+    hit->u = end;
+    hit->point_O = lerp(p0, p1, t);
+    hit->normal_O = objects[k].segments->mesh().face_normal(f);
+  };
+  auto edge_hit = [&](int32_t k, int32_t e, const MovingSegmentHit& h, const Eigen::Vector3d& A0,
+                      const Eigen::Vector3d& B0, const Eigen::Vector3d& A1,
+                      const Eigen::Vector3d& B1) {
+    best = h.tau;
+    const MeshDatabase& m = objects[k].segments->mesh();
+    const Eigen::Vector3d at = lerp(A0, A1, h.tau);
+    const Eigen::Vector3d bt = lerp(B0, B1, h.tau);
+    const auto& ev = m.edge_vertices(e);
+    const Eigen::Vector3d q = lerp(m.position(ev[0]), m.position(ev[1]), h.v);
+    hit->object = k;
+    hit->feature = {PrimitiveKind::kEdge, e};
+    hit->at_end = false;
+    hit->u = h.u;
+    hit->point_O = q;
+    // The side the probe came from orients boundary edges.
+    hit->normal_O = edge_contact_normal(m, e, bt - at, lerp(A0, B0, h.u) - q);
+    if (h.u <= 0.0 || h.u >= 1.0) {
+      // An end point met the edge: track it as a point contact.
+      hit->at_end = true;
+      hit->u = h.u <= 0.0 ? 0.0 : 1.0;
+    }
+  };
+
+  if (!moving && settings_.sweep_cache) {
+    bool covered = cache_covers(objects, a0, b0, a1, b1);
+    const double ma = (a1 - a0).norm();
+    const double mb = (b1 - b0).norm();
+    // Fast motions (a jerk of the tool, the first passes of a deep push) would outgrow any
+    // cache at once: they go to the trees.
+    if (!covered && std::max(ma, mb) <= kCacheMaxMotion) {
+      covered = fill_cache(objects, a0, b0, std::max(kCacheGrowth * ma, kCacheMinRadius),
+                           std::max(kCacheGrowth * mb, kCacheMinRadius)) &&
+                cache_covers(objects, a0, b0, a1, b1);
+    }
+    if (covered) {
+      ++stats_.cached_sweeps;
+      stats_.cached_tests += cache_.face_count[0] + cache_.face_count[1] + cache_.edge_count;
+      std::array<Eigen::Vector3d, kCacheObjects> A0;
+      std::array<Eigen::Vector3d, kCacheObjects> B0;
+      std::array<Eigen::Vector3d, kCacheObjects> A1;
+      std::array<Eigen::Vector3d, kCacheObjects> B1;
+      for (int32_t k = 0; k < cache_.object_count; ++k) {
+        const Eigen::Isometry3d inv = objects[k].pose_WO.inverse();
+        A0[k] = inv * a0;
+        B0[k] = inv * b0;
+        A1[k] = inv * a1;
+        B1[k] = inv * b1;
+      }
+      for (int end = 0; end < 2; ++end) {
+        for (int32_t i = 0; i < cache_.face_count[end]; ++i) {
+          const CachedFace& c = cache_.faces[end][i];
+          const Eigen::Vector3d& p0 = end == 0 ? A0[c.object] : B0[c.object];
+          const Eigen::Vector3d& p1 = end == 0 ? A1[c.object] : B1[c.object];
+          const double t = front_crossing_time(p0, p1, c.p[0], c.vertex[0], c.p[1], c.vertex[1],
+                                               c.p[2], c.vertex[2]);
+          if (t >= 0.0 && t < best) face_hit(c.object, c.index, end, p0, p1, t);
+        }
+      }
+      for (int32_t i = 0; i < cache_.edge_count; ++i) {
+        const CachedEdge& c = cache_.edges[i];
+        const int32_t k = c.object;
+        const MovingSegmentHit h = moving_segment_enters_edge(A0[k], B0[k], A1[k], B1[k], c.c, c.d,
+                                                              c.closed ? &c.outward : nullptr);
+        if (h.hit && h.tau < best) edge_hit(k, c.index, h, A0[k], B0[k], A1[k], B1[k]);
+      }
+      *tau = best;
+      return best <= 1.0;
+    }
+  }
+
+  ++stats_.tree_sweeps;
+  for (int32_t k = 0; k < static_cast<int32_t>(objects.size()); ++k) {
+    const HapticObject& o = objects[k];
+    if (o.segments == nullptr) continue;
+    const SegmentDatabase& sd = *o.segments;
     const Eigen::Isometry3d inv1 = o.pose_WO.inverse();
     const Eigen::Isometry3d inv0 = first_pass ? o.prev_pose_WO.inverse() : inv1;
     const Eigen::Vector3d A0 = inv0 * a0;
@@ -285,39 +509,11 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
       const Eigen::Vector3d& p1 = end == 0 ? A1 : B1;
       double t = 1.0;
       const int32_t f = sd.first_face_crossing(p0, p1, &t);
-      if (f >= 0 && t < best) {
-        best = t;
-        hit->object = k;
-        hit->feature = {PrimitiveKind::kFace, f};
-        hit->at_end = true;
-        hit->u = end;
-        hit->point_O = lerp(p0, p1, t);
-        hit->normal_O = m.face_normal(f);
-      }
+      if (f >= 0 && t < best) face_hit(k, f, end, p0, p1, t);
     }
-    double t = 2.0;
-    double u = 0.0;
-    double v = 0.0;
-    const int32_t e = sd.first_edge_crossing(A0, B0, A1, B1, &t, &u, &v);
-    if (e >= 0 && t < best) {
-      best = t;
-      const Eigen::Vector3d at = lerp(A0, A1, t);
-      const Eigen::Vector3d bt = lerp(B0, B1, t);
-      const auto& ev = m.edge_vertices(e);
-      const Eigen::Vector3d q = lerp(m.position(ev[0]), m.position(ev[1]), v);
-      hit->object = k;
-      hit->feature = {PrimitiveKind::kEdge, e};
-      hit->at_end = false;
-      hit->u = u;
-      hit->point_O = q;
-      // The side the probe came from orients boundary edges.
-      hit->normal_O = edge_contact_normal(m, e, bt - at, lerp(A0, B0, u) - q);
-      if (u <= 0.0 || u >= 1.0) {
-        // An end point met the edge: track it as a point contact.
-        hit->at_end = true;
-        hit->u = u <= 0.0 ? 0.0 : 1.0;
-      }
-    }
+    MovingSegmentHit h;
+    const int32_t e = sd.first_edge_crossing(A0, B0, A1, B1, &h.tau, &h.u, &h.v);
+    if (e >= 0 && h.tau < best) edge_hit(k, e, h, A0, B0, A1, B1);
   }
   *tau = best;
   return best <= 1.0;
@@ -348,10 +544,12 @@ SegmentProxyOutput SegmentProxy::step(std::span<const HapticObject> objects,
   Eigen::Vector3d sa = ideal_a_;
   Eigen::Vector3d sb = ideal_b_;
   bool clean = false;
+  int32_t stalled_object = -1;
+  PrimitiveRef stalled_feature;
   for (int pass = 0; pass < kMaxPlacements; ++pass) {
     Eigen::Vector3d ca;
     Eigen::Vector3d cb;
-    place(a_W, b_W, &ca, &cb);
+    place(objects, a_W, b_W, &ca, &cb);
     ++stats_.placements;
     // A pass moves each end point at most kMaxPassMotion, so that the swept check stays local
     // even when the virtual probe is far inside (the rest is done by the next passes).
@@ -383,7 +581,15 @@ SegmentProxyOutput SegmentProxy::step(std::span<const HapticObject> objects,
     sb = o.pose_WO * lerp(inv0 * sb, inv1 * cb, s);
     hit.point_W = o.pose_WO * hit.point_O;
     hit.normal_W = o.pose_WO.linear() * hit.normal_O;
-    add_constraint(hit);
+    // Two passes in a row stopped at once by the same feature make no progress: the probe stays
+    // where it safely is for this tick (further passes would repeat the same placement).
+    const bool changed = add_constraint(hit);
+    if (s == 0.0 &&
+        (!changed || (stalled_object == hit.object && stalled_feature == hit.feature))) {
+      break;
+    }
+    stalled_object = s == 0.0 ? hit.object : -1;
+    stalled_feature = hit.feature;
   }
   if (!clean) ++stats_.placement_limit_hits;
   ideal_a_ = sa;

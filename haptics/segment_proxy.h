@@ -79,6 +79,8 @@ struct SegmentContact {
 struct SegmentProxySettings {
   double theta_epsilon_rad = 1.0 * M_PI / 180.0;  ///< θε of §5.3/eq. 5-2 (the thesis: 1°)
   double skin_m = 1e-6;  ///< clearance the ideal probe keeps from a constraint plane
+  /// Answer swept checks of slow motions from the sweep cache (exact; off: always the trees).
+  bool sweep_cache = true;
 };
 
 struct SegmentProxyOutput {
@@ -100,6 +102,10 @@ struct SegmentProxyStats {
   int64_t placements = 0;            ///< constrained placements + swept checks over all steps
   int64_t placement_limit_hits = 0;  ///< steps that ran out of placements (probe stopped safe)
   int64_t constraint_overflows = 0;  ///< contacts not added because the list was full
+  int64_t cached_sweeps = 0;         ///< swept checks answered from the sweep cache
+  int64_t cached_tests = 0;          ///< primitives tested by those (faces per end + edges)
+  int64_t cache_rebuilds = 0;        ///< sweep cache refilled from the trees
+  int64_t tree_sweeps = 0;           ///< swept checks that went through the trees
   int64_t faults = 0;
 };
 
@@ -135,16 +141,69 @@ class SegmentProxy {
 
  private:
   void track(std::span<const HapticObject> objects);
-  void place(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, Eigen::Vector3d* a,
-             Eigen::Vector3d* b);
+  void place(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
+             const Eigen::Vector3d& b_W, Eigen::Vector3d* a, Eigen::Vector3d* b);
+  void solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, Eigen::Vector3d* a,
+                       Eigen::Vector3d* b);
   bool sweep(std::span<const HapticObject> objects, bool first_pass, const Eigen::Vector3d& a0,
              const Eigen::Vector3d& b0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
-             double* tau, SegmentConstraint* hit) const;
-  void add_constraint(const SegmentConstraint& c);
+             double* tau, SegmentConstraint* hit);
+  bool cache_covers(std::span<const HapticObject> objects, const Eigen::Vector3d& a0,
+                    const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
+                    const Eigen::Vector3d& b1) const;
+  bool fill_cache(std::span<const HapticObject> objects, const Eigen::Vector3d& a,
+                  const Eigen::Vector3d& b, double ra, double rb);
+  /// Adds or updates a constraint; false when nothing changed (or the list is full).
+  bool add_constraint(const SegmentConstraint& c);
   void respond(std::span<const HapticObject> objects, double dt, SegmentProxyOutput* out);
   void remove_constraint(int i);
 
+  // The sweep cache (a clearance certificate): every face within radius_a of end point a (and
+  // radius_b of b) and every contactable edge within r(u) = (1 - u) radius_a + u radius_b of the
+  // probe's point u, at the cached position (a, b). While each end point of a swept motion
+  // stays within its radius of its cached position, the probe's point u stays within r(u) of
+  // its cached position, so any face or edge the motion crosses is in the cache: testing only
+  // those is exact, and its cost does not depend on the mesh size. The trees refill it when the
+  // probe leaves it, an object moves or deforms.
+  static constexpr int kCacheObjects = 4;
+  static constexpr int kCacheFaces = 32;  ///< per end point
+  static constexpr int kCacheEdges = 64;
+  static constexpr double kCacheGrowth = 4.0;  ///< radius / end-point motion of the refilling pass
+  static constexpr double kCacheMinRadius = 5e-5;  ///< [m]
+  static constexpr double kCacheMaxMotion = 2e-4;  ///< [m] per pass; faster motions use the trees
+  // Each cached primitive carries its own geometry (copied at refill, checked by the mesh
+  // revision), so the cached sweep reads only this proxy's memory however big the mesh.
+  struct CachedFace {
+    int32_t object = -1;
+    int32_t index = -1;
+    std::array<int32_t, 3> vertex{};
+    std::array<Eigen::Vector3d, 3> p{};
+  };
+  struct CachedEdge {
+    int32_t object = -1;
+    int32_t index = -1;
+    bool closed = false;  ///< has an inside (two faces): only entering crossings count
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    Eigen::Vector3d outward = Eigen::Vector3d::Zero();
+  };
+  struct SweepCache {
+    bool valid = false;
+    Eigen::Vector3d a = Eigen::Vector3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    double radius_a = 0.0;  ///< how far end point a may move from `a`
+    double radius_b = 0.0;
+    int32_t object_count = 0;
+    std::array<Eigen::Matrix<double, 3, 4>, kCacheObjects> poses{};
+    std::array<uint64_t, kCacheObjects> revisions{};
+    std::array<std::array<CachedFace, kCacheFaces>, 2> faces{};  // near a, near b
+    std::array<int32_t, 2> face_count{};
+    std::array<CachedEdge, kCacheEdges> edges{};
+    int32_t edge_count = 0;
+  };
+
   SegmentProxySettings settings_;
+  SweepCache cache_;
   std::array<SegmentConstraint, kMaxConstraints> constraints_{};
   int32_t constraint_count_ = 0;
   std::array<SegmentContact, kMaxConstraints> contacts_{};

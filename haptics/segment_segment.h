@@ -68,6 +68,13 @@ inline SegmentPair closest_segment_segment(const Eigen::Vector3d& p0, const Eige
 /// exact for any motion of the end points, so no tolerance on the step size is needed.
 /// Lines that stay coplanar for the whole tick (g identically zero: a probe moving within the
 /// plane of the edge) are not a crossing.
+///
+/// With `outward` (the edge's outward normal, perpendicular to cd) only *entering* crossings
+/// count: those after which the part of the probe line near the edge is on the inner side, i.e.
+/// g'(τ) (b - a) × (d - c) · outward < 0. A probe that starts a hair inside the edge line (by
+/// rounding) and moves out is then not stopped at τ = 0. Where the probe crosses nearly head-on
+/// (its line in the plane of the edge and `outward`, so neither side is outside) every crossing
+/// counts.
 struct MovingSegmentHit {
   bool hit = false;
   double tau = 0.0;  ///< time of the crossing in [0, 1]
@@ -77,7 +84,8 @@ struct MovingSegmentHit {
 
 inline MovingSegmentHit moving_segment_crosses_segment(
     const Eigen::Vector3d& a0, const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
-    const Eigen::Vector3d& b1, const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+    const Eigen::Vector3d& b1, const Eigen::Vector3d& c, const Eigen::Vector3d& d,
+    const Eigen::Vector3d* outward = nullptr) {
   MovingSegmentHit out;
   const Eigen::Vector3d e = d - c;
   const Eigen::Vector3d w0 = b0 - a0;
@@ -114,10 +122,37 @@ inline MovingSegmentHit moving_segment_crosses_segment(
     if (!(tau >= 0.0 && tau <= 1.0)) continue;
     const Eigen::Vector3d a = a0 + tau * (a1 - a0);
     const Eigen::Vector3d b = b0 + tau * (b1 - b0);
+    {
+      // Cheap rejection first: where the (coplanar) lines meet, from the 2x2 normal equations;
+      // far outside either segment is no crossing. Near-parallel lines take the full test.
+      const Eigen::Vector3d w = b - a;
+      const Eigen::Vector3d r = a - c;
+      const double ww = w.dot(w);
+      const double we = w.dot(e);
+      const double ee = e.dot(e);
+      const double wr = w.dot(r);
+      const double er = e.dot(r);
+      const double denom = ww * ee - we * we;
+      if (denom > 1e-12 * ww * ee) {
+        const double s_line = (we * er - ee * wr) / denom;
+        const double t_line = (ww * er - we * wr) / denom;
+        constexpr double kSlack = 1e-6;
+        if (s_line < -kSlack || s_line > 1.0 + kSlack || t_line < -kSlack ||
+            t_line > 1.0 + kSlack) {
+          continue;
+        }
+      }
+    }
     const SegmentPair cp = closest_segment_segment(a, b, c, d);
     // At a true crossing the closest points coincide; allow rounding relative to the lengths.
     const double tol = 1e-9 * ((b - a).norm() + e.norm()) + 1e-15;
     if ((cp.p - cp.q).norm() > tol) continue;
+    if (outward != nullptr) {
+      const Eigen::Vector3d m = (b - a).cross(e);
+      const double side = m.dot(*outward);
+      const double slope = 2.0 * k2 * tau + k1;
+      if (std::abs(side) > 1e-9 * m.norm() && slope * side >= 0.0) continue;  // leaving
+    }
     out.hit = true;
     out.tau = tau;
     out.u = cp.s;
@@ -125,6 +160,18 @@ inline MovingSegmentHit moving_segment_crosses_segment(
     return out;
   }
   return out;
+}
+
+/// A.8 against a mesh edge: every crossing of a boundary edge (outward == nullptr: an open
+/// surface has no inside), only entering ones elsewhere. The orientation test runs only when
+/// there is a crossing at all.
+inline MovingSegmentHit moving_segment_enters_edge(
+    const Eigen::Vector3d& a0, const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
+    const Eigen::Vector3d& b1, const Eigen::Vector3d& c, const Eigen::Vector3d& d,
+    const Eigen::Vector3d* outward) {
+  const MovingSegmentHit any = moving_segment_crosses_segment(a0, b0, a1, b1, c, d);
+  if (!any.hit || outward == nullptr) return any;
+  return moving_segment_crosses_segment(a0, b0, a1, b1, c, d, outward);
 }
 
 }  // namespace lap::haptics

@@ -61,4 +61,24 @@ inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0,
   return r;
 }
 
+/// A.7 for the segment proxy's end points: the parameter at which p0 -> p1 crosses triangle
+/// (a, b, c) from its front (-1: none). A start exactly on the plane counts, so an end point
+/// resting on the surface cannot slip in; a path leaving through the back is not a contact.
+inline double front_crossing_time(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                  const Eigen::Vector3d& a, int32_t ia, const Eigen::Vector3d& b,
+                                  int32_t ib, const Eigen::Vector3d& c, int32_t ic) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double s0 = n.dot(p0 - a);
+  const double s1 = n.dot(p1 - a);
+  if (!(s0 >= 0.0 && s1 < 0.0)) return -1.0;
+  const Eigen::Vector3d d = p1 - p0;
+  const double e0 = canonical_edge_side(p0, d, a, ia, b, ib);
+  const double e1 = canonical_edge_side(p0, d, b, ib, c, ic);
+  const double e2 = canonical_edge_side(p0, d, c, ic, a, ia);
+  const bool inside =
+      (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
+  if (!inside) return -1.0;
+  return s0 / (s0 - s1);
+}
+
 }  // namespace lap::haptics

@@ -103,6 +103,13 @@ void BM_SegmentProxySlide(benchmark::State& state) {
       static_cast<double>(contacts) / static_cast<double>(state.iterations());
   state.counters["passes"] =
       static_cast<double>(proxy.stats().placements) / static_cast<double>(proxy.stats().steps);
+  state.counters["refills"] =
+      static_cast<double>(proxy.stats().cache_rebuilds) / static_cast<double>(proxy.stats().steps);
+  state.counters["tree_sweeps"] =
+      static_cast<double>(proxy.stats().tree_sweeps) / static_cast<double>(proxy.stats().steps);
+  state.counters["cached_tests"] =
+      static_cast<double>(proxy.stats().cached_tests) /
+      static_cast<double>(std::max<int64_t>(1, proxy.stats().cached_sweeps));
 }
 BENCHMARK(BM_SegmentProxySlide)
     ->Apply([](benchmark::internal::Benchmark* b) {
@@ -183,14 +190,22 @@ void BM_GripperStep(benchmark::State& state) {
       static_cast<double>(contacts) / static_cast<double>(state.iterations());
   double passes = 0.0;
   double limits = 0.0;
+  double refills = 0.0;
+  double tree_sweeps = 0.0;
   for (int i = 0; i < 3; ++i) {
     passes += static_cast<double>(gripper.proxy(i).stats().placements) /
               static_cast<double>(gripper.proxy(i).stats().steps);
     limits += static_cast<double>(gripper.proxy(i).stats().placement_limit_hits) /
               static_cast<double>(gripper.proxy(i).stats().steps);
+    refills += static_cast<double>(gripper.proxy(i).stats().cache_rebuilds) /
+               static_cast<double>(gripper.proxy(i).stats().steps);
+    tree_sweeps += static_cast<double>(gripper.proxy(i).stats().tree_sweeps) /
+                   static_cast<double>(gripper.proxy(i).stats().steps);
   }
   state.counters["passes"] = passes;
   state.counters["limit_rate"] = limits;
+  state.counters["refills"] = refills;
+  state.counters["tree_sweeps"] = tree_sweeps;
 }
 BENCHMARK(BM_GripperStep)->Arg(47396)->Iterations(100000);
 

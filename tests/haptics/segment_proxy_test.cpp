@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "haptics/brute_force_reference.h"
@@ -395,6 +396,57 @@ TEST(LaparoscopicGripper, SqueezeGrowsWithClosureOnABlockBetweenTheJaws) {
   pose.opening_rad = 1.2;
   for (int i = 0; i < 50; ++i) out = gripper.step(objects, pose, kDt);
   EXPECT_EQ(out.squeeze_n, 0.0);
+}
+
+}  // namespace
+}  // namespace lap::haptics
+
+namespace lap::haptics {
+namespace {
+
+// The sweep cache is a clearance certificate, not an approximation: a proxy answering slow
+// motions from it must move exactly as one that always asks the trees. A slow random stroke
+// over the concave stand-in liver, pressing in and sliding, compared bit for bit every tick.
+TEST(SegmentProxy, SweepCacheAgreesExactlyWithTheTrees) {
+  Body liver(make_stand_in_liver());
+  SegmentProxySettings uncached;
+  uncached.sweep_cache = false;
+  SegmentProxy cached_proxy;
+  SegmentProxy tree_proxy(uncached);
+  const MeshDatabase& m = liver.mesh;
+  const int32_t v = m.vertex_count() / 2;
+  const Eigen::Vector3d n = m.vertex_normal(v);
+  const Eigen::Vector3d t1 = n.cross(Eigen::Vector3d(0.3, 0.9, 0.1)).normalized();
+  const Eigen::Vector3d t2 = n.cross(t1);
+  Eigen::Vector3d tip = m.position(v) + 0.004 * n;
+  Eigen::Vector3d axis = (n + 0.5 * t1).normalized();
+  cached_proxy.reset(tip, tip + 0.1 * axis);
+  tree_proxy.reset(tip, tip + 0.1 * axis);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  int64_t in_contact = 0;
+  for (int tick = 0; tick < 20000; ++tick) {
+    // Press to 3 mm deep over the first 700 ticks, then wander (<= 0.06 mm, <= 0.1° a tick).
+    const Eigen::Vector3d target = m.position(v) - 0.003 * n;
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    if (tick < 700) step = (target - tip) / (700.0 - tick);
+    step += 2e-5 * (uni(rng) * t1 + uni(rng) * t2 + 0.3 * uni(rng) * n);
+    tip += step;
+    const Eigen::Vector3d turn(uni(rng), uni(rng), uni(rng));
+    axis = Eigen::AngleAxisd(0.1 * kPi / 180.0 * uni(rng), turn.normalized()) * axis;
+    const SegmentProxyOutput a = cached_proxy.step({&liver.object, 1}, tip, tip + 0.1 * axis, kDt);
+    const SegmentProxyOutput b = tree_proxy.step({&liver.object, 1}, tip, tip + 0.1 * axis, kDt);
+    ASSERT_EQ(a.ideal_a_W, b.ideal_a_W) << "tick " << tick;
+    ASSERT_EQ(a.ideal_b_W, b.ideal_b_W) << "tick " << tick;
+    ASSERT_EQ(a.force_W, b.force_W) << "tick " << tick;
+    ASSERT_EQ(a.contact_count, b.contact_count) << "tick " << tick;
+    in_contact += a.contact_count > 0 ? 1 : 0;
+  }
+  EXPECT_GT(in_contact, 15000);
+  const SegmentProxyStats& s = cached_proxy.stats();
+  EXPECT_GT(s.cached_sweeps, 2 * s.tree_sweeps);  // the cache answered most sweeps
+  EXPECT_LT(s.cache_rebuilds, s.cached_sweeps / 2);
+  EXPECT_EQ(tree_proxy.stats().cached_sweeps, 0);
 }
 
 }  // namespace
