@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "haptics/closest_point.h"
+#include "haptics/shading_normals.h"
 
 namespace lap::haptics {
 namespace {
@@ -297,7 +298,20 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
       const ForceLaw& l = objects[contacts_[c].object].law;
       if (l.stiffness_n_per_m > law->stiffness_n_per_m) law = &l;
     }
-    const Eigen::Vector3d penetration = hip - ihip_W_;
+    Eigen::Vector3d penetration = hip - ihip_W_;
+    const PointContact& first = contacts_[0];
+    const HapticObject& touched = objects[first.object];
+    if (count_ == 1 && touched.shading != nullptr) {
+      // §6.1 / Figure 6-3: direction from the shaded normal, magnitude from the HIP projected
+      // along it onto the contacted plane. Creases between objects (two or more contacts) are
+      // real edges and stay sharp.
+      const Eigen::Vector3d p_O = touched.pose_WO.inverse() * first.point_W;
+      const Eigen::Vector3d shaded =
+          touched.pose_WO.linear() * (static_cast<double>(first.side) *
+                                      touched.shading->normal(*touched.mesh, first.primitive, p_O));
+      const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
+      penetration = shaded_penetration(depth, first.normal_W, shaded);
+    }
     const Eigen::Vector3d rate = dt > 0.0 ? Eigen::Vector3d((penetration - prev_penetration_) / dt)
                                           : Eigen::Vector3d::Zero();
     out.force_W = contact_force(*law, penetration, rate);

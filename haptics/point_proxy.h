@@ -33,6 +33,8 @@ namespace lap::haptics {
 class SegmentDatabase;
 
 /// One object as the proxy sees it for one tick.
+class ShadingNormals;
+
 struct HapticObject {
   const MeshDatabase* mesh = nullptr;
   Eigen::Isometry3d pose_WO = Eigen::Isometry3d::Identity();       ///< object to world, now
@@ -41,6 +43,8 @@ struct HapticObject {
   ForceLaw law;
   /// The ray-based extension of `mesh` (chapter 5); needed by the segment proxy only.
   const SegmentDatabase* segments = nullptr;
+  /// Force shading (§6.1) for the point proxy; nullptr: flat polygons.
+  const ShadingNormals* shading = nullptr;
 };
 
 /// One contact of the proxy.

@@ -12,6 +12,7 @@
 #include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
 #include "haptics/segment_proxy.h"
+#include "haptics/shading_normals.h"
 #include "tests/support/counting_allocator.h"
 
 namespace lap::haptics {
@@ -23,10 +24,12 @@ TEST(PointProxyAllocation, StepAndRefitAllocateNothing) {
   TriangleMesh box_mesh = make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 6);
   box_mesh.transform(Eigen::Affine3d(Eigen::Translation3d(0.05, 0.0, 0.0)));
   const MeshDatabase box = MeshDatabase::build(box_mesh);
+  const ShadingNormals box_shading = ShadingNormals::build(box, 0.5);  // force shading (§6.1)
   const MeshDatabase plate = MeshDatabase::build(make_plate(0.2, 10));
   HapticObject objects[3];
   objects[0].mesh = &sphere;
   objects[1].mesh = &box;
+  objects[1].shading = &box_shading;
   objects[2].mesh = &plate;
   objects[2].two_sided = true;
   objects[2].pose_WO = objects[2].prev_pose_WO =

@@ -1,0 +1,64 @@
+#pragma once
+/// \file
+/// Force shading (thesis §6.1): a continuous normal over a polygonal surface so that stroking a
+/// tessellated curved organ feels smooth, while natural edges (the flat ends of a cylinder, the
+/// rim of an organ cut) stay sharp.
+///
+/// Setup: every face corner gets the normal of its vertex *within the face's smoothing group*:
+/// the angle-weighted average of the faces around the vertex whose normals are within the
+/// crease angle of this face's normal. Faces meeting at more than the crease angle therefore do
+/// not blend, and a face that is not shaded (its region switched off) keeps its flat normal.
+/// Step: the normal at a contact point (eq. 6-1 for a face: the corner normals weighted by the
+/// areas of the three sub-triangles; an edge: the two vertex normals weighted by inverse
+/// distance; a vertex: its normal) and the force along it whose magnitude comes from the HIP
+/// projected along the shaded normal onto the contacted plane (Figure 6-3).
+///
+/// The step allocates nothing. Built once per mesh (setup).
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "haptics/mesh_database.h"
+
+namespace lap::haptics {
+
+class ShadingNormals {
+ public:
+  /// crease_angle_rad: faces whose normals differ by more do not blend (a natural edge).
+  /// face_shaded: per face (database order), 0 = shading off for that face (a region); empty =
+  /// all on.
+  static ShadingNormals build(const MeshDatabase& mesh, double crease_angle_rad,
+                              std::span<const uint8_t> face_shaded = {});
+
+  /// The shaded unit normal (object frame) at point p on primitive `on` (the point proxy's
+  /// contacted primitive). Falls back to the primitive's own normal where it is not smooth.
+  [[nodiscard]] Eigen::Vector3d normal(const MeshDatabase& mesh, PrimitiveRef on,
+                                       const Eigen::Vector3d& p) const;
+
+  [[nodiscard]] const std::array<Eigen::Vector3d, 3>& corner_normals(int32_t f) const {
+    return corners_[f];
+  }
+  [[nodiscard]] bool shaded(int32_t f) const { return shaded_[f] != 0; }
+
+ private:
+  std::vector<std::array<Eigen::Vector3d, 3>> corners_;  // per face, per corner
+  std::vector<uint8_t> shaded_;
+  std::vector<uint8_t> smooth_vertex_;  // every corner at the vertex shaded and equal
+  std::vector<uint8_t> smooth_edge_;    // both faces shaded, same corner normals at both ends
+};
+
+/// Figure 6-3: the penetration vector to use with the force law when shading is on. `depth` is
+/// the HIP's depth under the contacted plane (normal n, unit), `shaded` the shaded unit normal.
+/// The HIP is projected along the shaded normal onto the plane: its distance there is
+/// depth / (shaded . n). The result points into the object (as HIP - IHIP does). Where the
+/// shaded normal is more than ~84° from the plane's (cos < 0.1) the projection is limited.
+[[nodiscard]] inline Eigen::Vector3d shaded_penetration(double depth, const Eigen::Vector3d& n,
+                                                        const Eigen::Vector3d& shaded) {
+  const double c = std::max(shaded.dot(n), 0.1);
+  return -(depth / c) * shaded;
+}
+
+}  // namespace lap::haptics

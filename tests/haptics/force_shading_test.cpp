@@ -1,0 +1,164 @@
+// Force shading (§6.1): stroking a tessellated cylinder feels smooth, its flat ends stay sharp.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "haptics/mesh_database.h"
+#include "haptics/mesh_generators.h"
+#include "haptics/point_proxy.h"
+#include "haptics/shading_normals.h"
+
+namespace lap::haptics {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kR = 0.02;
+constexpr double kLength = 0.06;
+constexpr int kSlices = 24;
+constexpr double kDt = 0.001;
+
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+struct Cylinder {
+  MeshDatabase mesh = MeshDatabase::build(make_cylinder(kR, kLength, kSlices, 4));
+  ShadingNormals shading = ShadingNormals::build(mesh, 30.0 * kPi / 180.0);
+  HapticObject object(bool shaded) const {
+    HapticObject o;
+    o.mesh = &mesh;
+    o.shading = shaded ? &shading : nullptr;
+    o.law.stiffness_n_per_m = 1000.0;
+    o.law.max_force_n = 1e9;
+    return o;
+  }
+};
+
+// The HIP enters radially at height y and angle 0, then circles the axis at radius r.
+// Returns the largest angle between consecutive force directions over one turn.
+double stroke(const HapticObject& o, double r, double y, double dphi,
+              std::vector<Eigen::Vector3d>* forces = nullptr) {
+  PointProxy proxy;
+  auto at = [&](double radius, double phi) {
+    return Eigen::Vector3d(radius * std::cos(phi), y, -radius * std::sin(phi));
+  };
+  proxy.reset(at(kR + 0.005, 0.0));
+  for (int i = 1; i <= 60; ++i)
+    proxy.step({&o, 1}, at(kR + 0.005 - i * (kR + 0.005 - r) / 60, 0.0), kDt);
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  double worst = 0.0;
+  const int ticks = static_cast<int>(std::lround(2.0 * kPi / dphi));
+  for (int i = 1; i <= ticks; ++i) {
+    const PointProxyOutput out = proxy.step({&o, 1}, at(r, i * dphi), kDt);
+    EXPECT_EQ(out.contact_count, 1) << "tick " << i;
+    const Eigen::Vector3d f = out.force_W;
+    if (forces != nullptr) forces->push_back(f);
+    if (i > 1) worst = std::max(worst, angle_between(previous, f));
+    previous = f;
+  }
+  return worst;
+}
+
+TEST(ForceShading, StrokingACylinderTurnsTheForceSmoothlyWithinTheTessellationBound) {
+  const Cylinder c;
+  const double facet = 2.0 * kPi / kSlices;  // Δφ between neighbouring facets
+  const double dphi = facet / 20.0;          // the HIP's turn per tick
+  const double r = kR - 0.001;               // 1 mm under the vertices
+  // On a facet the shaded normal is normalize((1 - x) n_j + x n_j+1) with x the IHIP's
+  // fraction across it (the two triangles of a facet interpolate alike), so its turn rate is
+  // |n_j x n_j+1| / |v|^2 <= 2 tan(Δφ/2) per unit x; x moves r cos(.)/(2 R sin(Δφ/2)) per
+  // radian of the HIP. Together: at most dphi * r / (R cos(Δφ/2)) per tick.
+  // Plus one jump per facet: the IHIP keeps to the facet it entered until the HIP leaves the
+  // region under it (Figure 2-11), where it sits on the edge (x = 1); on the next facet it
+  // starts at the HIP's projection, at most depth * sin Δφ from the edge (depth <= R - r),
+  // i.e. x' <= depth sin Δφ / (2 R sin(Δφ/2)), turning the normal by at most
+  // x' sin Δφ / cos²(Δφ/2). (The thesis: shading works while the penetration is small
+  // compared with the polygon.)
+  const double half = facet / 2.0;
+  const double per_tick = dphi * r / (kR * std::cos(half));
+  const double jump = (kR - r) * std::sin(facet) / (2.0 * kR * std::sin(half)) * std::sin(facet) /
+                      (std::cos(half) * std::cos(half));
+  const double bound = per_tick + jump;
+  std::vector<Eigen::Vector3d> forces;
+  const double shaded = stroke(c.object(true), r, 0.0225, dphi, &forces);
+  const double flat = stroke(c.object(false), r, 0.0225, dphi);
+  std::printf("stroke: shaded max turn %.5f rad (bound %.5f), flat max turn %.5f rad, ratio %.1f\n",
+              shaded, bound, flat, flat / shaded);
+  EXPECT_LE(shaded, bound + 1e-9);
+  EXPECT_GE(flat, 0.9 * facet);  // without shading the force jumps by a facet at each edge
+  EXPECT_LE(5.0 * shaded, flat);
+  // The shaded force is horizontal, points outward, and its magnitude is k times the HIP's
+  // distance to the facet plane along the shaded normal (Figure 6-3).
+  for (const Eigen::Vector3d& f : forces) {
+    EXPECT_NEAR(f.y(), 0.0, 1e-9);
+    EXPECT_GT(f.norm(), 1000.0 * (kR * std::cos(facet / 2.0) - r) * 0.999);
+    EXPECT_LT(f.norm(), 1000.0 * (kR - r) / std::cos(facet / 2.0) * 1.001);
+  }
+}
+
+TEST(ForceShading, AtAFacetEdgeTheShadedNormalIsTheVertexNormal) {
+  const Cylinder c;
+  // Vertex column j = 0 lies at angle 0: its shaded normal is radial, +x.
+  const MeshDatabase& m = c.mesh;
+  for (int32_t f = 0; f < m.face_count(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = m.position(m.face_vertices(f)[k]);
+      const Eigen::Vector3d n = c.shading.corner_normals(f)[k];
+      const bool cap = std::abs(m.face_normal(f).y()) > 0.5;
+      if (cap) {
+        EXPECT_NEAR(std::abs(n.y()), 1.0, 1e-12);  // ends do not blend with the side
+      } else {
+        const Eigen::Vector3d radial = Eigen::Vector3d(p.x(), 0.0, p.z()).normalized();
+        EXPECT_NEAR((n - radial).norm(), 0.0, 1e-12);
+      }
+    }
+  }
+}
+
+TEST(ForceShading, FlatEndsKeepTheirEdge) {
+  const Cylinder c;
+  const HapticObject o = c.object(true);
+  // Pressing the top end near the rim: the force is along the axis, exactly.
+  PointProxy top;
+  const Eigen::Vector3d above(0.018, kLength + 0.003, 0.0);
+  top.reset(above);
+  PointProxyOutput out;
+  for (int i = 1; i <= 40; ++i) {
+    out = top.step({&o, 1}, above - Eigen::Vector3d(0, 0.004 * i / 40.0, 0), kDt);
+  }
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_NEAR(angle_between(out.force_W, Eigen::Vector3d::UnitY()), 0.0, 1e-9);
+  EXPECT_NEAR(out.force_W.norm(), 1000.0 * 0.001, 1e-9);
+  // Pressing the side 1 mm below the rim: the force is horizontal — 90° from the end's.
+  PointProxy side;
+  const Eigen::Vector3d outside(kR + 0.003, kLength - 0.001, 0.0);
+  side.reset(outside);
+  for (int i = 1; i <= 40; ++i) {
+    out = side.step({&o, 1}, outside - Eigen::Vector3d(0.004 * i / 40.0, 0, 0), kDt);
+  }
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_NEAR(out.force_W.normalized().y(), 0.0, 1e-9);
+  EXPECT_GT(out.force_W.x(), 0.0);
+}
+
+TEST(ForceShading, RegionSwitchedOffFeelsLikeFlatPolygons) {
+  const Cylinder c;
+  const std::vector<uint8_t> off(c.mesh.face_count(), 0);
+  const ShadingNormals none = ShadingNormals::build(c.mesh, 30.0 * kPi / 180.0, off);
+  HapticObject with_none = c.object(false);
+  with_none.shading = &none;
+  const HapticObject flat = c.object(false);
+  std::vector<Eigen::Vector3d> a;
+  std::vector<Eigen::Vector3d> b;
+  const double dphi = 2.0 * kPi / kSlices / 7.0;
+  stroke(with_none, kR - 0.001, 0.0225, dphi, &a);
+  stroke(flat, kR - 0.001, 0.0225, dphi, &b);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_LT((a[i] - b[i]).norm(), 1e-12) << i;
+}
+
+}  // namespace
+}  // namespace lap::haptics
