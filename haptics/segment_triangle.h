@@ -33,6 +33,23 @@ inline double canonical_edge_side(const Eigen::Vector3d& p0, const Eigen::Vector
   return ia < ib ? edge_side(p0, d, a, b) : -edge_side(p0, d, b, a);
 }
 
+/// Where the line p0 + s d passes triangle (a, b, c): inside (or on its boundary) when the three
+/// canonical edge sides agree in sign; kDegenerate when all three vanish (the line lies in the
+/// triangle's plane).
+enum class LinePass : uint8_t { kOutside, kInside, kDegenerate };
+inline LinePass line_through_triangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& d,
+                                      const Eigen::Vector3d& a, int32_t ia,
+                                      const Eigen::Vector3d& b, int32_t ib,
+                                      const Eigen::Vector3d& c, int32_t ic) {
+  const double e0 = canonical_edge_side(p0, d, a, ia, b, ib);
+  const double e1 = canonical_edge_side(p0, d, b, ib, c, ic);
+  const double e2 = canonical_edge_side(p0, d, c, ic, a, ia);
+  const bool inside =
+      (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
+  if (!inside) return LinePass::kOutside;
+  return (e0 == 0.0 && e1 == 0.0 && e2 == 0.0) ? LinePass::kDegenerate : LinePass::kInside;
+}
+
 /// Tests segment p0 -> p1 against triangle (a, b, c) with vertex indices (ia, ib, ic).
 /// A crossing needs p0 strictly on one side of the triangle's plane and p1 on the other side or
 /// on the plane: a path that starts on the surface (a proxy leaving it) is not a new contact.
@@ -47,14 +64,7 @@ inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0,
   const bool front_to_back = s0 > 0.0 && s1 <= 0.0;
   const bool back_to_front = s0 < 0.0 && s1 >= 0.0;
   if (!front_to_back && !back_to_front) return r;
-  const Eigen::Vector3d d = p1 - p0;
-  const double e0 = canonical_edge_side(p0, d, a, ia, b, ib);
-  const double e1 = canonical_edge_side(p0, d, b, ib, c, ic);
-  const double e2 = canonical_edge_side(p0, d, c, ic, a, ia);
-  // The line passes inside (or on the boundary) when all three sides agree in sign.
-  const bool inside =
-      (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
-  if (!inside || (e0 == 0.0 && e1 == 0.0 && e2 == 0.0)) return r;
+  if (line_through_triangle(p0, p1 - p0, a, ia, b, ib, c, ic) != LinePass::kInside) return r;
   r.hit = true;
   r.t = s0 / (s0 - s1);
   r.from_front = front_to_back;
@@ -71,13 +81,7 @@ inline double front_crossing_time(const Eigen::Vector3d& p0, const Eigen::Vector
   const double s0 = n.dot(p0 - a);
   const double s1 = n.dot(p1 - a);
   if (!(s0 >= 0.0 && s1 < 0.0)) return -1.0;
-  const Eigen::Vector3d d = p1 - p0;
-  const double e0 = canonical_edge_side(p0, d, a, ia, b, ib);
-  const double e1 = canonical_edge_side(p0, d, b, ib, c, ic);
-  const double e2 = canonical_edge_side(p0, d, c, ic, a, ia);
-  const bool inside =
-      (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
-  if (!inside) return -1.0;
+  if (line_through_triangle(p0, p1 - p0, a, ia, b, ib, c, ic) == LinePass::kOutside) return -1.0;
   return s0 / (s0 - s1);
 }
 
