@@ -215,13 +215,11 @@ MovingSegmentHit SegmentDatabase::edge_crossing(int32_t e, const Eigen::Vector3d
                                                 const Eigen::Vector3d& b1) const {
   const MeshDatabase& mesh = *mesh_;
   const auto& ev = mesh.edge_vertices(e);
-  const Eigen::Vector3d& c = mesh.position(ev[0]);
-  const Eigen::Vector3d& d = mesh.position(ev[1]);
-  const MovingSegmentHit any = moving_segment_crosses_segment(a0, b0, a1, b1, c, d);
   // Boundary edges of open surfaces have no inside: every crossing counts there.
-  if (!any.hit || mesh.edge_faces(e)[1] < 0) return any;
-  const Eigen::Vector3d outward = mesh.edge_normal(e);
-  return moving_segment_crosses_segment(a0, b0, a1, b1, c, d, &outward);
+  const bool closed = mesh.edge_faces(e)[1] >= 0;
+  const Eigen::Vector3d outward = closed ? mesh.edge_normal(e) : Eigen::Vector3d::Zero();
+  return moving_segment_enters_edge(a0, b0, a1, b1, mesh.position(ev[0]), mesh.position(ev[1]),
+                                    closed ? &outward : nullptr);
 }
 
 int32_t SegmentDatabase::first_edge_crossing(const Eigen::Vector3d& a0, const Eigen::Vector3d& b0,

@@ -1,5 +1,6 @@
 #include "tests/bench/bench_support.h"
 
+#include <map>
 #include <stdexcept>
 
 #include "haptics/mesh_generators.h"
@@ -54,6 +55,23 @@ haptics::TriangleMesh table_4_1_object(int64_t triangles) {
   }
   throw std::invalid_argument("no Table 4-1 object with " + std::to_string(triangles) +
                               " triangles");
+}
+
+TableObject::TableObject(int64_t triangles)
+    : db(haptics::MeshDatabase::build(table_4_1_object(triangles))) {}
+
+const haptics::SegmentDatabase& TableObject::segments() {
+  if (!segments_) {
+    segments_ = std::make_unique<haptics::SegmentDatabase>(haptics::SegmentDatabase::build(db));
+  }
+  return *segments_;
+}
+
+TableObject& table_4_1_scene(int64_t triangles) {
+  static std::map<int64_t, std::unique_ptr<TableObject>> cache;
+  auto& s = cache[triangles];
+  if (!s) s = std::make_unique<TableObject>(triangles);
+  return *s;
 }
 
 }  // namespace lap::bench

@@ -8,8 +8,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "haptics/mesh_database.h"
+#include "haptics/segment_database.h"
 #include "haptics/triangle_mesh.h"
 
 namespace lap::bench {
@@ -41,6 +44,18 @@ double timer_overhead_ns();
 /// sphere of radius 5 cm (Table 4-1's object 4 has 32402 vertices and 64800 polygons: exactly a
 /// 180 x 181 sphere). Supported: 12, 456, 1800, 64800, 1000000.
 haptics::TriangleMesh table_4_1_object(int64_t triangles);
+/// A Table 4-1 object with its databases, built once per size for the whole benchmark run
+/// (the 10^6-triangle one takes seconds); the segment database only when first asked for.
+struct TableObject {
+  explicit TableObject(int64_t triangles);
+  haptics::MeshDatabase db;
+  [[nodiscard]] const haptics::SegmentDatabase& segments();
+
+ private:
+  std::unique_ptr<haptics::SegmentDatabase> segments_;
+};
+TableObject& table_4_1_scene(int64_t triangles);
+
 /// Radius of the spheres [m]; the cube is 10 cm.
 constexpr double kSphereRadius = 0.05;
 

@@ -5,7 +5,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <map>
 #include <memory>
 #include <random>
 
@@ -48,22 +47,9 @@ Eigen::Vector3d slide_approach(int64_t triangles) {
   return triangles == 12 ? Eigen::Vector3d(p0.x(), 0.06, p0.z()) : Eigen::Vector3d(p0 * 1.2);
 }
 
-struct Scene {
-  haptics::TriangleMesh mesh;
-  MeshDatabase db;
-  explicit Scene(int64_t n) : mesh(table_4_1_object(n)), db(MeshDatabase::build(mesh)) {}
-};
-
-const Scene& scene(int64_t n) {
-  static std::map<int64_t, std::unique_ptr<Scene>> cache;
-  auto& s = cache[n];
-  if (!s) s = std::make_unique<Scene>(n);
-  return *s;
-}
-
 void BM_PointProxySlide(benchmark::State& state) {
   const int64_t n = state.range(0);
-  const Scene& sc = scene(n);
+  TableObject& sc = table_4_1_scene(n);
   HapticObject object;
   object.mesh = &sc.db;
   PointProxy proxy;
@@ -94,7 +80,7 @@ void BM_PointProxySlide(benchmark::State& state) {
 
 void BM_PointProxyFirstContact(benchmark::State& state) {
   const int64_t n = state.range(0);
-  const Scene& sc = scene(n);
+  TableObject& sc = table_4_1_scene(n);
   HapticObject object;
   object.mesh = &sc.db;
   // 4096 short paths (1 mm, one fast tick) crossing the surface at random places.
@@ -139,7 +125,7 @@ void BM_PointProxyFirstContact(benchmark::State& state) {
 
 void BM_PointProxyBruteForce(benchmark::State& state) {
   const int64_t n = state.range(0);
-  const Scene& sc = scene(n);
+  TableObject& sc = table_4_1_scene(n);
   haptics::BruteForcePointProxy proxy;
   const Eigen::Vector3d p0 = slide_path(n, 0);
   const Eigen::Vector3d out = slide_approach(n);

@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <memory>
 
 #include "haptics/laparoscopic_gripper.h"
@@ -52,27 +51,12 @@ void slide_probe(int64_t triangles, int64_t tick, Eigen::Vector3d* a, Eigen::Vec
   *b = tip + kLength * (std::cos(lean) * normal + std::sin(lean) * side);
 }
 
-struct Scene {
-  haptics::TriangleMesh mesh;
-  MeshDatabase db;
-  SegmentDatabase sd;
-  explicit Scene(int64_t n)
-      : mesh(table_4_1_object(n)), db(MeshDatabase::build(mesh)), sd(SegmentDatabase::build(db)) {}
-};
-
-const Scene& scene(int64_t n) {
-  static std::map<int64_t, std::unique_ptr<Scene>> cache;
-  auto& s = cache[n];
-  if (!s) s = std::make_unique<Scene>(n);
-  return *s;
-}
-
 void BM_SegmentProxySlide(benchmark::State& state) {
   const int64_t n = state.range(0);
-  const Scene& sc = scene(n);
+  TableObject& sc = table_4_1_scene(n);
   HapticObject object;
   object.mesh = &sc.db;
-  object.segments = &sc.sd;
+  object.segments = &sc.segments();
   haptics::SegmentProxy proxy;
   Eigen::Vector3d a;
   Eigen::Vector3d b;
