@@ -3,7 +3,9 @@
 #include <limits>
 
 #include "haptics/closest_point.h"
+#include "haptics/height_field.h"
 #include "haptics/shading_normals.h"
+#include "haptics/texture_force.h"
 
 namespace lap::haptics {
 namespace {
@@ -143,6 +145,57 @@ void PointProxy::reset(const Eigen::Vector3d& hip_W) {
   ihip_W_ = hip_W.allFinite() ? hip_W : Eigen::Vector3d::Zero();
   prev_penetration_.setZero();
   initialised_ = true;
+  friction_.phase = FrictionState::Phase::kNone;
+  hover_object_ = -1;
+}
+
+const char* surface_problem(const HapticObject& object) {
+  if (object.shading != nullptr && object.texture != nullptr) {
+    return "force shading and a texture on one object: both change its shape and are not "
+           "combined (thesis 6.6)";
+  }
+  if (object.texture != nullptr && !(object.texture_k >= 0.0)) return "texture K must be >= 0";
+  if (object.friction != nullptr && object.friction->problem()[0] != '\0') {
+    return object.friction->problem();
+  }
+  return "";
+}
+
+Eigen::Vector3d PointProxy::texture_penetration(const HapticObject& o, const Eigen::Vector3d& q_O,
+                                                const Eigen::Vector3d& n_O, double s) {
+  // §6.3.1: depth under the textured surface = height at the nearest point - nearest distance.
+  const HeightSample t = o.texture->sample(q_O);
+  const double d = t.height_m - s;
+  if (!(d > 0.0)) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d m_O = perturbed_normal(n_O, t.gradient);
+  const double kh = o.texture_k * o.texture->max_height_m();
+  return o.pose_WO.linear() * textured_penetration(d, kh, n_O, m_O);
+}
+
+void PointProxy::find_hover(std::span<const HapticObject> objects, const Eigen::Vector3d& hip) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int32_t oi = 0; oi < static_cast<int32_t>(objects.size()); ++oi) {
+    const HapticObject& o = objects[oi];
+    if (o.mesh == nullptr || o.texture == nullptr) continue;
+    const double band = o.texture->max_height_m();
+    if (!(band > 0.0)) continue;
+    const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
+    const MeshDatabase& m = *o.mesh;
+    m.tree().for_each_near_segment(hip_O, hip_O, band, [&](int32_t f) {
+      const auto& v = m.face_vertices(f);
+      TriangleFeature feature;
+      const Eigen::Vector3d q = closest_on_triangle(hip_O, m.position(v[0]), m.position(v[1]),
+                                                    m.position(v[2]), &feature);
+      const double dist = (hip_O - q).norm();
+      const double side = (hip_O - q).dot(m.face_normal(f));
+      if (dist <= band && dist < best && (side > 0.0 || o.two_sided)) {
+        best = dist;
+        hover_object_ = oi;
+        hover_primitive_ = {PrimitiveKind::kFace, f};
+        hover_side_ = side >= 0.0 ? 1 : -1;
+      }
+    });
+  }
 }
 
 Eigen::Vector3d PointProxy::combine(const Eigen::Vector3d& hip) const {
@@ -279,7 +332,8 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
   }
   // 4. A contact whose HIP left its object through a face shared with another object still
   //    holds the IHIP while the others would put it below last tick's plane (the crease between
-  //    two touching organs); otherwise it is released.
+  //    two touching organs); otherwise it is released. A textured object stays watched after
+  //    release: its bumps stand above the surface (Figure 6-5).
   for (int32_t r = 0; r < n_leaving; ++r) {
     const PointContact& c = leaving[r];
     if (count_ > 0 && count_ < kMaxContacts && c.normal_W.dot(x - c.point_W) < -1e-12) {
@@ -287,39 +341,105 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
       x = combine(hip);
     } else {
       ++stats_.releases;
+      if (objects[c.object].texture != nullptr) {
+        hover_object_ = c.object;
+        hover_primitive_ = c.primitive;
+        hover_side_ = c.side;
+      }
     }
   }
   ihip_W_ = x;
+  if (count_ > 0) hover_object_ = -1;
+  if (count_ == 0 && hover_object_ < 0) find_hover(objects, hip);
 
-  // 4. Force (§4.4) from the penetration vector, with the stiffest law among the contacts.
+  // 5. Force (§4.4) from the penetration vector, with the stiffest law among the contacts;
+  //    shading (§6.1) or texture (§6.3) where one object is touched; then friction (§6.2).
+  Eigen::Vector3d penetration = Eigen::Vector3d::Zero();
+  const ForceLaw* law = nullptr;
+  int32_t touched_index = -1;
+  Eigen::Vector3d contact_O = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_O = Eigen::Vector3d::UnitY();
   if (count_ > 0) {
-    const ForceLaw* law = &objects[contacts_[0].object].law;
+    law = &objects[contacts_[0].object].law;
     for (int32_t c = 1; c < count_; ++c) {
       const ForceLaw& l = objects[contacts_[c].object].law;
       if (l.stiffness_n_per_m > law->stiffness_n_per_m) law = &l;
     }
-    Eigen::Vector3d penetration = hip - ihip_W_;
+    penetration = hip - ihip_W_;
     const PointContact& first = contacts_[0];
     const HapticObject& touched = objects[first.object];
-    if (count_ == 1 && touched.shading != nullptr) {
+    touched_index = first.object;
+    const Eigen::Isometry3d pose_OW = touched.pose_WO.inverse();
+    contact_O = pose_OW * first.point_W;
+    normal_O = touched.pose_WO.linear().transpose() * first.normal_W;
+    if (count_ == 1 && touched.texture != nullptr) {
+      const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
+      penetration = texture_penetration(touched, contact_O, normal_O, -depth);
+    } else if (count_ == 1 && touched.shading != nullptr) {
       // §6.1 / Figure 6-3: direction from the shaded normal, magnitude from the HIP projected
       // along it onto the contacted plane. Creases between objects (two or more contacts) are
       // real edges and stay sharp.
-      const Eigen::Vector3d p_O = touched.pose_WO.inverse() * first.point_W;
       const Eigen::Vector3d shaded =
-          touched.pose_WO.linear() * (static_cast<double>(first.side) *
-                                      touched.shading->normal(*touched.mesh, first.primitive, p_O));
+          touched.pose_WO.linear() *
+          (static_cast<double>(first.side) *
+           touched.shading->normal(*touched.mesh, first.primitive, contact_O));
       const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
       penetration = shaded_penetration(depth, first.normal_W, shaded);
     }
+    out.object = first.object;
+    out.primitive = first.primitive;
+  } else if (hover_object_ >= 0) {
+    if (hover_object_ >= static_cast<int32_t>(objects.size()) ||
+        objects[hover_object_].mesh == nullptr || objects[hover_object_].texture == nullptr) {
+      hover_object_ = -1;
+    } else {
+      const HapticObject& o = objects[hover_object_];
+      const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
+      Eigen::Vector3d q_O;
+      int32_t rounds = 0;
+      hover_primitive_ = local_search(*o.mesh, hover_primitive_, hip_O, &q_O, &rounds);
+      stats_.search_iterations += rounds;
+      const Eigen::Vector3d n_O =
+          static_cast<double>(hover_side_) * o.mesh->normal(hover_primitive_);
+      const double s = (hip_O - q_O).norm();  // above the surface: no crossing was found
+      if (s > o.texture->max_height_m()) {
+        hover_object_ = -1;
+      } else {
+        penetration = texture_penetration(o, q_O, n_O, s);
+        if (penetration.squaredNorm() > 0.0) {
+          law = &o.law;
+          touched_index = hover_object_;
+          contact_O = q_O;
+          normal_O = n_O;
+          out.texture_contact = true;
+          out.object = hover_object_;
+          out.primitive = hover_primitive_;
+          ++stats_.texture_only_ticks;
+        }
+      }
+    }
+  }
+  if (law != nullptr) {
     const Eigen::Vector3d rate = dt > 0.0 ? Eigen::Vector3d((penetration - prev_penetration_) / dt)
                                           : Eigen::Vector3d::Zero();
     out.force_W = contact_force(*law, penetration, rate);
     prev_penetration_ = penetration;
-    out.object = contacts_[0].object;
-    out.primitive = contacts_[0].primitive;
+    const HapticObject& touched = objects[touched_index];
+    if (touched.friction != nullptr) {
+      const Eigen::Vector3d normal_W = touched.pose_WO.linear() * normal_O;
+      const double fn = std::max(0.0, out.force_W.dot(normal_W));
+      out.friction_W =
+          touched.pose_WO.linear() *
+          friction_step(*touched.friction, &friction_, touched_index, contact_O, normal_O, fn);
+      out.force_W += out.friction_W;
+      const double magnitude = out.force_W.norm();
+      if (magnitude > law->max_force_n) out.force_W *= law->max_force_n / magnitude;
+    } else {
+      friction_.phase = FrictionState::Phase::kNone;
+    }
   } else {
     prev_penetration_.setZero();
+    friction_.phase = FrictionState::Phase::kNone;
   }
   out.ihip_W = ihip_W_;
   out.contact_count = count_;

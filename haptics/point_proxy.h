@@ -26,14 +26,16 @@
 #include <span>
 
 #include "haptics/force_law.h"
+#include "haptics/friction.h"
 #include "haptics/mesh_database.h"
 
 namespace lap::haptics {
 
 class SegmentDatabase;
+class ShadingNormals;
+class HeightField;
 
 /// One object as the proxy sees it for one tick.
-class ShadingNormals;
 
 struct HapticObject {
   const MeshDatabase* mesh = nullptr;
@@ -45,7 +47,18 @@ struct HapticObject {
   const SegmentDatabase* segments = nullptr;
   /// Force shading (§6.1) for the point proxy; nullptr: flat polygons.
   const ShadingNormals* shading = nullptr;
+  /// Haptic texture (§6.3); nullptr: none. §6.6: shading and texture both change the shape and
+  /// are not combined: with both set the texture is rendered and shading ignored
+  /// (surface_problem() reports the combination at setup).
+  const HeightField* texture = nullptr;
+  double texture_k = 1.5;  ///< K of eq. 6-4 (1 to 2 per the thesis; smaller for sharp textures)
+  /// Stick-slip friction (§6.2); nullptr: frictionless.
+  const FrictionModel* friction = nullptr;
 };
+
+/// Setup-time check of an object's surface properties: empty when usable, else what is wrong
+/// (§6.6: shading together with a texture; an invalid friction model).
+[[nodiscard]] const char* surface_problem(const HapticObject& object);
 
 /// One contact of the proxy.
 struct PointContact {
@@ -63,7 +76,12 @@ struct PointProxyOutput {
   int32_t contact_count = 0;
   int32_t object = -1;     ///< first contact's object, -1 in free space
   PrimitiveRef primitive;  ///< first contact's primitive
-  bool fault = false;      ///< non-finite input or result: force zeroed, proxy reset
+  /// Touching a texture's bump above the original surface (Figure 6-5, HIP_1): a contact with
+  /// force although contact_count is 0. Below the surface in a texture's trough (HIP_2),
+  /// contact_count is 1 and the force may be zero.
+  bool texture_contact = false;
+  Eigen::Vector3d friction_W = Eigen::Vector3d::Zero();  ///< friction part of force_W [N]
+  bool fault = false;  ///< non-finite input or result: force zeroed, proxy reset
 };
 
 /// Counters for tests and statistics.
@@ -74,6 +92,7 @@ struct PointProxyStats {
   int64_t search_iterations = 0;  ///< local-search rounds over all steps
   int64_t search_limit_hits = 0;  ///< searches stopped by the iteration bound
   int64_t faults = 0;
+  int64_t texture_only_ticks = 0;  ///< ticks touching a texture above the original surface
 };
 
 class PointProxy {
@@ -95,6 +114,7 @@ class PointProxy {
   }
   [[nodiscard]] const Eigen::Vector3d& ihip() const { return ihip_W_; }
   [[nodiscard]] const PointProxyStats& stats() const { return stats_; }
+  [[nodiscard]] const FrictionState& friction_state() const { return friction_; }
 
   /// Local search on one mesh from `start` for point p (object frame); returns the nearest
   /// primitive found and its nearest point in *q. Exposed for tests and the segment proxy.
@@ -103,6 +123,14 @@ class PointProxy {
 
  private:
   Eigen::Vector3d combine(const Eigen::Vector3d& hip_W) const;
+  /// The textured object near the HIP while not in contact (Figure 6-5): found by the tree
+  /// within the texture's height band, then followed by local search.
+  void find_hover(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W);
+  /// Penetration under the textured surface (eq. 6-4) at contact point q_O with unit outward
+  /// normal n_O and nearest distance s of the HIP (negative below the surface); zero when the
+  /// HIP is outside the textured surface.
+  static Eigen::Vector3d texture_penetration(const HapticObject& o, const Eigen::Vector3d& q_O,
+                                             const Eigen::Vector3d& n_O, double s);
 
   std::array<PointContact, kMaxContacts> contacts_{};
   int32_t count_ = 0;
@@ -110,6 +138,10 @@ class PointProxy {
   Eigen::Vector3d prev_penetration_ = Eigen::Vector3d::Zero();
   bool initialised_ = false;
   PointProxyStats stats_;
+  FrictionState friction_;
+  int32_t hover_object_ = -1;
+  PrimitiveRef hover_primitive_;
+  int8_t hover_side_ = 1;
 };
 
 }  // namespace lap::haptics

@@ -1,0 +1,204 @@
+#include "haptics/procedural_textures.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lap::haptics {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+// Quintic fade 6t^5 - 15t^4 + 10t^3 and its derivative (Perlin 2002): C2 across cells.
+double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+double dfade(double t) { return 30.0 * t * t * (t * (t - 2.0) + 1.0); }
+
+// The 12 cube-edge gradient directions, padded to 16 (Perlin 2002).
+constexpr std::array<std::array<double, 3>, 16> kGradients = {{{1, 1, 0},
+                                                               {-1, 1, 0},
+                                                               {1, -1, 0},
+                                                               {-1, -1, 0},
+                                                               {1, 0, 1},
+                                                               {-1, 0, 1},
+                                                               {1, 0, -1},
+                                                               {-1, 0, -1},
+                                                               {0, 1, 1},
+                                                               {0, -1, 1},
+                                                               {0, 1, -1},
+                                                               {0, -1, -1},
+                                                               {1, 1, 0},
+                                                               {-1, 1, 0},
+                                                               {0, -1, 1},
+                                                               {0, -1, -1}}};
+
+uint32_t hash32(uint32_t x) {
+  x ^= x >> 16U;
+  x *= 0x7feb352dU;
+  x ^= x >> 15U;
+  x *= 0x846ca68bU;
+  x ^= x >> 16U;
+  return x;
+}
+
+double unit(uint32_t h) { return static_cast<double>(h) / 4294967296.0; }
+
+}  // namespace
+
+PerlinNoise::PerlinNoise(double amplitude_m, double wavelength_m, uint32_t seed)
+    : amplitude_(amplitude_m), inv_wavelength_(1.0 / wavelength_m) {
+  std::array<uint8_t, 256> p{};
+  for (int i = 0; i < 256; ++i) p[i] = static_cast<uint8_t>(i);
+  uint32_t h = hash32(seed + 0x51ed270bU);
+  for (int i = 255; i > 0; --i) {  // Fisher-Yates with a hashed sequence: one table per seed
+    h = hash32(h + static_cast<uint32_t>(i));
+    std::swap(p[i], p[h % static_cast<uint32_t>(i + 1)]);
+  }
+  for (int i = 0; i < 512; ++i) perm_[i] = p[i & 255];
+}
+
+double PerlinNoise::noise(const Eigen::Vector3d& q, Eigen::Vector3d* gradient) const noexcept {
+  const double fx = std::floor(q.x());
+  const double fy = std::floor(q.y());
+  const double fz = std::floor(q.z());
+  // Cells repeat every 256 (the table's period), far beyond any organ at these wavelengths.
+  const auto cell = [](double f) { return static_cast<int>(static_cast<int64_t>(f) & 255); };
+  const int xi = cell(fx);
+  const int yi = cell(fy);
+  const int zi = cell(fz);
+  const Eigen::Vector3d r(q.x() - fx, q.y() - fy, q.z() - fz);
+  const Eigen::Vector3d w(fade(r.x()), fade(r.y()), fade(r.z()));
+  const Eigen::Vector3d dw(dfade(r.x()), dfade(r.y()), dfade(r.z()));
+  double n = 0.0;
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 8; ++c) {
+    const int i = c & 1;
+    const int j = (c >> 1) & 1;
+    const int k = (c >> 2) & 1;
+    const int h = perm_[perm_[perm_[xi + i] + yi + j] + zi + k] & 15;
+    const Eigen::Vector3d grad(kGradients[h][0], kGradients[h][1], kGradients[h][2]);
+    const Eigen::Vector3d d(r.x() - i, r.y() - j, r.z() - k);
+    const double value = grad.dot(d);
+    const double wx = i != 0 ? w.x() : 1.0 - w.x();
+    const double wy = j != 0 ? w.y() : 1.0 - w.y();
+    const double wz = k != 0 ? w.z() : 1.0 - w.z();
+    const double sx = i != 0 ? dw.x() : -dw.x();
+    const double sy = j != 0 ? dw.y() : -dw.y();
+    const double sz = k != 0 ? dw.z() : -dw.z();
+    n += wx * wy * wz * value;
+    g += wx * wy * wz * grad + value * Eigen::Vector3d(sx * wy * wz, wx * sy * wz, wx * wy * sz);
+  }
+  if (gradient != nullptr) *gradient = g;
+  return n;
+}
+
+HeightSample PerlinNoise::sample(const Eigen::Vector3d& p) const noexcept {
+  Eigen::Vector3d g;
+  const double n = noise(p * inv_wavelength_, &g);
+  return {amplitude_ * n, (amplitude_ * inv_wavelength_) * g};
+}
+
+FractalNoise::FractalNoise(double amplitude_m, double wavelength_m, int octaves, double lacunarity,
+                           double gain, uint32_t seed)
+    : base_(1.0, 1.0, seed),
+      amplitude_(amplitude_m),
+      inv_wavelength_(1.0 / wavelength_m),
+      octaves_(std::clamp(octaves, 1, kMaxOctaves)),
+      lacunarity_(lacunarity),
+      gain_(gain) {
+  double sum = 0.0;
+  double a = 1.0;
+  for (int o = 0; o < octaves_; ++o, a *= gain_) sum += std::abs(a);
+  max_height_ = PerlinNoise::kBound * amplitude_ * sum;
+}
+
+HeightSample FractalNoise::sample(const Eigen::Vector3d& p) const noexcept {
+  HeightSample s;
+  double scale = inv_wavelength_;
+  double a = amplitude_;
+  for (int o = 0; o < octaves_; ++o) {
+    // Each octave shifted so the octaves' lattices do not line up at the origin.
+    const Eigen::Vector3d offset(17.13 * o, 31.71 * o, 7.37 * o);
+    Eigen::Vector3d g;
+    const double n = base_.noise(p * scale + offset, &g);
+    s.height_m += a * n;
+    s.gradient += (a * scale) * g;
+    scale *= lacunarity_;
+    a *= gain_;
+  }
+  return s;
+}
+
+WorleyCells::WorleyCells(double amplitude_m, double cell_m, uint32_t seed)
+    : amplitude_(amplitude_m), inv_cell_(1.0 / cell_m), seed_(seed) {
+  // The smooth minimum undershoots the true F1^2 by at most ln(27) / k.
+  max_height_ = amplitude_ * (2.0 * std::exp(std::log(27.0) / (kSharpness * kWidth)) - 1.0);
+}
+
+HeightSample WorleyCells::sample(const Eigen::Vector3d& p) const noexcept {
+  const Eigen::Vector3d q = p * inv_cell_;
+  const Eigen::Vector3d base(std::floor(q.x()), std::floor(q.y()), std::floor(q.z()));
+  std::array<double, 27> d2{};
+  std::array<Eigen::Vector3d, 27> offset{};
+  double d2_min = 1e300;
+  int n = 0;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const Eigen::Vector3d c = base + Eigen::Vector3d(dx, dy, dz);
+        uint32_t h = hash32(seed_ ^ 0x68e31da4U);
+        h = hash32(h ^ static_cast<uint32_t>(static_cast<int64_t>(c.x())));
+        h = hash32(h ^ (static_cast<uint32_t>(static_cast<int64_t>(c.y())) * 0x85ebca6bU));
+        h = hash32(h ^ (static_cast<uint32_t>(static_cast<int64_t>(c.z())) * 0xc2b2ae35U));
+        const uint32_t hx = hash32(h + 1U);
+        const uint32_t hy = hash32(h + 2U);
+        const uint32_t hz = hash32(h + 3U);
+        const Eigen::Vector3d feature = c + Eigen::Vector3d(unit(hx), unit(hy), unit(hz));
+        offset[n] = q - feature;
+        d2[n] = offset[n].squaredNorm();
+        d2_min = std::min(d2_min, d2[n]);
+        ++n;
+      }
+    }
+  }
+  // Smooth minimum m = d2_min - ln(sum exp(-k (d2_i - d2_min))) / k, weights = softmax.
+  double sum = 0.0;
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const double e = std::exp(-kSharpness * (d2[i] - d2_min));
+    sum += e;
+    weighted += e * offset[i];
+  }
+  const double m = d2_min - std::log(sum) / kSharpness;
+  const Eigen::Vector3d dm_dq = 2.0 * weighted / sum;  // sum of w_i * grad(d_i^2)
+  const double e = std::exp(-m / kWidth);
+  HeightSample s;
+  s.height_m = amplitude_ * (2.0 * e - 1.0);
+  s.gradient = (amplitude_ * 2.0 * e * (-1.0 / kWidth) * inv_cell_) * dm_dq;
+  return s;
+}
+
+bool FourierSeries::add(const Term& term) {
+  if (count_ >= kMaxTerms) return false;
+  terms_[count_++] = term;
+  max_height_ += std::abs(term.amplitude_m);
+  return true;
+}
+
+FourierSeries FourierSeries::sinusoid(double amplitude_m, double wavelength_m,
+                                      const Eigen::Vector3d& direction) {
+  FourierSeries f;
+  f.add({amplitude_m, direction.normalized() / wavelength_m, 0.0});
+  return f;
+}
+
+HeightSample FourierSeries::sample(const Eigen::Vector3d& p) const noexcept {
+  HeightSample s;
+  for (int j = 0; j < count_; ++j) {
+    const Term& t = terms_[j];
+    const double arg = kTwoPi * t.wave_vector_per_m.dot(p) + t.phase_rad;
+    s.height_m += t.amplitude_m * std::sin(arg);
+    s.gradient += (t.amplitude_m * kTwoPi * std::cos(arg)) * t.wave_vector_per_m;
+  }
+  return s;
+}
+
+}  // namespace lap::haptics
