@@ -9,7 +9,10 @@
 ///
 /// The texels are filtered by bicubic Catmull-Rom interpolation, which passes through every texel
 /// and is C0 and C1 (§6.3.3 needs both); the image tiles (wraps) in both directions. The gradient
-/// is by central differences along the object's axes (eq. 6-5, 6-6) with step `epsilon_m`.
+/// is by central differences (eq. 6-5) with step `epsilon_m` on the surface, taken along the
+/// intermediate surface's two parameters and carried to the object's axes by the chain rule
+/// through the mapping's Jacobian (equal to differencing along x, y, z, eq. 6-6, where the
+/// mapping is smooth, at four look-ups instead of six).
 ///
 /// Where the mapping itself is not smooth the field is not either: the poles of the sphere and
 /// the edges of the box (documented in haptics/README.md; use a plane or cylinder on organs).

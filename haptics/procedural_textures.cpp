@@ -39,8 +39,6 @@ uint32_t hash32(uint32_t x) {
   return x;
 }
 
-double unit(uint32_t h) { return static_cast<double>(h) / 4294967296.0; }
-
 }  // namespace
 
 PerlinNoise::PerlinNoise(double amplitude_m, double wavelength_m, uint32_t seed)
@@ -136,6 +134,9 @@ WorleyCells::WorleyCells(double amplitude_m, double cell_m, uint32_t seed)
 HeightSample WorleyCells::sample(const Eigen::Vector3d& p) const noexcept {
   const Eigen::Vector3d q = p * inv_cell_;
   const Eigen::Vector3d base(std::floor(q.x()), std::floor(q.y()), std::floor(q.z()));
+  const auto bx = static_cast<uint32_t>(static_cast<int64_t>(base.x()));
+  const auto by = static_cast<uint32_t>(static_cast<int64_t>(base.y()));
+  const auto bz = static_cast<uint32_t>(static_cast<int64_t>(base.z()));
   std::array<double, 27> d2{};
   std::array<Eigen::Vector3d, 27> offset{};
   double d2_min = 1e300;
@@ -143,27 +144,29 @@ HeightSample WorleyCells::sample(const Eigen::Vector3d& p) const noexcept {
   for (int dz = -1; dz <= 1; ++dz) {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
-        const Eigen::Vector3d c = base + Eigen::Vector3d(dx, dy, dz);
-        uint32_t h = hash32(seed_ ^ 0x68e31da4U);
-        h = hash32(h ^ static_cast<uint32_t>(static_cast<int64_t>(c.x())));
-        h = hash32(h ^ (static_cast<uint32_t>(static_cast<int64_t>(c.y())) * 0x85ebca6bU));
-        h = hash32(h ^ (static_cast<uint32_t>(static_cast<int64_t>(c.z())) * 0xc2b2ae35U));
-        const uint32_t hx = hash32(h + 1U);
-        const uint32_t hy = hash32(h + 2U);
-        const uint32_t hz = hash32(h + 3U);
-        const Eigen::Vector3d feature = c + Eigen::Vector3d(unit(hx), unit(hy), unit(hz));
-        offset[n] = q - feature;
+        // One hash per cell; its three 10-bit fields place the feature point in the cell.
+        const uint32_t h = hash32(((bx + static_cast<uint32_t>(dx)) * 0x8da6b343U) ^
+                                  ((by + static_cast<uint32_t>(dy)) * 0xd8163841U) ^
+                                  ((bz + static_cast<uint32_t>(dz)) * 0xcb1ab31fU) ^ seed_);
+        const Eigen::Vector3d jitter(((h & 0x3FFU) + 0.5) / 1024.0,
+                                     (((h >> 10U) & 0x3FFU) + 0.5) / 1024.0,
+                                     (((h >> 20U) & 0x3FFU) + 0.5) / 1024.0);
+        offset[n] = q - (base + Eigen::Vector3d(dx, dy, dz) + jitter);
         d2[n] = offset[n].squaredNorm();
         d2_min = std::min(d2_min, d2[n]);
         ++n;
       }
     }
   }
-  // Smooth minimum m = d2_min - ln(sum exp(-k (d2_i - d2_min))) / k, weights = softmax.
+  // Smooth minimum m = d2_min - ln(sum exp(-k (d2_i - d2_min))) / k, weights = softmax. Terms
+  // more than kCutoff beyond the nearest weigh under exp(-32) ~ 1e-14 and are skipped.
+  constexpr double kCutoff = 0.5;
   double sum = 0.0;
   Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
   for (int i = 0; i < n; ++i) {
-    const double e = std::exp(-kSharpness * (d2[i] - d2_min));
+    const double excess = d2[i] - d2_min;
+    if (excess > kCutoff) continue;
+    const double e = std::exp(-kSharpness * excess);
     sum += e;
     weighted += e * offset[i];
   }

@@ -15,7 +15,18 @@
 
 namespace lap::sim {
 
-/// Surface texture of a material (thesis §6.3); rendered by a later issue.
+/// How an image texture is wrapped onto the organ (thesis §6.3.3, two-stage mapping): the
+/// intermediate surface, placed in the organ's mesh frame.
+struct TextureMappingSpec {
+  enum class Kind { kPlane, kCylinder, kSphere, kBox };
+  Kind kind = Kind::kPlane;
+  Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();  ///< centre, mesh frame [m]
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();     ///< plane normal / cylinder or pole axis
+  std::array<double, 2> tile_m = {0.01, 0.01};         ///< plane, box: one image [m]; cylinder: v
+  std::array<int, 2> repeat = {1, 1};                  ///< cylinder, sphere: image repeats
+};
+
+/// Surface texture of a material (thesis §6.3).
 struct TextureSpec {
   enum class Kind { kNone, kImage, kProcedural };
   Kind kind = Kind::kNone;
@@ -23,6 +34,29 @@ struct TextureSpec {
   std::string function;         ///< kProcedural: perlin, fbm, worley, fourier
   double amplitude_m = 0.0;     ///< peak height of the texture [m]
   double wavelength_m = 0.0;    ///< spatial period or feature size [m]
+  double k_mix = 1.5;           ///< K of eq. 6-4
+  int octaves = 4;              ///< fbm
+  uint32_t seed = 1;            ///< perlin, fbm, worley
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< fourier: the wave's direction
+  TextureMappingSpec mapping;                            ///< image
+  int line = 0;                                          ///< where it starts, for messages
+};
+
+/// Force shading of a material (thesis §6.1).
+struct ShadingSpec {
+  bool enabled = false;
+  double crease_angle_deg = 30.0;  ///< faces meeting at more stay a sharp edge
+};
+
+/// Where the friction coefficients vary over the surface (thesis §6.2).
+struct FrictionMapSpec {
+  enum class Kind { kUniform, kPeriodic, kRandom };
+  Kind kind = Kind::kUniform;
+  double period_m = 0.005;        ///< periodic
+  double amplitude = 0.5;         ///< periodic, relative, [0, 1)
+  double grain_m = 0.0005;        ///< random: grain size [m]
+  double relative_std_dev = 0.3;  ///< random: standard deviation / mean
+  uint32_t seed = 1;              ///< random
 };
 
 /// Haptic and mechanical material of an organ.
@@ -31,6 +65,12 @@ struct MaterialSpec {
   double damping_n_s_per_m = 0.0;  ///< contact damper [N s/m]
   double friction_static = 0.0;    ///< coefficient, dimensionless
   double friction_dynamic = 0.0;   ///< coefficient, dimensionless, <= static
+  /// k_s [N/m]; 0 = the contact stiffness.
+  double friction_stick_stiffness_n_per_m = 0.0;
+  /// k_d [N/m]; 0 = k_s * friction_dynamic / friction_static (proportional, §6.2).
+  double friction_slide_stiffness_n_per_m = 0.0;
+  FrictionMapSpec friction_map;
+  ShadingSpec shading;
   TextureSpec texture;
 };
 

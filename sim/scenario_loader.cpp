@@ -283,7 +283,8 @@ class Parser {
   void parse_material(const YAML::Node& n, const std::string& f, MaterialSpec& m) {
     if (!expect_map(n, f,
                     {"stiffness_n_per_m", "damping_n_s_per_m", "friction_static",
-                     "friction_dynamic", "texture"})) {
+                     "friction_dynamic", "friction_stick_stiffness_n_per_m",
+                     "friction_slide_stiffness_n_per_m", "friction_map", "shading", "texture"})) {
       return;
     }
     if (require(n, "stiffness_n_per_m", f)) {
@@ -298,11 +299,78 @@ class Parser {
       problem(line_of(n["friction_dynamic"]), f + ".friction_dynamic",
               "expected at most friction_static (" + std::to_string(m.friction_static) + ")");
     }
+    optional_number(n, "friction_stick_stiffness_n_per_m", f, m.friction_stick_stiffness_n_per_m,
+                    1.0, 1e5, "from 1 to 1e5 (N/m)");
+    optional_number(n, "friction_slide_stiffness_n_per_m", f, m.friction_slide_stiffness_n_per_m,
+                    1.0, 1e5, "from 1 to 1e5 (N/m)");
+    if (n["friction_slide_stiffness_n_per_m"]) {
+      const double ks = m.friction_stick_stiffness_n_per_m > 0.0
+                            ? m.friction_stick_stiffness_n_per_m
+                            : m.stiffness_n_per_m;
+      if (m.friction_slide_stiffness_n_per_m > ks) {
+        problem(line_of(n["friction_slide_stiffness_n_per_m"]),
+                f + ".friction_slide_stiffness_n_per_m",
+                "expected at most the sticking stiffness k_s (" + std::to_string(ks) +
+                    " N/m): sliding is softer than sticking (thesis 6.2)");
+      }
+    }
+    if (n["friction_map"]) parse_friction_map(n["friction_map"], f + ".friction_map", m);
+    if (n["shading"]) {
+      const YAML::Node s = n["shading"];
+      const std::string fs_ = f + ".shading";
+      if (expect_map(s, fs_, {"enabled", "crease_angle_deg"})) {
+        if (s["enabled"]) {
+          if (auto v = boolean(s["enabled"], fs_ + ".enabled")) m.shading.enabled = *v;
+        }
+        optional_number(s, "crease_angle_deg", fs_, m.shading.crease_angle_deg, 0.0, 180.0,
+                        "from 0 to 180 (degrees)");
+      }
+    }
     if (n["texture"]) parse_texture(n["texture"], f + ".texture", m.texture);
+    if (m.shading.enabled && m.texture.kind != TextureSpec::Kind::kNone) {
+      problem(line_of(n["shading"]), f + ".shading",
+              "force shading and a texture on one material: both change the surface's shape and "
+              "are not combined (thesis 6.6); switch one off");
+    }
+  }
+
+  void parse_friction_map(const YAML::Node& n, const std::string& f, MaterialSpec& m) {
+    if (!expect_map(n, f,
+                    {"kind", "period_m", "amplitude", "grain_m", "relative_std_dev", "seed"})) {
+      return;
+    }
+    FrictionMapSpec& fm = m.friction_map;
+    if (require(n, "kind", f)) {
+      if (auto v = string(n["kind"], f + ".kind")) {
+        if (*v == "uniform") {
+          fm.kind = FrictionMapSpec::Kind::kUniform;
+        } else if (*v == "periodic") {
+          fm.kind = FrictionMapSpec::Kind::kPeriodic;
+        } else if (*v == "random") {
+          fm.kind = FrictionMapSpec::Kind::kRandom;
+        } else {
+          problem(line_of(n["kind"]), f + ".kind",
+                  "expected uniform, periodic or random, got '" + *v + "'");
+        }
+      }
+    }
+    optional_number(n, "period_m", f, fm.period_m, 1e-5, 0.1, "from 1e-5 to 0.1 (m)");
+    optional_number(n, "amplitude", f, fm.amplitude, 0.0, 0.99, "from 0 to 0.99 (relative)");
+    optional_number(n, "grain_m", f, fm.grain_m, 1e-6, 0.01, "from 1e-6 to 0.01 (m)");
+    optional_number(n, "relative_std_dev", f, fm.relative_std_dev, 0.0, 1.0,
+                    "from 0 to 1 (standard deviation / mean)");
+    if (n["seed"]) {
+      if (auto v = integer(n["seed"], f + ".seed", 0, 1000000000)) fm.seed = *v;
+    }
   }
 
   void parse_texture(const YAML::Node& n, const std::string& f, TextureSpec& t) {
-    if (!expect_map(n, f, {"kind", "image", "function", "amplitude_m", "wavelength_m"})) return;
+    if (!expect_map(n, f,
+                    {"kind", "image", "function", "amplitude_m", "wavelength_m", "k_mix", "octaves",
+                     "seed", "direction", "mapping"})) {
+      return;
+    }
+    t.line = line_of(n);
     std::string kind = "none";
     if (require(n, "kind", f)) {
       if (auto v = string(n["kind"], f + ".kind")) kind = *v;
@@ -316,6 +384,7 @@ class Parser {
       if (require(n, "image", f)) {
         if (auto p = file_path(n["image"], f + ".image")) t.image = *p;
       }
+      if (n["mapping"]) parse_mapping(n["mapping"], f + ".mapping", t.mapping);
     } else if (kind == "procedural") {
       t.kind = TextureSpec::Kind::kProcedural;
       if (require(n, "function", f)) {
@@ -338,10 +407,81 @@ class Parser {
       if (auto v = number(n["amplitude_m"], f + ".amplitude_m", 0.0, 0.01, "from 0 to 0.01 (m)"))
         t.amplitude_m = *v;
     }
-    if (require(n, "wavelength_m", f)) {
+    if (t.kind == TextureSpec::Kind::kProcedural && require(n, "wavelength_m", f)) {
       if (auto v =
               number(n["wavelength_m"], f + ".wavelength_m", 1e-5, 0.1, "from 1e-5 to 0.1 (m)"))
         t.wavelength_m = *v;
+    }
+    optional_number(n, "k_mix", f, t.k_mix, 0.0, 10.0, "from 0 to 10 (thesis: 1 to 2)");
+    if (n["octaves"]) {
+      if (auto v = integer(n["octaves"], f + ".octaves", 1, 8)) t.octaves = *v;
+    }
+    if (n["seed"]) {
+      if (auto v = integer(n["seed"], f + ".seed", 0, 1000000000)) t.seed = *v;
+    }
+    if (n["direction"]) {
+      if (auto v = vec3(n["direction"], f + ".direction")) {
+        if (v->norm() < 1e-9) {
+          problem(line_of(n["direction"]), f + ".direction", "expected a non-zero direction");
+        } else {
+          t.direction = v->normalized();
+        }
+      }
+    }
+  }
+
+  void parse_mapping(const YAML::Node& n, const std::string& f, TextureMappingSpec& m) {
+    if (!expect_map(n, f, {"kind", "origin_m", "axis", "tile_m", "repeat"})) return;
+    if (require(n, "kind", f)) {
+      if (auto v = string(n["kind"], f + ".kind")) {
+        if (*v == "plane") {
+          m.kind = TextureMappingSpec::Kind::kPlane;
+        } else if (*v == "cylinder") {
+          m.kind = TextureMappingSpec::Kind::kCylinder;
+        } else if (*v == "sphere") {
+          m.kind = TextureMappingSpec::Kind::kSphere;
+        } else if (*v == "box") {
+          m.kind = TextureMappingSpec::Kind::kBox;
+        } else {
+          problem(line_of(n["kind"]), f + ".kind",
+                  "expected plane, cylinder, sphere or box, got '" + *v + "'");
+        }
+      }
+    }
+    if (n["origin_m"]) {
+      if (auto v = vec3(n["origin_m"], f + ".origin_m")) m.origin_m = *v;
+    }
+    if (n["axis"]) {
+      if (auto v = vec3(n["axis"], f + ".axis")) {
+        if (v->norm() < 1e-9) {
+          problem(line_of(n["axis"]), f + ".axis", "expected a non-zero direction");
+        } else {
+          m.axis = v->normalized();
+        }
+      }
+    }
+    if (n["tile_m"]) {
+      const YAML::Node t = n["tile_m"];
+      if (!t.IsSequence() || t.size() != 2) {
+        problem(line_of(t), f + ".tile_m", "expected [u, v] in metres, got " + describe(t));
+      } else {
+        for (size_t i = 0; i < 2; ++i) {
+          if (auto v = number(t[i], f + ".tile_m[" + std::to_string(i) + "]", 1e-5, 1.0,
+                              "from 1e-5 to 1 (m)"))
+            m.tile_m[i] = *v;
+        }
+      }
+    }
+    if (n["repeat"]) {
+      const YAML::Node r = n["repeat"];
+      if (!r.IsSequence() || r.size() != 2) {
+        problem(line_of(r), f + ".repeat", "expected [u, v] whole numbers, got " + describe(r));
+      } else {
+        for (size_t i = 0; i < 2; ++i) {
+          if (auto v = integer(r[i], f + ".repeat[" + std::to_string(i) + "]", 1, 1000))
+            m.repeat[i] = *v;
+        }
+      }
     }
   }
 

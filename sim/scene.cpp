@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "haptics/mesh_repair.h"
+#include "sim/height_image_loader.h"
 #include "sim/load_error.h"
 #include "sim/mesh_loader.h"
 
@@ -52,7 +53,28 @@ SceneLoadResult load_scene(const Scenario& scenario) {
                (spec.repair ? " (left after repair)" : " (fix the mesh or set repair: true)")});
       continue;
     }
-    organ.mesh.transform(spec.transform());
+    const TextureSpec& texture = spec.material.texture;
+    if (texture.kind == TextureSpec::Kind::kImage) {
+      try {
+        organ.height_image =
+            std::make_shared<const haptics::HeightImage>(load_height_image(texture.image));
+      } catch (const LoadError& e) {
+        result.problems.push_back({scenario.file.string(), texture.line,
+                                   "organs[" + std::to_string(i) + "].material.texture.image",
+                                   e.what()});
+        continue;
+      }
+    }
+    // The mapping's z axis along `axis`, its origin at `origin_m`, both in the mesh frame.
+    Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+    frame.linear() =
+        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), texture.mapping.axis)
+            .toRotationMatrix();
+    frame.translation() = texture.mapping.origin_m;
+    const Eigen::Affine3d placed = spec.transform();
+    organ.texture_frame_W.linear() = placed.linear() * frame.linear();
+    organ.texture_frame_W.translation() = placed * frame.translation();
+    organ.mesh.transform(placed);
     if (organ.mesh.normals.size() != organ.mesh.positions.size())
       organ.mesh.compute_vertex_normals();
     result.scene.organs.push_back(std::move(organ));

@@ -2,9 +2,11 @@
 /// \file
 /// A scenario with its meshes loaded, checked (and repaired where asked) and placed in the world.
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "haptics/image_height_field.h"
 #include "haptics/mesh_validation.h"
 #include "haptics/triangle_mesh.h"
 #include "sim/scenario.h"
@@ -20,6 +22,11 @@ struct Organ {
   MaterialSpec material;
   models::ModelKind model = models::ModelKind::kRigid;
   std::string repair_summary;  ///< what repair did, empty when not asked
+  /// An image texture's height map, decoded and checked at load (material.texture.image).
+  std::shared_ptr<const haptics::HeightImage> height_image;
+  /// The texture mapping's frame (material.texture.mapping, given in the mesh's frame) in the
+  /// world, where `mesh` now is.
+  Eigen::Isometry3d texture_frame_W = Eigen::Isometry3d::Identity();
 };
 
 /// The loaded scene.

@@ -7,10 +7,13 @@
 #include <cmath>
 #include <vector>
 
+#include "haptics/friction.h"
+#include "haptics/image_height_field.h"
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_database.h"
 #include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
+#include "haptics/procedural_textures.h"
 #include "haptics/segment_proxy.h"
 #include "haptics/shading_normals.h"
 #include "tests/support/counting_allocator.h"
@@ -34,6 +37,30 @@ TEST(PointProxyAllocation, StepAndRefitAllocateNothing) {
   objects[2].two_sided = true;
   objects[2].pose_WO = objects[2].prev_pose_WO =
       Eigen::Isometry3d(Eigen::Translation3d(0.0, -0.035, 0.0));
+  // Surface properties (§6.2, §6.3): a procedural texture with friction on the sphere, an image
+  // texture with a random friction map on the plate.
+  const WorleyCells cells(0.0004, 0.004);
+  FrictionModel friction;
+  friction.mu_static = 0.4;
+  friction.mu_dynamic = 0.25;
+  friction.stick_stiffness_n_per_m = 800.0;
+  friction.slide_stiffness_n_per_m = 500.0;
+  FrictionModel sandpaper = friction;
+  sandpaper.map.kind = FrictionCoefficientMap::Kind::kRandom;
+  objects[0].texture = &cells;
+  objects[0].friction = &friction;
+  HeightImage image;
+  image.width = 32;
+  image.height = 32;
+  for (int y = 0; y < 32; ++y) {
+    for (int x = 0; x < 32; ++x)
+      image.values.push_back(0.5F + 0.5F * std::sin(0.4F * x + 0.3F * y));
+  }
+  IntermediateSurface plane;
+  plane.frame_OS = Eigen::AngleAxisd(-M_PI / 2.0, Eigen::Vector3d::UnitX());  // z = plate normal
+  const ImageHeightField image_texture(image, plane, 0.0003, 0.0001);
+  objects[2].texture = &image_texture;
+  objects[2].friction = &sandpaper;
   std::vector<Eigen::Vector3d> deformed = sphere_mesh.positions;  // sized before measuring
 
   PointProxy proxy;
@@ -66,6 +93,8 @@ TEST(PointProxyAllocation, StepAndRefitAllocateNothing) {
   // The path really exercised the proxy.
   EXPECT_GT(proxy.stats().first_contacts, 10);
   EXPECT_GT(proxy.stats().releases, 10);
+  EXPECT_GT(proxy.stats().texture_only_ticks, 10);
+  EXPECT_GT(proxy.friction_state().stick_to_slide, 10);
 }
 
 TEST(SegmentProxyAllocation, SegmentAndGripperStepsAllocateNothing) {

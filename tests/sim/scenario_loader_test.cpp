@@ -262,11 +262,12 @@ TEST_F(ScenarioFixture, Bad25_TaskWithoutCatheter) {
 TEST_F(ScenarioFixture, Bad26_MisspelledMaterialField) {
   const ScenarioLoadResult r = load_with(21, "      stiffnes_n_per_m: 150");
   ASSERT_EQ(r.problems.size(), 2U) << all(r);
-  EXPECT_EQ(
-      r.problems[0].to_string(),
-      file() +
-          ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
-          "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, texture)");
+  EXPECT_EQ(r.problems[0].to_string(),
+            file() +
+                ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
+                "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, "
+                "friction_stick_stiffness_n_per_m, friction_slide_stiffness_n_per_m, friction_map, "
+                "shading, texture)");
   EXPECT_EQ(r.problems[1].to_string(),
             file() + ":21: organs[1].material.stiffness_n_per_m: required field is missing");
 }
