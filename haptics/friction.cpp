@@ -3,20 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/spatial_hash.h"
+
 namespace lap::haptics {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
-
-// A 32-bit integer hash (avalanching multiply-xorshift), enough to decorrelate grains.
-uint32_t hash32(uint32_t x) {
-  x ^= x >> 16U;
-  x *= 0x7feb352dU;
-  x ^= x >> 15U;
-  x *= 0x846ca68bU;
-  x ^= x >> 16U;
-  return x;
-}
 
 }  // namespace
 

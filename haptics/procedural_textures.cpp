@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/spatial_hash.h"
+
 namespace lap::haptics {
 namespace {
 
@@ -29,15 +31,6 @@ constexpr std::array<std::array<double, 3>, 16> kGradients = {{{1, 1, 0},
                                                                {-1, 1, 0},
                                                                {0, -1, 1},
                                                                {0, -1, -1}}};
-
-uint32_t hash32(uint32_t x) {
-  x ^= x >> 16U;
-  x *= 0x7feb352dU;
-  x ^= x >> 15U;
-  x *= 0x846ca68bU;
-  x ^= x >> 16U;
-  return x;
-}
 
 }  // namespace
 
