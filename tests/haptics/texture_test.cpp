@@ -93,7 +93,9 @@ TEST(ProceduralTextures, PerlinAndFractalAreC1AcrossLatticePlanes) {
 
 struct TexturedBlock {
   MeshDatabase mesh = MeshDatabase::build(make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 4));
-  FourierSeries texture = FourierSeries::sinusoid(kA, kLambda, Eigen::Vector3d::UnitX());
+  FourierSeries texture;
+  explicit TexturedBlock(double amplitude = kA, double wavelength = kLambda)
+      : texture(FourierSeries::sinusoid(amplitude, wavelength, Eigen::Vector3d::UnitX())) {}
   [[nodiscard]] HapticObject object(double k_mix) const {
     HapticObject o;
     o.mesh = &mesh;
@@ -199,17 +201,11 @@ TEST(Texture, CollisionStateFlipsAsInFigure6_5) {
 }
 
 TEST(Texture, KMixBoundsTheDirectionChangePerTickAtHighPenetration) {
-  MeshDatabase mesh = MeshDatabase::build(make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 4));
   const double a = 0.0002;
   const double lambda = 0.001;  // fine and sharp: 0.2 mm bumps every 1 mm
-  const FourierSeries texture = FourierSeries::sinusoid(a, lambda, Eigen::Vector3d::UnitX());
+  const TexturedBlock fine(a, lambda);
   const auto stroke = [&](double k_mix, double depth) {
-    HapticObject o;
-    o.mesh = &mesh;
-    o.texture = &texture;
-    o.texture_k = k_mix;
-    o.law.stiffness_n_per_m = kK;
-    o.law.max_force_n = 1e9;
+    const HapticObject o = fine.object(k_mix);
     PointProxy proxy;
     proxy.reset(Eigen::Vector3d(0.0, kTop + 0.001, 0.0));
     for (int i = 1; i <= 100; ++i)
