@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/probe_placement_qp.h"
 #include "haptics/segment_segment.h"
 #include "haptics/segment_triangle.h"
 
@@ -16,16 +17,11 @@ Eigen::Vector3d lerp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double 
 }
 
 // The α/β test of Figure 5-9, as a normal cone: the plane of a segment–edge contact (normal m,
-// perpendicular to the edge) is a supporting plane only while m lies between the normals of the
-// edge's two faces. Past one of them the probe would cut that face: the contact becomes
+// perpendicular to the edge) is a supporting plane only while m lies between the normals n1, n2
+// of the edge's two faces. Past one of them the probe would cut that face: the contact becomes
 // segment–face and takes the face's normal. Returns true when m was clamped.
-bool clamp_to_normal_cone(const MeshDatabase& mesh, int32_t e, Eigen::Vector3d* m) {
-  const auto& ef = mesh.edge_faces(e);
-  if (ef[1] < 0) return false;
-  const auto& ev = mesh.edge_vertices(e);
-  const Eigen::Vector3d axis = mesh.position(ev[1]) - mesh.position(ev[0]);
-  const Eigen::Vector3d n1 = mesh.face_normal(ef[0]);
-  const Eigen::Vector3d n2 = mesh.face_normal(ef[1]);
+bool clamp_to_normal_cone(const Eigen::Vector3d& axis, const Eigen::Vector3d& n1,
+                          const Eigen::Vector3d& n2, Eigen::Vector3d* m) {
   const double s12 = n1.cross(n2).dot(axis);
   const double s1 = n1.cross(*m).dot(axis);  // α side
   const double s2 = m->cross(n2).dot(axis);  // β - α side
@@ -41,16 +37,23 @@ bool clamp_to_normal_cone(const MeshDatabase& mesh, int32_t e, Eigen::Vector3d* 
 Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e, const Eigen::Vector3d& w,
                                     const Eigen::Vector3d& side) {
   const auto& ev = mesh.edge_vertices(e);
+  const auto& ef = mesh.edge_faces(e);
   const Eigen::Vector3d axis = mesh.position(ev[1]) - mesh.position(ev[0]);
-  Eigen::Vector3d edge_n = mesh.edge_normal(e);
+  // The edge normal is the normalised sum of its faces' normals (MeshDatabase::edge_normal),
+  // computed here from the two normals the cone test needs anyway.
+  const Eigen::Vector3d n1 = mesh.face_normal(ef[0]);
+  const bool boundary = ef[1] < 0;
+  const Eigen::Vector3d n2 = boundary ? n1 : mesh.face_normal(ef[1]);
+  const Eigen::Vector3d sum = n1 + n2;
+  const double sum_norm = sum.norm();
+  Eigen::Vector3d edge_n = sum_norm > 0.0 ? Eigen::Vector3d(sum / sum_norm) : n1;
   Eigen::Vector3d m = w.cross(axis);
   const double norm = m.norm();
   if (!(norm > 1e-9 * w.norm() * axis.norm())) return edge_n;
   m /= norm;
-  const bool boundary = mesh.edge_faces(e)[1] < 0;
   const double orient = boundary ? m.dot(side) : m.dot(edge_n);
   if (orient < 0.0) m = -m;
-  clamp_to_normal_cone(mesh, e, &m);
+  if (!boundary) clamp_to_normal_cone(axis, n1, n2, &m);
   return m;
 }
 
@@ -238,8 +241,8 @@ void SegmentProxy::track(std::span<const HapticObject> objects) {
 }
 
 // The configuration nearest the virtual probe (least squares over the two end points) that
-// keeps every constraint point outside its plane by the skin: a small convex QP solved by
-// Hildreth's dual coordinate ascent (each constraint touches one point of the probe).
+// keeps every constraint point outside its plane by the skin: a small convex QP, solved exactly
+// (probe_placement_qp.h).
 //
 // A segment–edge constraint is really "the probe's line stays outside the edge's line", which
 // the plane at a fixed u only linearises: once the probe turns, another point of it is nearest
@@ -260,9 +263,14 @@ void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vec
       const Eigen::Isometry3d inv = o.pose_WO.inverse();
       const Eigen::Vector3d pa = inv * *a;
       const Eigen::Vector3d pb = inv * *b;
+      const double length = (pb - pa).norm();
       const auto& ev = m.edge_vertices(c.feature.index);
       const SegmentPair cp = closest_segment_segment(pa, pb, m.position(ev[0]), m.position(ev[1]));
-      if (cp.s <= 0.0 || cp.s >= 1.0 || std::abs(cp.s - c.u) < 1e-9) continue;
+      // Converged once the contact point moves along the probe by less than the skin (the
+      // swept check guards the rest).
+      if (cp.s <= 0.0 || cp.s >= 1.0 || std::abs(cp.s - c.u) * length < settings_.skin_m) {
+        continue;
+      }
       c.u = cp.s;
       c.point_O = cp.q;
       c.normal_O = edge_contact_normal(m, c.feature.index, pb - pa, c.normal_O);
@@ -276,27 +284,19 @@ void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vec
 
 void SegmentProxy::solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W,
                                    Eigen::Vector3d* a, Eigen::Vector3d* b) {
-  *a = a_W;
-  *b = b_W;
-  for (int i = 0; i < constraint_count_; ++i) constraints_[i].lambda = 0.0;
-  for (int sweep = 0; sweep < 64; ++sweep) {
-    double change = 0.0;
-    for (int i = 0; i < constraint_count_; ++i) {
-      SegmentConstraint& c = constraints_[i];
-      const double wa = 1.0 - c.u;
-      const double wb = c.u;
-      const double gap =
-          c.normal_W.dot(wa * *a + wb * *b - c.point_W) - settings_.skin_m;  // >= 0 wanted
-      const double lambda = std::max(0.0, c.lambda - gap / (wa * wa + wb * wb));
-      const double d = lambda - c.lambda;
-      if (d == 0.0) continue;
-      c.lambda = lambda;
-      *a += (d * wa) * c.normal_W;
-      *b += (d * wb) * c.normal_W;
-      change = std::max(change, std::abs(d));
-    }
-    if (change < 1e-13) break;
+  ProbePlacementQp qp;
+  for (int i = 0; i < constraint_count_; ++i) {
+    const SegmentConstraint& c = constraints_[i];
+    qp.add(c.normal_W, c.u, c.normal_W.dot(c.point_W) + settings_.skin_m);
   }
+  uint32_t warm = 0;
+  for (int i = 0; i < constraint_count_; ++i) {
+    if (constraints_[i].lambda > 0.0) warm |= 1U << i;
+  }
+  const ProbePlacementSolution sol = solve_probe_placement(qp, a_W, b_W, warm);
+  *a = sol.a;
+  *b = sol.b;
+  for (int i = 0; i < constraint_count_; ++i) constraints_[i].lambda = sol.lambda[i];
 }
 
 bool SegmentProxy::cache_covers(std::span<const HapticObject> objects, const Eigen::Vector3d& a0,
@@ -447,18 +447,22 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
   };
 
   if (!moving && settings_.sweep_cache) {
-    bool covered = cache_covers(objects, a0, b0, a1, b1);
-    const double ma = (a1 - a0).norm();
-    const double mb = (b1 - b0).norm();
-    // Fast motions (a jerk of the tool, the first passes of a deep push) would outgrow any
-    // cache at once: they go to the trees.
-    if (!covered && std::max(ma, mb) <= kCacheMaxMotion) {
-      covered = fill_cache(objects, a0, b0, std::max(kCacheGrowth * ma, kCacheMinRadius),
-                           std::max(kCacheGrowth * mb, kCacheMinRadius)) &&
-                cache_covers(objects, a0, b0, a1, b1);
+    // A long motion (a jerk of the tool, the first passes of a deep push, a probe held against
+    // a fold it cannot pass) would outgrow any cache: the cache checks its first
+    // kCacheMaxMotion. The end points move linearly in time, so a hit there is the first hit of
+    // the whole motion; only a clear start sends the whole motion to the trees.
+    const double motion = std::max((a1 - a0).norm(), (b1 - b0).norm());
+    const double f = motion > kCacheMaxMotion ? kCacheMaxMotion / motion : 1.0;
+    const Eigen::Vector3d af = lerp(a0, a1, f);
+    const Eigen::Vector3d bf = lerp(b0, b1, f);
+    bool covered = cache_covers(objects, a0, b0, af, bf);
+    if (!covered) {
+      covered =
+          fill_cache(objects, a0, b0, std::max(kCacheGrowth * (af - a0).norm(), kCacheMinRadius),
+                     std::max(kCacheGrowth * (bf - b0).norm(), kCacheMinRadius)) &&
+          cache_covers(objects, a0, b0, af, bf);
     }
     if (covered) {
-      ++stats_.cached_sweeps;
       stats_.cached_tests += cache_.face_count[0] + cache_.face_count[1] + cache_.edge_count;
       std::array<Eigen::Vector3d, kCacheObjects> A0;
       std::array<Eigen::Vector3d, kCacheObjects> B0;
@@ -468,8 +472,8 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
         const Eigen::Isometry3d inv = objects[k].pose_WO.inverse();
         A0[k] = inv * a0;
         B0[k] = inv * b0;
-        A1[k] = inv * a1;
-        B1[k] = inv * b1;
+        A1[k] = inv * af;
+        B1[k] = inv * bf;
       }
       for (int end = 0; end < 2; ++end) {
         for (int32_t i = 0; i < cache_.face_count[end]; ++i) {
@@ -488,8 +492,11 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
                                                               c.closed ? &c.outward : nullptr);
         if (h.hit && h.tau < best) edge_hit(k, c.index, h, A0[k], B0[k], A1[k], B1[k]);
       }
-      *tau = best;
-      return best <= 1.0;
+      if (best <= 1.0 || f == 1.0) {
+        ++stats_.cached_sweeps;
+        *tau = best <= 1.0 ? f * best : best;
+        return best <= 1.0;
+      }
     }
   }
 

@@ -38,6 +38,7 @@
 #include <span>
 
 #include "haptics/point_proxy.h"
+#include "haptics/probe_placement_qp.h"
 #include "haptics/segment_database.h"
 
 namespace lap::haptics {
@@ -111,7 +112,7 @@ struct SegmentProxyStats {
 
 class SegmentProxy {
  public:
-  static constexpr int kMaxConstraints = 8;
+  static constexpr int kMaxConstraints = ProbePlacementQp::kMaxConstraints;
   static constexpr int kMaxPlacements = 8;
   /// Largest end-point motion of one placement pass [m] (a tool moves about 1 mm per tick).
   static constexpr double kMaxPassMotion = 0.004;
