@@ -1,0 +1,152 @@
+#include "models/local_deformation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace lap::models {
+
+double LocalDeformationModel::weight(double distance_m) const {
+  const double r = settings_.radius_m;
+  if (!(distance_m < r)) return 0.0;
+  const double x = distance_m / r;
+  if (settings_.profile == DeformationProfile::kLinear) return 1.0 - x;
+  const double s = 1.0 - x * x;
+  return s * s;
+}
+
+LocalDeformationModel LocalDeformationModel::build(const haptics::MeshDatabase& rest,
+                                                   const LocalDeformationSettings& settings) {
+  if (!(settings.radius_m > 0.0) || !std::isfinite(settings.radius_m)) {
+    throw std::invalid_argument("local deformation: radius_m must be positive, got " +
+                                std::to_string(settings.radius_m));
+  }
+  if (!(settings.surface_share > 0.0 && settings.surface_share <= 1.0)) {
+    throw std::invalid_argument("local deformation: surface_share must be in (0, 1], got " +
+                                std::to_string(settings.surface_share));
+  }
+  if (!(settings.max_displacement_m > 0.0)) {
+    throw std::invalid_argument("local deformation: max_displacement_m must be positive");
+  }
+  LocalDeformationModel m;
+  m.settings_ = settings;
+  const int32_t n = rest.vertex_count();
+  m.rest_.resize(n);
+  for (int32_t v = 0; v < n; ++v) m.rest_[v] = rest.position(v);
+  m.face_vertices_.resize(rest.face_count());
+  for (int32_t f = 0; f < rest.face_count(); ++f) m.face_vertices_[f] = rest.face_vertices(f);
+  for (int32_t e = 0; e < rest.edge_count(); ++e) {
+    const auto& ev = rest.edge_vertices(e);
+    m.longest_edge_ = std::max(m.longest_edge_, (m.rest_[ev[1]] - m.rest_[ev[0]]).norm());
+  }
+  // Neighbours within R + h through a uniform grid of that cell size (setup only).
+  const double reach = settings.radius_m + m.longest_edge_;
+  const double reach2 = reach * reach;
+  auto cell_of = [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / reach)),
+                           static_cast<int>(std::floor(p.y() / reach)),
+                           static_cast<int>(std::floor(p.z() / reach)));
+  };
+  auto key = [](const Eigen::Vector3i& c) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(c.x()) & 0x1FFFFFU) << 42U) |
+           (static_cast<uint64_t>(static_cast<uint32_t>(c.y()) & 0x1FFFFFU) << 21U) |
+           static_cast<uint64_t>(static_cast<uint32_t>(c.z()) & 0x1FFFFFU);
+  };
+  std::unordered_map<uint64_t, std::vector<int32_t>> grid;
+  for (int32_t v = 0; v < n; ++v) grid[key(cell_of(m.rest_[v]))].push_back(v);
+  m.neighbour_offset_.assign(n + 1, 0);
+  for (int32_t v = 0; v < n; ++v) {
+    const Eigen::Vector3i c = cell_of(m.rest_[v]);
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == grid.end()) continue;
+          for (int32_t w : it->second) {
+            if ((m.rest_[w] - m.rest_[v]).squaredNorm() <= reach2) m.neighbour_index_.push_back(w);
+          }
+        }
+      }
+    }
+    if (m.neighbour_index_.size() > static_cast<size_t>(INT32_MAX)) {
+      throw std::invalid_argument(
+          "local deformation: radius_m too large for this mesh (neighbour lists overflow)");
+    }
+    m.neighbour_offset_[v + 1] = static_cast<int32_t>(m.neighbour_index_.size());
+  }
+  return m;
+}
+
+LocalDeformationState::LocalDeformationState(const LocalDeformationModel& model)
+    : positions(static_cast<size_t>(model.vertex_count())),
+      flags(static_cast<size_t>(model.vertex_count()), 0) {
+  for (int32_t v = 0; v < model.vertex_count(); ++v) positions[v] = model.rest_position(v);
+  // Both lists hold at most every vertex once: reserved here, never reallocated by deform().
+  displaced.reserve(static_cast<size_t>(model.vertex_count()));
+  changed.reserve(static_cast<size_t>(model.vertex_count()));
+}
+
+namespace {
+constexpr uint8_t kDisplaced = 1U;
+constexpr uint8_t kChanged = 2U;
+}  // namespace
+
+bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
+            LocalDeformationState* state) noexcept {
+  auto& flags = state->flags;
+  // Back to rest where the last call displaced.
+  state->changed.clear();
+  for (int32_t v : state->displaced) {
+    state->positions[v] = model.rest_position(v);
+    flags[v] = kChanged;
+    state->changed.push_back(v);
+  }
+  state->displaced.clear();
+  bool ok = true;
+  for (const DeformationContact& c : contacts) {
+    if (c.face < 0 || c.face >= model.face_count() || !c.point_O.allFinite() ||
+        !c.penetration_O.allFinite()) {
+      ok = false;
+      continue;
+    }
+    const Eigen::Vector3d p = model.settings().surface_share * c.penetration_O;
+    // Any vertex of the contact face is within h of Pt: its list covers the radius.
+    const int32_t start = model.face_vertices(c.face)[0];
+    for (int32_t v : model.neighbours(start)) {
+      const double w = model.weight((model.rest_position(v) - c.point_O).norm());
+      if (w <= 0.0) continue;
+      state->positions[v] += w * p;
+      if ((flags[v] & kDisplaced) == 0) {
+        flags[v] |= kDisplaced;
+        state->displaced.push_back(v);
+      }
+      if ((flags[v] & kChanged) == 0) {
+        flags[v] |= kChanged;
+        state->changed.push_back(v);
+      }
+    }
+  }
+  // A bound against a runaway contact, not physics.
+  state->clamped = 0;
+  const double max_d = model.settings().max_displacement_m;
+  for (int32_t v : state->displaced) {
+    const Eigen::Vector3d d = state->positions[v] - model.rest_position(v);
+    const double len = d.norm();
+    if (len > max_d) {
+      state->positions[v] = model.rest_position(v) + d * (max_d / len);
+      ++state->clamped;
+    }
+  }
+  if (!ok) {
+    for (int32_t v : state->displaced) {
+      state->positions[v] = model.rest_position(v);
+      flags[v] &= static_cast<uint8_t>(~kDisplaced);
+    }
+    state->displaced.clear();
+  }
+  for (int32_t v : state->changed) flags[v] &= static_cast<uint8_t>(~kChanged);
+  return ok;
+}
+
+}  // namespace lap::models

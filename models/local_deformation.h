@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// Local deformation of an organ (thesis §6.5, §7.7(1)): a contact at point Pt with penetration
+/// vector P moves every vertex V_i within the influence radius R of Pt by w(D_i) P, D_i = |V_i −
+/// Pt| on the rest shape, with w(D) = (R − D) / R (the thesis' profile) or the smooth polynomial
+/// (1 − (D/R)²)², whose slope is also zero at D = R so the dent has no crease at its rim. Nothing
+/// beyond R moves. Several contacts superpose.
+///
+/// Neighbour lists are precomputed per vertex, as the thesis suggests: the vertices within R + h
+/// of it, h the longest edge. The contact point lies on a face, so a vertex of that face is
+/// within h of it and its list holds every vertex within R of Pt (triangle inequality): the step
+/// visits one list, whatever the mesh size.
+///
+/// The contact is given on the rest shape (point and penetration in the object frame); sim/
+/// maps a proxy's contact on the deformed surface back to the rest shape through the contact
+/// face's barycentric coordinates. The surface then takes `surface_share` of the penetration and
+/// the proxy feels the rest, so the felt surface is the deformed one (MeshDatabase::
+/// set_positions) with an effective stiffness (1 − share) k.
+///
+/// Model (immutable: rest shape, lists) apart from state (positions, moved vertices). deform()
+/// allocates nothing once the state is sized; it never throws.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "haptics/mesh_database.h"
+
+namespace lap::models {
+
+enum class DeformationProfile : uint8_t {
+  kLinear,  ///< (R − D) / R, §6.5
+  kSmooth,  ///< (1 − (D/R)²)², C¹ at the rim
+};
+
+struct LocalDeformationSettings {
+  double radius_m = 0.02;  ///< R
+  DeformationProfile profile = DeformationProfile::kLinear;
+  double surface_share = 0.5;  ///< share of the penetration the surface takes, (0, 1]
+  /// Largest displacement of any vertex [m]: a safety bound against a runaway contact.
+  double max_displacement_m = 0.02;
+};
+
+/// One contact, on the rest shape, object frame.
+struct DeformationContact {
+  Eigen::Vector3d point_O = Eigen::Vector3d::Zero();        ///< Pt, on the rest surface [m]
+  Eigen::Vector3d penetration_O = Eigen::Vector3d::Zero();  ///< P, how far the tool is in [m]
+  int32_t face = -1;  ///< the rest-shape face Pt lies on (its vertices start the search)
+};
+
+class LocalDeformationModel {
+ public:
+  /// Precomputes the neighbour lists. Throws std::invalid_argument naming the bad setting.
+  static LocalDeformationModel build(const haptics::MeshDatabase& rest,
+                                     const LocalDeformationSettings& settings);
+
+  [[nodiscard]] const LocalDeformationSettings& settings() const { return settings_; }
+  [[nodiscard]] int32_t vertex_count() const { return static_cast<int32_t>(rest_.size()); }
+  [[nodiscard]] const Eigen::Vector3d& rest_position(int32_t v) const { return rest_[v]; }
+  /// The vertices within R + h of v (the precomputed list).
+  [[nodiscard]] std::span<const int32_t> neighbours(int32_t v) const {
+    return {neighbour_index_.data() + neighbour_offset_[v],
+            static_cast<size_t>(neighbour_offset_[v + 1] - neighbour_offset_[v])};
+  }
+  [[nodiscard]] const std::array<int32_t, 3>& face_vertices(int32_t f) const {
+    return face_vertices_[f];
+  }
+  [[nodiscard]] int32_t face_count() const { return static_cast<int32_t>(face_vertices_.size()); }
+  /// w(D): the weight of the profile at distance D (0 at and beyond R).
+  [[nodiscard]] double weight(double distance_m) const;
+  [[nodiscard]] double longest_edge_m() const { return longest_edge_; }
+  [[nodiscard]] size_t neighbour_entries() const { return neighbour_index_.size(); }
+
+ private:
+  LocalDeformationSettings settings_;
+  std::vector<Eigen::Vector3d> rest_;                  // n_v x 3 [m], original vertex order
+  std::vector<std::array<int32_t, 3>> face_vertices_;  // the database's faces (tree order)
+  std::vector<int32_t> neighbour_offset_;              // n_v + 1 (CSR)
+  std::vector<int32_t> neighbour_index_;               // vertices within R + h, per vertex
+  double longest_edge_ = 0.0;                          // h [m]
+};
+
+struct LocalDeformationState {
+  std::vector<Eigen::Vector3d> positions;  ///< n_v x 3 [m], deformed
+  std::vector<int32_t> displaced;          ///< vertices away from rest now
+  std::vector<int32_t> changed;            ///< vertices whose position the last call changed
+  std::vector<uint8_t> flags;              ///< n_v: bit 0 displaced, bit 1 changed (scratch)
+  int32_t clamped = 0;                     ///< vertices held at max_displacement_m, last call
+  /// Sized and at rest for a model (setup; allocates).
+  explicit LocalDeformationState(const LocalDeformationModel& model);
+};
+
+/// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
+/// rest). Afterwards `changed` lists every vertex whose position changed since the previous call
+/// (what MeshDatabase::set_positions(positions, changed) needs). Returns false, leaving the rest
+/// shape, when a contact is not finite or names no face.
+bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
+            LocalDeformationState* state) noexcept;
+
+}  // namespace lap::models

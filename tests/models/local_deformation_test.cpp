@@ -1,0 +1,245 @@
+// Local deformation (§6.5) against its formula, computed by brute force over every vertex, on a
+// generated plate and box and on the real OpenHELP liver; and the point proxy feeling the dent.
+
+#include "models/local_deformation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <random>
+#include <set>
+
+#include "haptics/mesh_generators.h"
+#include "haptics/point_proxy.h"
+#include "sim/mesh_loader.h"
+#include "tests/test_support.h"
+
+namespace lap::models {
+namespace {
+
+double expected_weight(DeformationProfile profile, double d, double r) {
+  if (d >= r) return 0.0;
+  if (profile == DeformationProfile::kLinear) return (r - d) / r;
+  const double x = d / r;
+  return (1.0 - x * x) * (1.0 - x * x);
+}
+
+// Every vertex against the formula, by brute force over the whole mesh: displaced by exactly
+// Σ w(D) share P, untouched (bit for bit) beyond R of every contact.
+void check_against_brute_force(const LocalDeformationModel& model,
+                               std::span<const DeformationContact> contacts,
+                               const LocalDeformationState& state, int32_t* moved_count) {
+  const auto& s = model.settings();
+  int32_t moved = 0;
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    const Eigen::Vector3d rest = model.rest_position(v);
+    Eigen::Vector3d expected = rest;
+    bool inside = false;
+    for (const DeformationContact& c : contacts) {
+      const double d = (rest - c.point_O).norm();
+      inside = inside || d < s.radius_m;
+      expected += expected_weight(s.profile, d, s.radius_m) * s.surface_share * c.penetration_O;
+    }
+    if (inside) {
+      ++moved;
+      ASSERT_LT((state.positions[v] - expected).norm(), 1e-15) << "vertex " << v;
+    } else {
+      ASSERT_EQ(state.positions[v], rest) << "vertex " << v << " beyond R moved";
+    }
+  }
+  *moved_count = moved;
+}
+
+DeformationContact contact_on_face(const haptics::MeshDatabase& db, int32_t f,
+                                   const Eigen::Vector3d& bary, const Eigen::Vector3d& p) {
+  const auto& fv = db.face_vertices(f);
+  DeformationContact c;
+  c.face = f;
+  c.point_O =
+      bary.x() * db.position(fv[0]) + bary.y() * db.position(fv[1]) + bary.z() * db.position(fv[2]);
+  c.penetration_O = p;
+  return c;
+}
+
+TEST(LocalDeformation, NeighbourListsAreTheVerticesWithinReach) {
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.06, 0.08), 12));
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.015;
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  const double reach = settings.radius_m + model.longest_edge_m();
+  for (int32_t v = 0; v < model.vertex_count(); v += 7) {
+    std::set<int32_t> expected;
+    for (int32_t w = 0; w < model.vertex_count(); ++w) {
+      if ((db.position(w) - db.position(v)).norm() <= reach) expected.insert(w);
+    }
+    const auto list = model.neighbours(v);
+    const std::set<int32_t> got(list.begin(), list.end());
+    EXPECT_EQ(got.size(), list.size()) << "duplicates in the list of " << v;
+    EXPECT_EQ(got, expected) << "vertex " << v;
+  }
+}
+
+TEST(LocalDeformation, DisplacementIsExactlyTheProfileAndNothingMovesBeyondR) {
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.06, 0.08), 16));
+  for (const DeformationProfile profile :
+       {DeformationProfile::kLinear, DeformationProfile::kSmooth}) {
+    LocalDeformationSettings settings;
+    settings.radius_m = 0.02;
+    settings.profile = profile;
+    settings.surface_share = 0.6;
+    const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+    LocalDeformationState state(model);
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int32_t> face(0, db.face_count() - 1);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (int trial = 0; trial < 50; ++trial) {
+      // One to three contacts at random points of random faces, pushing inwards 0-4 mm.
+      std::vector<DeformationContact> contacts;
+      for (int k = 0; k <= trial % 3; ++k) {
+        const int32_t f = face(rng);
+        Eigen::Vector3d b(u01(rng), u01(rng), 0.0);
+        if (b.x() + b.y() > 1.0) b = Eigen::Vector3d(1.0 - b.x(), 1.0 - b.y(), 0.0);
+        b.z() = 1.0 - b.x() - b.y();
+        contacts.push_back(contact_on_face(db, f, b, -0.004 * u01(rng) * db.face_normal(f)));
+      }
+      ASSERT_TRUE(deform(model, contacts, &state));
+      int32_t moved = 0;
+      check_against_brute_force(model, contacts, state, &moved);
+      EXPECT_GT(moved, 0);
+      EXPECT_EQ(static_cast<int32_t>(state.displaced.size()), moved);
+    }
+    // No contact: every vertex back at rest, and `changed` names each one that was displaced.
+    const std::vector<int32_t> before = state.displaced;
+    ASSERT_TRUE(deform(model, {}, &state));
+    for (int32_t v = 0; v < model.vertex_count(); ++v) {
+      ASSERT_EQ(state.positions[v], model.rest_position(v));
+    }
+    EXPECT_EQ(std::set<int32_t>(state.changed.begin(), state.changed.end()),
+              std::set<int32_t>(before.begin(), before.end()));
+    EXPECT_TRUE(state.displaced.empty());
+  }
+}
+
+TEST(LocalDeformation, SmoothProfileHasNoCreaseAtTheRim) {
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.01;
+  settings.profile = DeformationProfile::kSmooth;
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.05, 0.05, 0.05), 2));
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  const double h = 1e-6;
+  // Slope just inside the rim: the linear profile's is -1/R = -100 per metre; the smooth one's
+  // goes to 0 with the distance to the rim (-8 x / R at x = 1 - 1.5e-4: about -0.12).
+  EXPECT_NEAR((model.weight(0.01 - h) - model.weight(0.01 - 2 * h)) / h, 0.0, 0.2);
+  EXPECT_DOUBLE_EQ(model.weight(0.0), 1.0);
+  EXPECT_DOUBLE_EQ(model.weight(0.01), 0.0);
+  EXPECT_DOUBLE_EQ(model.weight(0.02), 0.0);
+}
+
+TEST(LocalDeformation, BadInputIsRefusedOrIgnoredSafely) {
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.05, 0.05, 0.05), 4));
+  LocalDeformationSettings bad;
+  bad.radius_m = -1.0;
+  EXPECT_THROW((void)LocalDeformationModel::build(db, bad), std::invalid_argument);
+  bad = {};
+  bad.surface_share = 1.5;
+  try {
+    (void)LocalDeformationModel::build(db, bad);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("surface_share"), std::string::npos);
+  }
+  const LocalDeformationModel model = LocalDeformationModel::build(db, {});
+  LocalDeformationState state(model);
+  DeformationContact c = contact_on_face(db, 0, {1.0, 0.0, 0.0}, {0.0, 0.0, -0.01});
+  c.penetration_O.x() = std::nan("");
+  EXPECT_FALSE(deform(model, {&c, 1}, &state));
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    ASSERT_EQ(state.positions[v], model.rest_position(v));
+  }
+  c = contact_on_face(db, 0, {1.0, 0.0, 0.0}, {0.0, 0.0, -0.01});
+  c.face = db.face_count();
+  EXPECT_FALSE(deform(model, {&c, 1}, &state));
+  // A huge push is held at max_displacement_m.
+  c = contact_on_face(db, 0, {1.0, 0.0, 0.0}, {0.0, 0.0, -1.0});
+  EXPECT_TRUE(deform(model, {&c, 1}, &state));
+  EXPECT_GT(state.clamped, 0);
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    EXPECT_LE((state.positions[v] - model.rest_position(v)).norm(),
+              model.settings().max_displacement_m + 1e-15);
+  }
+}
+
+TEST(LocalDeformation, RealLiverAgainstBruteForce) {
+  const auto dir = test::shared_meshes_dir();
+  if (dir.empty()) GTEST_SKIP() << "../shared/meshes not present";
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(sim::load_mesh(dir / "liver_openhelp.stl", {0.001, 0.0}));
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.02;
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  LocalDeformationState state(model);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> face(0, db.face_count() - 1);
+  int32_t most = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const int32_t f = face(rng);
+    const DeformationContact c =
+        contact_on_face(db, f, {0.2, 0.3, 0.5}, -0.005 * db.face_normal(f));
+    ASSERT_TRUE(deform(model, {&c, 1}, &state));
+    int32_t moved = 0;
+    check_against_brute_force(model, {&c, 1}, state, &moved);
+    most = std::max(most, moved);
+  }
+  std::printf(
+      "[ local deformation ] liver %d vertices, R = 2 cm: up to %d moved, lists %.1f "
+      "entries per vertex\n",
+      model.vertex_count(), most,
+      static_cast<double>(model.neighbour_entries()) / model.vertex_count());
+}
+
+// The deformed surface is the one the proxy feels: a probe coming straight down onto the dent's
+// centre (a vertex of the top face) touches it share |P| below the rest surface.
+TEST(LocalDeformation, PointProxyFeelsTheDeformedSurface) {
+  haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 10));
+  int32_t top = -1;  // the vertex at the centre of the top face (y = 0.05)
+  for (int32_t v = 0; v < db.vertex_count(); ++v) {
+    if ((db.position(v) - Eigen::Vector3d(0.0, 0.05, 0.0)).norm() < 1e-12) top = v;
+  }
+  ASSERT_GE(top, 0);
+  int32_t face = -1;
+  db.for_each_vertex_face(top, [&](int32_t f) { face = f; });
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.03;
+  settings.surface_share = 0.5;
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  LocalDeformationState state(model);
+  DeformationContact c;
+  c.face = face;
+  c.point_O = db.position(top);
+  c.penetration_O = Eigen::Vector3d(0.0, -0.008, 0.0);
+  ASSERT_TRUE(deform(model, {&c, 1}, &state));
+  db.set_positions(state.positions, state.changed);
+
+  haptics::HapticObject object;
+  object.mesh = &db;
+  haptics::PointProxy proxy;
+  Eigen::Vector3d hip(0.0, 0.06, 0.0);
+  proxy.reset(hip);
+  double first_contact_y = 1.0;
+  for (int i = 0; i < 300 && first_contact_y > 0.5; ++i) {
+    hip.y() -= 1e-4;
+    const haptics::PointProxyOutput out = proxy.step({&object, 1}, hip, 1e-3);
+    if (out.contact_count > 0) first_contact_y = out.ihip_W.y();
+  }
+  // The rest surface is at 0.05; the dent's centre at 0.05 - 0.5 * 0.008 = 0.046.
+  EXPECT_NEAR(first_contact_y, 0.046, 1e-4);
+}
+
+}  // namespace
+}  // namespace lap::models
