@@ -20,7 +20,7 @@ const char* RigidBodyModel::problem() const {
     return "inertia must be a finite symmetric matrix";
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia_B);
-  const Eigen::Vector3d m = eig.eigenvalues();
+  const Eigen::Vector3d& m = eig.eigenvalues();
   if (!(m.minCoeff() > 0.0)) return "inertia must be positive definite";
   // Principal moments of a real body satisfy I1 + I2 >= I3 for every ordering.
   const double tol = 1e-9 * m.sum();

@@ -1,0 +1,297 @@
+#include "models/catheter_model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace lap::models {
+namespace {
+
+constexpr int kHalfBand = 8;  // scalar half-bandwidth: particles meet ±2 neighbours
+constexpr int kBandWidth = kHalfBand + 1;
+
+using Mat3 = Eigen::Matrix3d;
+using Vec3 = Eigen::Vector3d;
+
+// Adds block b at (particle p, particle q), p >= q, into the lower band.
+void add_block(std::vector<double>* band, int p, int q, const Mat3& b) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      const int row = 3 * p + r;
+      const int col = 3 * q + c;
+      if (row < col) continue;  // the upper part of a diagonal block
+      (*band)[static_cast<size_t>(row) * kBandWidth + (row - col)] += b(r, c);
+    }
+  }
+}
+
+// In-place banded Cholesky (A = L Lᵀ) and solve; false if not positive definite.
+bool band_cholesky_solve(std::vector<double>* band, std::vector<double>* x, int n) {
+  double* a = band->data();
+  auto at = [&](int row, int col) -> double& {
+    return a[static_cast<size_t>(row) * kBandWidth + (row - col)];
+  };
+  for (int j = 0; j < n; ++j) {
+    double d = at(j, j);
+    const int k0 = std::max(0, j - kHalfBand);
+    for (int k = k0; k < j; ++k) d -= at(j, k) * at(j, k);
+    if (!(d > 0.0)) return false;
+    const double ljj = std::sqrt(d);
+    at(j, j) = ljj;
+    const int i1 = std::min(n - 1, j + kHalfBand);
+    for (int i = j + 1; i <= i1; ++i) {
+      double s = at(i, j);
+      const int kk = std::max(k0, i - kHalfBand);
+      for (int k = kk; k < j; ++k) s -= at(i, k) * at(j, k);
+      at(i, j) = s / ljj;
+    }
+  }
+  double* y = x->data();
+  for (int i = 0; i < n; ++i) {
+    double s = y[i];
+    for (int k = std::max(0, i - kHalfBand); k < i; ++k) s -= at(i, k) * y[k];
+    y[i] = s / at(i, i);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double s = y[i];
+    for (int k = i + 1; k <= std::min(n - 1, i + kHalfBand); ++k) s -= at(k, i) * y[k];
+    y[i] = s / at(i, i);
+  }
+  return true;
+}
+
+// Bending residual r = t1 − t2 at interior particle i and its Jacobian blocks with respect to
+// particles i − 1, i, i + 1.
+struct BendTerm {
+  Vec3 r;
+  Mat3 j0;
+  Mat3 j1;
+  Mat3 j2;
+};
+BendTerm bend_term(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
+  const Vec3 e1 = x1 - x0;
+  const Vec3 e2 = x2 - x1;
+  const double l1 = e1.norm();
+  const double l2 = e2.norm();
+  const Vec3 t1 = e1 / l1;
+  const Vec3 t2 = e2 / l2;
+  const Mat3 p1 = (Mat3::Identity() - t1 * t1.transpose()) / l1;  // d t1 / d e1
+  const Mat3 p2 = (Mat3::Identity() - t2 * t2.transpose()) / l2;  // d t2 / d e2
+  BendTerm b;
+  b.r = t1 - t2;
+  b.j0 = -p1;
+  b.j1 = p1 + p2;
+  b.j2 = -p2;
+  return b;
+}
+
+}  // namespace
+
+CatheterModel CatheterModel::build(const CatheterSettings& s) {
+  auto bad = [](const std::string& what) { throw std::invalid_argument("catheter: " + what); };
+  if (s.particles < 3 || s.particles > 4096) bad("particles must be 3..4096");
+  if (!(s.length_m > 0.0)) bad("length_m must be positive");
+  if (!(s.outer_diameter_m > 0.0)) bad("outer_diameter_m must be positive");
+  if (!(s.bending_stiffness_n_m2 > 0.0)) bad("bending_stiffness_n_m2 must be positive");
+  if (!(s.linear_density_kg_per_m > 0.0)) bad("linear_density_kg_per_m must be positive");
+  if (!(s.stretch_stiffness_n_per_m >= 0.0)) bad("stretch_stiffness_n_per_m must be >= 0");
+  if (!(s.drag_n_s_per_m >= 0.0) || !(s.stretch_damping_n_s_per_m >= 0.0)) {
+    bad("damping must be >= 0");
+  }
+  if (!s.gravity_m_per_s2.allFinite()) bad("gravity must be finite");
+  CatheterModel m;
+  m.settings_ = s;
+  m.l0_ = s.length_m / (s.particles - 1);
+  m.mass_ = s.linear_density_kg_per_m * m.l0_;
+  m.k_l_ = s.stretch_stiffness_n_per_m > 0.0 ? s.stretch_stiffness_n_per_m : 200.0 / m.l0_;
+  m.k_b_ = s.bending_stiffness_n_m2 / m.l0_;
+  return m;
+}
+
+double CatheterModel::mass_of(int32_t i) const {
+  return (i == 0 || i == settings_.particles - 1) ? 0.5 * mass_ : mass_;
+}
+
+CatheterState::CatheterState(const CatheterModel& model, const Eigen::Vector3d& start,
+                             const Eigen::Vector3d& direction) {
+  const auto n = static_cast<size_t>(model.particle_count());
+  positions.resize(n);
+  velocities.assign(n, Eigen::Vector3d::Zero());
+  external_force.assign(n, Eigen::Vector3d::Zero());
+  fixed.assign(n, 0);
+  const Eigen::Vector3d d = direction.normalized();
+  for (size_t i = 0; i < n; ++i) {
+    positions[i] = start + static_cast<double>(i) * model.rest_length_m() * d;
+  }
+  band.assign(3 * n * kBandWidth, 0.0);
+  rhs.assign(3 * n, 0.0);
+  saved_positions.resize(n * kGuardDepth);
+  saved_velocities.resize(n * kGuardDepth);
+}
+
+double catheter_energy(const CatheterModel& model, const CatheterState& state) {
+  const int n = model.particle_count();
+  double e = 0.0;
+  for (int i = 0; i < n; ++i) e += 0.5 * model.mass_of(i) * state.velocities[i].squaredNorm();
+  for (int i = 0; i + 1 < n; ++i) {
+    const double dl = (state.positions[i + 1] - state.positions[i]).norm() - model.rest_length_m();
+    e += 0.5 * model.stretch_stiffness() * dl * dl;
+  }
+  for (int i = 1; i + 1 < n; ++i) {
+    const Vec3 t1 = (state.positions[i] - state.positions[i - 1]).normalized();
+    const Vec3 t2 = (state.positions[i + 1] - state.positions[i]).normalized();
+    e += 0.5 * model.bending_stiffness() * (t1 - t2).squaredNorm();
+  }
+  return e;
+}
+
+double catheter_gravity_energy(const CatheterModel& model, const CatheterState& state) {
+  double e = 0.0;
+  for (int i = 0; i < model.particle_count(); ++i) {
+    e -= model.mass_of(i) * model.settings().gravity_m_per_s2.dot(state.positions[i]);
+  }
+  return e;
+}
+
+namespace {
+
+// One linearly implicit backward-Euler step; external forces are read, not cleared.
+bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const int n = model.particle_count();
+  const int dofs = 3 * n;
+  auto& x = state->positions;
+  auto& v = state->velocities;
+  std::fill(state->band.begin(), state->band.end(), 0.0);
+  // rhs accumulates f − dt K v, per particle.
+  for (int i = 0; i < n; ++i) {
+    const Vec3 f = state->external_force[i] + model.mass_of(i) * model.settings().gravity_m_per_s2 -
+                   model.settings().drag_n_s_per_m * v[i];
+    for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] = f(c);
+    const double diag = model.mass_of(i) + dt * model.settings().drag_n_s_per_m;
+    add_block(&state->band, i, i, diag * Mat3::Identity());
+  }
+  auto add_rhs = [&](int i, const Vec3& f) {
+    for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += f(c);
+  };
+  const double kl = model.stretch_stiffness();
+  const double cl = model.settings().stretch_damping_n_s_per_m;
+  const double l0 = model.rest_length_m();
+  // Stretch springs and their damping.
+  for (int i = 0; i + 1 < n; ++i) {
+    const Vec3 e = x[i + 1] - x[i];
+    const double l = e.norm();
+    if (!(l > 0.0)) return false;
+    const Vec3 t = e / l;
+    const Mat3 tt = t * t.transpose();
+    const Vec3 dv = v[i + 1] - v[i];
+    const Vec3 f = (kl * (l - l0) + cl * dv.dot(t)) * t;  // on i, towards i + 1 when stretched
+    add_rhs(i, f);
+    add_rhs(i + 1, -f);
+    const Mat3 k = kl * tt + kl * std::max(0.0, 1.0 - l0 / l) * (Mat3::Identity() - tt);
+    const Mat3 a = dt * dt * k + dt * cl * tt;  // the coupling's share of M + dt D + dt² K
+    add_block(&state->band, i, i, a);
+    add_block(&state->band, i + 1, i + 1, a);
+    add_block(&state->band, i + 1, i, -a);
+    const Vec3 kv = k * (v[i + 1] - v[i]);  // −dt K v for this spring
+    add_rhs(i, dt * kv);
+    add_rhs(i + 1, -dt * kv);
+  }
+  // Bending: E = ½ k_b |r|², f = −k_b Jᵀ r, K ≈ k_b Jᵀ J (Gauss–Newton).
+  const double kb = model.bending_stiffness();
+  for (int i = 1; i + 1 < n; ++i) {
+    const BendTerm b = bend_term(x[i - 1], x[i], x[i + 1]);
+    const std::array<const Mat3*, 3> j = {&b.j0, &b.j1, &b.j2};
+    const Vec3 jv = b.j0 * v[i - 1] + b.j1 * v[i] + b.j2 * v[i + 1];
+    for (int p = 0; p < 3; ++p) {
+      add_rhs(i - 1 + p, -kb * (j[p]->transpose() * b.r) - dt * kb * (j[p]->transpose() * jv));
+      for (int q = 0; q <= p; ++q) {
+        add_block(&state->band, i - 1 + p, i - 1 + q, dt * dt * kb * j[p]->transpose() * *j[q]);
+      }
+    }
+  }
+  for (double& r : state->rhs) r *= dt;
+  // Fixed particles: Δv = −v (they stop), decoupled from the rest.
+  for (int i = 0; i < n; ++i) {
+    if (state->fixed[i] == 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      const int row = 3 * i + c;
+      for (int k = 1; k <= kHalfBand; ++k) {
+        if (row - k >= 0) state->band[static_cast<size_t>(row) * kBandWidth + k] = 0.0;
+        if (row + k < dofs) state->band[static_cast<size_t>(row + k) * kBandWidth + k] = 0.0;
+      }
+      state->band[static_cast<size_t>(row) * kBandWidth] = 1.0;
+      state->rhs[row] = -v[i](c);
+    }
+  }
+  // The coupling of a free row to a fixed one carries the fixed particle's known Δv = −v: with
+  // the fixed particles at rest (v = 0) that is nothing, which is how clamps are used.
+  if (!band_cholesky_solve(&state->band, &state->rhs, dofs)) {
+    for (auto& vi : v) vi.setZero();
+    return false;
+  }
+  for (int i = 0; i < n; ++i) {
+    const Vec3 dv = Eigen::Map<const Vec3>(state->rhs.data() + static_cast<ptrdiff_t>(3) * i);
+    const Vec3 v1 = v[i] + dv;
+    const Vec3 x1 = x[i] + dt * v1;
+    if (!v1.allFinite() || !x1.allFinite()) {
+      for (auto& vi : v) vi.setZero();
+      return false;
+    }
+    v[i] = v1;
+    x[i] = x1;
+  }
+  return true;
+}
+
+double total_energy(const CatheterModel& model, const CatheterState& state) {
+  return catheter_energy(model, state) + catheter_gravity_energy(model, state);
+}
+
+// Implicit step(s) over dt; a step that gains more energy than the external forces put in is
+// redone as two half steps (linearly implicit Euler is dissipative only as dt shrinks on a
+// strongly nonlinear, non-convex bending energy), down to dt / 2^depth.
+bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, int depth) noexcept {
+  const int n = model.particle_count();
+  for (int i = 0; i < n; ++i) {
+    state->saved_positions[depth * n + i] = state->positions[i];
+    state->saved_velocities[depth * n + i] = state->velocities[i];
+  }
+  const double e0 = total_energy(model, *state);
+  if (!implicit_step(model, state, dt)) return false;
+  if (depth + 1 >= CatheterState::kGuardDepth) return true;
+  double work = 0.0;
+  for (int i = 0; i < n; ++i) {
+    work +=
+        state->external_force[i].dot(state->positions[i] - state->saved_positions[depth * n + i]);
+  }
+  const double e1 = total_energy(model, *state);
+  if (e1 <= e0 + std::max(work, 0.0) + 1e-13 * std::abs(e0)) return true;
+  ++state->guard_refinements;
+  for (int i = 0; i < n; ++i) {
+    state->positions[i] = state->saved_positions[depth * n + i];
+    state->velocities[i] = state->saved_velocities[depth * n + i];
+  }
+  return guarded_step(model, state, 0.5 * dt, depth + 1) &&
+         guarded_step(model, state, 0.5 * dt, depth + 1);
+}
+
+}  // namespace
+
+bool step_catheter(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const bool ok = std::isfinite(dt) && dt > 0.0 && guarded_step(model, state, dt, 0);
+  for (auto& f : state->external_force) f.setZero();
+  if (!ok) {
+    // Back to where the step started (level 0 of the guard's saves), at rest.
+    const int n = model.particle_count();
+    for (int i = 0; i < n && std::isfinite(dt) && dt > 0.0; ++i) {
+      state->positions[i] = state->saved_positions[i];
+    }
+    for (auto& v : state->velocities) v.setZero();
+  }
+  return ok;
+}
+
+}  // namespace lap::models
