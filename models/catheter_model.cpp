@@ -10,7 +10,8 @@
 namespace lap::models {
 namespace {
 
-constexpr int kHalfBand = 8;  // scalar half-bandwidth: particles meet ±2 neighbours
+constexpr int kHalfBand = 8;
+constexpr double kEnergyFloorJ = 1e-16;  // scalar half-bandwidth: particles meet ±2 neighbours
 constexpr int kBandWidth = kHalfBand + 1;
 
 using Mat3 = Eigen::Matrix3d;
@@ -268,7 +269,8 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
         state->external_force[i].dot(state->positions[i] - state->saved_positions[depth * n + i]);
   }
   const double e1 = total_energy(model, *state);
-  if (e1 <= e0 + std::max(work, 0.0) + 1e-13 * std::abs(e0)) return true;
+  // Rises below rounding (relative 1e-13, or 1e-16 J near rest) are not energy gained.
+  if (e1 <= e0 + std::max(work, 0.0) + 1e-13 * std::abs(e0) + kEnergyFloorJ) return true;
   ++state->guard_refinements;
   for (int i = 0; i < n; ++i) {
     state->positions[i] = state->saved_positions[depth * n + i];
