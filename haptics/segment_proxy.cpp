@@ -263,14 +263,9 @@ void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vec
       const Eigen::Isometry3d inv = o.pose_WO.inverse();
       const Eigen::Vector3d pa = inv * *a;
       const Eigen::Vector3d pb = inv * *b;
-      const double length = (pb - pa).norm();
       const auto& ev = m.edge_vertices(c.feature.index);
       const SegmentPair cp = closest_segment_segment(pa, pb, m.position(ev[0]), m.position(ev[1]));
-      // Converged once the contact point moves along the probe by less than the skin (the
-      // swept check guards the rest).
-      if (cp.s <= 0.0 || cp.s >= 1.0 || std::abs(cp.s - c.u) * length < settings_.skin_m) {
-        continue;
-      }
+      if (cp.s <= 0.0 || cp.s >= 1.0 || std::abs(cp.s - c.u) < 1e-9) continue;
       c.u = cp.s;
       c.point_O = cp.q;
       c.normal_O = edge_contact_normal(m, c.feature.index, pb - pa, c.normal_O);
