@@ -311,6 +311,90 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   refit_tree();
 }
 
+MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
+    : face_stamp(static_cast<size_t>(db.face_count()), 0),
+      face_slot(static_cast<size_t>(db.face_count()), -1),
+      vertex_stamp(static_cast<size_t>(db.vertex_count()), 0),
+      node_stamp(db.tree().nodes().size(), 0),
+      contribution(static_cast<size_t>(db.face_count())) {
+  dirty_faces.reserve(static_cast<size_t>(db.face_count()));
+  dirty_vertices.reserve(static_cast<size_t>(db.vertex_count()));
+  dirty_leaves.reserve(db.tree().nodes().size());
+  db.tree().topology(&parent, &leaf_of);
+}
+
+void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
+                                 std::span<const int32_t> moved, MeshUpdateScratch* s) {
+  if (moved.empty()) return;
+  for (int32_t v : moved) positions_[v] = positions[v];
+  ++revision_;
+  if (++s->epoch == 0) {  // wrapped: old stamps could collide
+    std::fill(s->face_stamp.begin(), s->face_stamp.end(), 0U);
+    std::fill(s->vertex_stamp.begin(), s->vertex_stamp.end(), 0U);
+    std::fill(s->node_stamp.begin(), s->node_stamp.end(), 0U);
+    s->epoch = 1;
+  }
+  const uint32_t epoch = s->epoch;
+  // The faces around moved vertices: their shape changed. Each one's angle-weighted normal
+  // contributions are computed once.
+  s->dirty_faces.clear();
+  for (int32_t v : moved) {
+    for_each_vertex_face(v, [&](int32_t f) {
+      if (s->face_stamp[f] == epoch) return;
+      s->face_stamp[f] = epoch;
+      s->face_slot[f] = static_cast<int32_t>(s->dirty_faces.size());
+      s->dirty_faces.push_back(f);
+    });
+  }
+  for (size_t slot = 0; slot < s->dirty_faces.size(); ++slot) {
+    auto& c = s->contribution[slot];
+    c[0].setZero();
+    c[1].setZero();
+    c[2].setZero();
+    accumulate_face(face_vertices_[s->dirty_faces[slot]], positions_, &c[0], &c[1], &c[2]);
+  }
+  // Their vertices' normals: the fan's contributions, the clean faces' computed on the spot
+  // (only at the rim of the region). Summed in fan order, as update_vertex_normal() does.
+  s->dirty_vertices.clear();
+  for (int32_t f : s->dirty_faces) {
+    for (int32_t w : face_vertices_[f]) {
+      if (s->vertex_stamp[w] == epoch) continue;
+      s->vertex_stamp[w] = epoch;
+      s->dirty_vertices.push_back(w);
+    }
+  }
+  for (int32_t w : s->dirty_vertices) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for_each_vertex_face(w, [&](int32_t f) {
+      const int k = corner_of(f, w);
+      if (s->face_stamp[f] == epoch) {
+        sum += s->contribution[s->face_slot[f]][k];
+      } else {
+        accumulate_face(face_vertices_[f], positions_, k == 0 ? &sum : nullptr,
+                        k == 1 ? &sum : nullptr, k == 2 ? &sum : nullptr);
+      }
+    });
+    vertex_normals_[w] = unit_or_up(sum);
+  }
+  // The tree: the leaves holding those faces, then their ancestors.
+  s->dirty_leaves.clear();
+  for (int32_t f : s->dirty_faces) {
+    const int32_t leaf = s->leaf_of[f];
+    if (s->node_stamp[leaf] == epoch) continue;
+    s->node_stamp[leaf] = epoch;
+    s->dirty_leaves.push_back(leaf);
+  }
+  tree_.refit_leaves(s->dirty_leaves, s->parent, [this](int32_t f, double* lo, double* hi) {
+    for (int32_t v : face_vertices_[f]) {
+      const Eigen::Vector3d& p = positions_[v];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = p[a] < lo[a] ? p[a] : lo[a];
+        hi[a] = p[a] > hi[a] ? p[a] : hi[a];
+      }
+    }
+  });
+}
+
 size_t MeshDatabase::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(positions_) + bytes(vertex_normals_) + bytes(face_vertices_) + bytes(face_edges_) +

@@ -43,6 +43,27 @@ struct MeshDatabaseSettings {
   int32_t max_leaf_faces = 4;  ///< faces per tree leaf
 };
 
+class MeshDatabase;
+
+/// Workspace of MeshDatabase::set_positions(positions, moved, scratch) for one database: stamps
+/// that mark what a set of moved vertices touches (each visited once), the touched faces' angle-
+/// weighted normal contributions, and the tree's parent/leaf maps. Sized at setup; kept by the
+/// deforming model's state (not in the database, which the haptic loop reads).
+struct MeshUpdateScratch {
+  explicit MeshUpdateScratch(const MeshDatabase& db);
+  uint32_t epoch = 0;
+  std::vector<uint32_t> face_stamp;     // n_f
+  std::vector<int32_t> face_slot;       // n_f: index into dirty_faces when stamped
+  std::vector<uint32_t> vertex_stamp;   // n_v
+  std::vector<uint32_t> node_stamp;     // tree nodes
+  std::vector<int32_t> dirty_faces;     // reserved n_f
+  std::vector<int32_t> dirty_vertices;  // reserved n_v
+  std::vector<int32_t> dirty_leaves;    // reserved (nodes)
+  std::vector<std::array<Eigen::Vector3d, 3>> contribution;  // per dirty face, per corner
+  std::vector<int32_t> parent;                               // per tree node
+  std::vector<int32_t> leaf_of;                              // per face (tree order)
+};
+
 class MeshDatabase {
  public:
   /// Builds from a consistently oriented mesh whose edges each have one or two faces and whose
@@ -56,6 +77,11 @@ class MeshDatabase {
   /// The same when only `moved` vertices changed (local deformation, §6.5): normals are
   /// recomputed only around them; the tree is refitted. No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved);
+  /// The same, with a workspace that visits each touched face, vertex and tree leaf once: each
+  /// face's angle weights are computed once, and only the touched leaves and their ancestors are
+  /// refitted. Cost proportional to the deformed region, not to the mesh. No allocation.
+  void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved,
+                     struct MeshUpdateScratch* scratch);
   /// The three parts of set_positions, for callers that schedule them apart: copy the
   /// positions, refit the tree (O(n)), recompute all vertex normals (O(n)).
   void move_vertices(std::span<const Eigen::Vector3d> positions);

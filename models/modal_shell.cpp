@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -124,7 +125,128 @@ ModalShellModel ModalShellModel::build(const ShellMesh& mesh, const std::vector<
   for (Eigen::Index f = 0; f < phi_free.rows(); ++f) {
     m.phi_.row(shell.dof_of_free[f]) = phi_free.row(f);
   }
+  m.split_translations();
   return m;
+}
+
+uint64_t ModalShellModel::key(const ShellMesh& mesh, const std::vector<uint8_t>& held_dof,
+                              const ModalShellSettings& settings) {
+  uint64_t h = 1469598103934665603ULL;  // FNV-1a over everything the modes depend on
+  auto mix = [&](const void* data, size_t n) {
+    const auto* b = static_cast<const uint8_t*>(data);
+    for (size_t i = 0; i < n; ++i) {
+      h ^= b[i];
+      h *= 1099511628211ULL;
+    }
+  };
+  const uint32_t version = 1;  // bump when the element or the solver changes
+  mix(&version, sizeof version);
+  for (const auto& p : mesh.nodes) mix(p.data(), 3 * sizeof(double));
+  for (const auto& q : mesh.quads) mix(q.data(), 4 * sizeof(int32_t));
+  mix(held_dof.data(), held_dof.size());
+  const ShellMaterial& m = settings.material;
+  for (const double v : {m.young_pa, m.poisson, m.density_kg_per_m3, m.thickness_m}) {
+    mix(&v, sizeof v);
+  }
+  mix(&settings.modes, sizeof settings.modes);
+  return h;
+}
+
+std::vector<uint8_t> ModalShellModel::to_bytes(uint64_t key) const {
+  const auto rows = static_cast<uint64_t>(phi_.rows());
+  const auto cols = static_cast<uint64_t>(phi_.cols());
+  const uint64_t header[4] = {0x4C4150534D4F4445ULL /* "LAPSMODE" */, key, rows, cols};
+  std::vector<uint8_t> out(sizeof header + sizeof(int32_t) + (cols + rows * cols) * sizeof(double));
+  uint8_t* w = out.data();
+  std::memcpy(w, header, sizeof header);
+  w += sizeof header;
+  std::memcpy(w, &node_count_, sizeof(int32_t));
+  w += sizeof(int32_t);
+  std::memcpy(w, omega_.data(), cols * sizeof(double));
+  w += cols * sizeof(double);
+  std::memcpy(w, phi_.data(), rows * cols * sizeof(double));
+  return out;
+}
+
+ModalShellModel ModalShellModel::from_bytes(const std::vector<uint8_t>& bytes, uint64_t key,
+                                            const ModalShellSettings& settings) {
+  uint64_t header[4];
+  if (bytes.size() < sizeof header + sizeof(int32_t)) {
+    throw std::invalid_argument("modal cache: file too short for its header");
+  }
+  std::memcpy(header, bytes.data(), sizeof header);
+  if (header[0] != 0x4C4150534D4F4445ULL)
+    throw std::invalid_argument("modal cache: not a mode file");
+  if (header[1] != key)
+    throw std::invalid_argument("modal cache: made for another mesh or material");
+  const uint64_t rows = header[2];
+  const uint64_t cols = header[3];
+  if (cols != static_cast<uint64_t>(settings.modes) || rows > (1ULL << 32) ||
+      bytes.size() != sizeof header + sizeof(int32_t) + (cols + rows * cols) * sizeof(double)) {
+    throw std::invalid_argument("modal cache: size does not match its header");
+  }
+  ModalShellModel m;
+  m.settings_ = settings;
+  const uint8_t* r = bytes.data() + sizeof header;
+  std::memcpy(&m.node_count_, r, sizeof(int32_t));
+  r += sizeof(int32_t);
+  if (static_cast<uint64_t>(m.node_count_) * kShellDofsPerNode != rows) {
+    throw std::invalid_argument("modal cache: node count does not match the mode rows");
+  }
+  m.omega_.resize(static_cast<Eigen::Index>(cols));
+  std::memcpy(m.omega_.data(), r, cols * sizeof(double));
+  r += cols * sizeof(double);
+  m.phi_.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  std::memcpy(m.phi_.data(), r, rows * cols * sizeof(double));
+  if (!m.omega_.allFinite() || !m.phi_.allFinite() || !(m.omega_.minCoeff() > 0.0)) {
+    throw std::invalid_argument("modal cache: non-finite or non-positive values");
+  }
+  m.split_translations();
+  return m;
+}
+
+void ModalShellModel::split_translations() {
+  phi_translation_.resize(3 * static_cast<Eigen::Index>(node_count_), phi_.cols());
+  for (Eigen::Index i = 0; i < node_count_; ++i) {
+    phi_translation_.middleRows(3 * i, 3) = phi_.middleRows(kShellDofsPerNode * i, 3);
+  }
+}
+
+DuctShell make_duct_shell(const DuctSettings& duct) {
+  if (!(duct.wall_thickness_m > 0.0) || !(duct.outer_diameter_m > 2.0 * duct.wall_thickness_m)) {
+    throw std::invalid_argument("duct: wall_thickness_m must be positive and below the radius");
+  }
+  DuctShell d;
+  d.mesh = make_tube_shell(0.5 * (duct.outer_diameter_m - duct.wall_thickness_m), duct.length_m,
+                           duct.around, duct.along);
+  d.held_dof.assign(d.mesh.nodes.size() * kShellDofsPerNode, 0);
+  // The membrane line: the ring node nearest the membrane angle, all along.
+  const double step = 2.0 * M_PI / duct.around;
+  const int32_t line =
+      static_cast<int32_t>(std::lround(std::remainder(duct.membrane_angle_rad, 2.0 * M_PI) / step) +
+                           duct.around) %
+      duct.around;
+  for (int32_t j = 0; j <= duct.along; ++j) {
+    for (int32_t i = 0; i < duct.around; ++i) {
+      const size_t node = static_cast<size_t>(j) * duct.around + i;
+      const bool end = j == 0 || j == duct.along;
+      for (int c = 0; c < kShellDofsPerNode; ++c) {
+        if (end || (i == line && c < 3)) d.held_dof[node * kShellDofsPerNode + c] = 1;
+      }
+    }
+  }
+  return d;
+}
+
+ModalShellSettings default_duct_modal_settings(const DuctSettings& duct) {
+  ModalShellSettings s;
+  s.material.young_pa = 2e6;
+  s.material.poisson = 0.45;
+  s.material.density_kg_per_m3 = 1060.0;
+  s.material.thickness_m = duct.wall_thickness_m;
+  s.modes = 24;
+  s.damping_ratio = 0.3;  // soft tissue in fluid: heavily damped (project estimate)
+  return s;
 }
 
 ModalShellState::ModalShellState(const ModalShellModel& model)
@@ -133,10 +255,17 @@ ModalShellState::ModalShellState(const ModalShellModel& model)
       force(
           Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kShellDofsPerNode) * model.node_count())),
       modal_force(Eigen::VectorXd::Zero(model.mode_count())),
-      displacement(static_cast<size_t>(model.node_count()), Eigen::Vector3d::Zero()) {}
+      displacement(static_cast<size_t>(model.node_count()), Eigen::Vector3d::Zero()),
+      is_forced(static_cast<size_t>(model.node_count()), 0) {
+  forced_nodes.reserve(static_cast<size_t>(model.node_count()));
+}
 
 void apply_node_force(ModalShellState* state, int32_t node, const Eigen::Vector3d& force_W) {
   state->force.segment<3>(static_cast<Eigen::Index>(kShellDofsPerNode) * node) += force_W;
+  if (state->is_forced[node] == 0) {
+    state->is_forced[node] = 1;
+    state->forced_nodes.push_back(node);  // reserved for every node: never reallocates
+  }
 }
 
 bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, double dt) noexcept {
@@ -144,12 +273,22 @@ bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, doub
     state->q.setZero();
     state->q_dot.setZero();
     state->force.setZero();
+    for (const int32_t node : state->forced_nodes) state->is_forced[node] = 0;
+    state->forced_nodes.clear();
     for (auto& u : state->displacement) u.setZero();
     return false;
   }
   const Eigen::MatrixXd& phi = model.modes();
-  state->modal_force.noalias() = phi.transpose() * state->force;
-  state->force.setZero();
+  // Φᵀ f over the forced nodes only: contacts touch a few nodes of hundreds.
+  state->modal_force.setZero();
+  for (const int32_t node : state->forced_nodes) {
+    const Eigen::Index row = static_cast<Eigen::Index>(kShellDofsPerNode) * node;
+    state->modal_force.noalias() +=
+        phi.block(row, 0, 3, model.mode_count()).transpose() * state->force.segment<3>(row);
+    state->force.segment<3>(row).setZero();
+    state->is_forced[node] = 0;
+  }
+  state->forced_nodes.clear();
   const double zeta = model.settings().damping_ratio;
   for (int32_t k = 0; k < model.mode_count(); ++k) {
     // x = q − f/ω² oscillates freely about the static answer: advance it exactly.
@@ -164,11 +303,10 @@ bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, doub
     state->q(k) = qs + e * (x0 * c + (v0 + zeta * w * x0) / wd * s);
     state->q_dot(k) = e * (v0 * c - (zeta * w * v0 + w * w * x0) / wd * s);
   }
-  for (int32_t i = 0; i < model.node_count(); ++i) {
-    state->displacement[i].noalias() =
-        phi.block(static_cast<Eigen::Index>(kShellDofsPerNode) * i, 0, 3, model.mode_count()) *
-        state->q;
-  }
+  // u = Φ q over the translation rows, in one product into the displacement array.
+  Eigen::Map<Eigen::VectorXd> u(state->displacement.data()->data(),
+                                3 * static_cast<Eigen::Index>(model.node_count()));
+  u.noalias() = model.translation_modes() * state->q;
   return true;
 }
 

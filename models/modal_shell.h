@@ -59,11 +59,27 @@ class ModalShellModel {
   [[nodiscard]] const Eigen::MatrixXd& modes() const { return phi_; }
   [[nodiscard]] const ModalShellSettings& settings() const { return settings_; }
 
+  /// What the modes depend on (mesh, held dofs, material, mode count), hashed: the cache key.
+  [[nodiscard]] static uint64_t key(const ShellMesh& mesh, const std::vector<uint8_t>& held_dof,
+                                    const ModalShellSettings& settings);
+  /// The model as bytes, for the on-disk cache (sim/modal_shell_cache), tagged with `key`.
+  [[nodiscard]] std::vector<uint8_t> to_bytes(uint64_t key) const;
+  /// Reads to_bytes() output; throws std::invalid_argument when the bytes are short, corrupt or
+  /// made for another key.
+  static ModalShellModel from_bytes(const std::vector<uint8_t>& bytes, uint64_t key,
+                                    const ModalShellSettings& settings);
+
  private:
   ModalShellSettings settings_;
   int32_t node_count_ = 0;
   Eigen::VectorXd omega_;
-  Eigen::MatrixXd phi_;  // 6 n x m
+  Eigen::MatrixXd phi_;              // 6 n x m
+  Eigen::MatrixXd phi_translation_;  // 3 n x m: the translation rows, contiguous for u = Φ q
+  void split_translations();
+
+ public:
+  /// The translation rows of the modes (node i's at 3 i), for u = Φ q in one product.
+  [[nodiscard]] const Eigen::MatrixXd& translation_modes() const { return phi_translation_; }
 };
 
 /// The lowest `count` eigenpairs of an assembled shell (ascending ω, mass-normalised, free
@@ -71,12 +87,34 @@ class ModalShellModel {
 void lowest_modes(const AssembledShell& shell, int32_t count, Eigen::VectorXd* omega,
                   Eigen::MatrixXd* phi_free);
 
+/// The default cystic duct (§7.4: 8–10 mm across): a straight tube, its two end rings held where
+/// it joins the gallbladder neck and the common bile duct, and the translations of one line
+/// along its underside held by the supporting membrane (it "can be deformed but not
+/// translated", §7.7). Project estimates, not measurements: wall E = 2 MPa, ν = 0.45,
+/// 1060 kg/m³.
+struct DuctSettings {
+  double outer_diameter_m = 0.008;
+  double wall_thickness_m = 0.0008;
+  double length_m = 0.03;
+  int32_t around = 24;
+  int32_t along = 30;
+  double membrane_angle_rad = -M_PI / 2;  ///< where the membrane line runs (about the axis)
+};
+struct DuctShell {
+  ShellMesh mesh;
+  std::vector<uint8_t> held_dof;
+};
+[[nodiscard]] DuctShell make_duct_shell(const DuctSettings& duct);
+[[nodiscard]] ModalShellSettings default_duct_modal_settings(const DuctSettings& duct);
+
 struct ModalShellState {
   Eigen::VectorXd q;  ///< modal coordinates
   Eigen::VectorXd q_dot;
   Eigen::VectorXd force;        ///< 6 n generalised forces [N, N m], cleared by each step
   Eigen::VectorXd modal_force;  ///< m (workspace)
   std::vector<Eigen::Vector3d> displacement;  ///< n node translations u = Φ q [m]
+  std::vector<int32_t> forced_nodes;          ///< nodes with a force this step (workspace)
+  std::vector<uint8_t> is_forced;             ///< n flags for forced_nodes
   explicit ModalShellState(const ModalShellModel& model);
 };
 

@@ -25,7 +25,7 @@ Eigen::Matrix<double, 8, 8> membrane(double a, double b, const ShellMaterial& m)
   for (const double xi : {-g, g}) {
     for (const double eta : {-g, g}) {
       Eigen::Matrix<double, 3, 12> bm = Eigen::Matrix<double, 3, 12>::Zero();
-      for (int i = 0; i < 4; ++i) {
+      for (Eigen::Index i = 0; i < 4; ++i) {
         const double dx = 0.25 * xi_n[i] * (1.0 + eta * eta_n[i]) * (2.0 / a);
         const double dy = 0.25 * eta_n[i] * (1.0 + xi * xi_n[i]) * (2.0 / b);
         bm(0, 2 * i) = dx;
@@ -76,7 +76,7 @@ Eigen::Matrix<double, 12, 12> bending(double a, double b, const ShellMaterial& m
   const std::array<double, 4> xs = {0.0, a, a, 0.0};
   const std::array<double, 4> ys = {0.0, 0.0, b, b};
   Eigen::Matrix<double, 12, 12> c;
-  for (int i = 0; i < 4; ++i) {
+  for (Eigen::Index i = 0; i < 4; ++i) {
     const Eigen::Matrix<double, 3, 12> d = dmonomials(xs[i], ys[i]);
     c.row(3 * i) = d.row(0);
     c.row(3 * i + 1) = d.row(2);
@@ -134,11 +134,11 @@ void shell_element_matrices(const std::array<Eigen::Vector3d, 4>& p, const Shell
     for (int j = 0; j < 4; ++j) kl(6 * i + 5, 6 * j + 5) += drill * ((i == j ? 1.0 : 0.0) - 0.25);
   }
   ShellElementMatrix t = ShellElementMatrix::Zero();
-  for (int i = 0; i < 8; ++i) t.block<3, 3>(3 * i, 3 * i) = r;
+  for (Eigen::Index i = 0; i < 8; ++i) t.block<3, 3>(3 * i, 3 * i) = r;
   *stiffness = t.transpose() * kl * t;
   const double m = material.density_kg_per_m3 * material.thickness_m * a * b / 4.0;
   const double rot = m * material.thickness_m * material.thickness_m / 12.0;
-  for (int i = 0; i < 4; ++i) {
+  for (Eigen::Index i = 0; i < 4; ++i) {
     mass->segment<3>(6 * i).setConstant(m);
     mass->segment<3>(6 * i + 3).setConstant(rot);
   }

@@ -192,6 +192,45 @@ TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
     EXPECT_TRUE(db.vertex_normal(v).isApprox(fresh.vertex_normal(v), 1e-12));
 }
 
+// A local deformation (§6.5) through the workspace touches each face, vertex and leaf once,
+// and must leave exactly what the plain update leaves: normals bit for bit, and tree boxes equal
+// to a full refit's.
+TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
+  const TriangleMesh m = make_uv_sphere(0.05, 40, 80);
+  MeshDatabase local = MeshDatabase::build(m);
+  MeshDatabase plain = MeshDatabase::build(m);
+  MeshUpdateScratch scratch(local);
+  std::vector<Eigen::Vector3d> positions = m.positions;
+  std::mt19937 rng(2);
+  std::uniform_int_distribution<int32_t> pick(0, local.vertex_count() - 1);
+  for (int round = 0; round < 30; ++round) {
+    // Dent a patch around a random vertex (and let the last patch spring back).
+    const Eigen::Vector3d centre = m.positions[pick(rng)];
+    std::vector<int32_t> moved;
+    for (int32_t v = 0; v < local.vertex_count(); ++v) {
+      const double d = (m.positions[v] - centre).norm();
+      const bool was = positions[v] != m.positions[v];
+      positions[v] =
+          d < 0.015 ? m.positions[v] * (1.0 - 0.2 * (0.015 - d) / 0.015) : m.positions[v];
+      if (was || d < 0.015) moved.push_back(v);
+    }
+    local.set_positions(positions, moved, &scratch);
+    plain.set_positions(positions, moved);
+    for (int32_t v = 0; v < local.vertex_count(); ++v) {
+      ASSERT_EQ(local.vertex_normal(v), plain.vertex_normal(v)) << "round " << round << " v " << v;
+      ASSERT_EQ(local.position(v), plain.position(v));
+    }
+    const auto& a = local.tree().nodes();
+    const auto& b = plain.tree().nodes();
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a[i].lo, b[i].lo) << "round " << round << " node " << i;
+      ASSERT_EQ(a[i].hi, b[i].hi) << "round " << round << " node " << i;
+    }
+    EXPECT_EQ(local.revision(), plain.revision());
+  }
+}
+
 TEST(BoundingVolumeTree, NodeBoxesContainTheirFaces) {
   const MeshDatabase db = MeshDatabase::build(make_stand_in_liver());
   const auto& nodes = db.tree().nodes();

@@ -10,6 +10,7 @@
 #include "haptics/mesh_generators.h"
 #include "models/catheter_model.h"
 #include "models/local_deformation.h"
+#include "models/modal_shell.h"
 #include "models/rigid_body.h"
 #include "tests/support/counting_allocator.h"
 
@@ -22,6 +23,16 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
       haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 12));
   const LocalDeformationModel local = LocalDeformationModel::build(db, {});
   LocalDeformationState local_state(local);
+  haptics::MeshUpdateScratch scratch(db);
+  // The duct's modes.
+  DuctSettings duct;
+  duct.around = 12;
+  duct.along = 10;
+  const DuctShell shell = make_duct_shell(duct);
+  ModalShellSettings modal = default_duct_modal_settings(duct);
+  modal.modes = 8;
+  const ModalShellModel duct_model = ModalShellModel::build(shell.mesh, shell.held_dof, modal);
+  ModalShellState duct_state(duct_model);
   // A catheter clamped at one end, pushed about, with a large start that trips the guard.
   const CatheterModel catheter = CatheterModel::build({});
   CatheterState cath(catheter, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
@@ -48,7 +59,13 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
       }
       EXPECT_TRUE(
           deform(local, {contacts.data(), static_cast<size_t>(std::min(k, 3))}, &local_state));
-      db.set_positions(local_state.positions, local_state.changed);
+      if (step % 2 == 0) {
+        db.set_positions(local_state.positions, local_state.changed);
+      } else {
+        db.set_positions(local_state.positions, local_state.changed, &scratch);
+      }
+      apply_node_force(&duct_state, 5 * duct.around + 3, Eigen::Vector3d(0.0, -0.01, 0.0));
+      EXPECT_TRUE(step_modal_shell(duct_model, &duct_state, 0.005));
 
       cath.external_force[40] = Eigen::Vector3d(0.0, 0.01 * std::sin(0.01 * step), 0.0);
       EXPECT_TRUE(step_catheter(catheter, &cath, 0.005));
