@@ -123,6 +123,9 @@ CatheterState::CatheterState(const CatheterModel& model, const Eigen::Vector3d& 
   velocities.assign(n, Eigen::Vector3d::Zero());
   external_force.assign(n, Eigen::Vector3d::Zero());
   fixed.assign(n, 0);
+  anchor_target.assign(n, Eigen::Vector3d::Zero());
+  anchor_stiffness.assign(n, 0.0);
+  anchor_damping.assign(n, 0.0);
   const Eigen::Vector3d d = direction.normalized();
   for (size_t i = 0; i < n; ++i) {
     positions[i] = start + static_cast<double>(i) * model.rest_length_m() * d;
@@ -140,6 +143,10 @@ double catheter_energy(const CatheterModel& model, const CatheterState& state) {
   for (int i = 0; i + 1 < n; ++i) {
     const double dl = (state.positions[i + 1] - state.positions[i]).norm() - model.rest_length_m();
     e += 0.5 * model.stretch_stiffness() * dl * dl;
+  }
+  for (int i = 0; i < n; ++i) {
+    e += 0.5 * state.anchor_stiffness[i] *
+         (state.anchor_target[i] - state.positions[i]).squaredNorm();
   }
   for (int i = 1; i + 1 < n; ++i) {
     const Vec3 t1 = (state.positions[i] - state.positions[i - 1]).normalized();
@@ -171,7 +178,15 @@ bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) 
     const Vec3 f = state->external_force[i] + model.mass_of(i) * model.settings().gravity_m_per_s2 -
                    model.settings().drag_n_s_per_m * v[i];
     for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] = f(c);
-    const double diag = model.mass_of(i) + dt * model.settings().drag_n_s_per_m;
+    double diag = model.mass_of(i) + dt * model.settings().drag_n_s_per_m;
+    const double ka = state->anchor_stiffness[i];
+    if (ka > 0.0 || state->anchor_damping[i] > 0.0) {
+      // f = k_a (target − x) − c_a v; K = k_a I, D = c_a I; rhs gets f − dt K v.
+      const Vec3 fa =
+          ka * (state->anchor_target[i] - x[i]) - state->anchor_damping[i] * v[i] - dt * ka * v[i];
+      for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += fa(c);
+      diag += dt * dt * ka + dt * state->anchor_damping[i];
+    }
     add_block(&state->band, i, i, diag * Mat3::Identity());
   }
   auto add_rhs = [&](int i, const Vec3& f) {

@@ -70,6 +70,11 @@ struct CatheterState {
   std::vector<Eigen::Vector3d> velocities;      ///< n x 3 [m/s]
   std::vector<Eigen::Vector3d> external_force;  ///< n x 3 [N], cleared by each step
   std::vector<uint8_t> fixed;                   ///< n: 1 = held in place (clamp)
+  /// Anchors: a spring (and damper) from particle i to a target, inside the implicit solve so
+  /// that stiff attachments (a grasp, §7.6.3) stay stable at the modelling step. Stiffness 0: none.
+  std::vector<Eigen::Vector3d> anchor_target;  ///< n [m]
+  std::vector<double> anchor_stiffness;        ///< n [N/m]
+  std::vector<double> anchor_damping;          ///< n [N s/m]
   // Workspace of the step (sized once): the band of the system matrix, its right-hand side.
   std::vector<double> band;  ///< (3n) x (w + 1), lower band, w = 8
   std::vector<double> rhs;   ///< 3n
@@ -85,7 +90,8 @@ struct CatheterState {
                 const Eigen::Vector3d& direction);
 };
 
-/// Kinetic + stretch + bending energy (gravity and external forces excluded) [J].
+/// Kinetic + stretch + bending + anchor-spring energy (gravity and external forces excluded)
+/// [J].
 [[nodiscard]] double catheter_energy(const CatheterModel& model, const CatheterState& state);
 /// Potential energy in gravity [J] (relative to the origin).
 [[nodiscard]] double catheter_gravity_energy(const CatheterModel& model,
