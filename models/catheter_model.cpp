@@ -126,6 +126,10 @@ CatheterState::CatheterState(const CatheterModel& model, const Eigen::Vector3d& 
   anchor_target.assign(n, Eigen::Vector3d::Zero());
   anchor_stiffness.assign(n, 0.0);
   anchor_damping.assign(n, 0.0);
+  contact_normal.assign(n, Eigen::Vector3d::UnitZ());
+  contact_offset.assign(n, 0.0);
+  contact_stiffness.assign(n, 0.0);
+  contact_damping.assign(n, 0.0);
   const Eigen::Vector3d d = direction.normalized();
   for (size_t i = 0; i < n; ++i) {
     positions[i] = start + static_cast<double>(i) * model.rest_length_m() * d;
@@ -147,6 +151,9 @@ double catheter_energy(const CatheterModel& model, const CatheterState& state) {
   for (int i = 0; i < n; ++i) {
     e += 0.5 * state.anchor_stiffness[i] *
          (state.anchor_target[i] - state.positions[i]).squaredNorm();
+    // A contact is linearised as a two-sided spring over a step; its energy likewise.
+    const double gap = state.contact_offset[i] - state.contact_normal[i].dot(state.positions[i]);
+    e += 0.5 * state.contact_stiffness[i] * gap * gap;
   }
   for (int i = 1; i + 1 < n; ++i) {
     const Vec3 t1 = (state.positions[i] - state.positions[i - 1]).normalized();
@@ -187,7 +194,18 @@ bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) 
       for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += fa(c);
       diag += dt * dt * ka + dt * state->anchor_damping[i];
     }
-    add_block(&state->band, i, i, diag * Mat3::Identity());
+    Mat3 block = diag * Mat3::Identity();
+    const double kc = state->contact_stiffness[i];
+    if (kc > 0.0) {
+      // Along the normal only: f = (k_c (offset − n·x) − c_c n·v) n; K = k_c n nᵀ, D = c_c n nᵀ.
+      const Vec3& nc = state->contact_normal[i];
+      const double depth = state->contact_offset[i] - nc.dot(x[i]);
+      const Vec3 fc =
+          (kc * depth - state->contact_damping[i] * nc.dot(v[i]) - dt * kc * nc.dot(v[i])) * nc;
+      for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += fc(c);
+      block += (dt * dt * kc + dt * state->contact_damping[i]) * nc * nc.transpose();
+    }
+    add_block(&state->band, i, i, block);
   }
   auto add_rhs = [&](int i, const Vec3& f) {
     for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += f(c);

@@ -75,6 +75,13 @@ struct CatheterState {
   std::vector<Eigen::Vector3d> anchor_target;  ///< n [m]
   std::vector<double> anchor_stiffness;        ///< n [N/m]
   std::vector<double> anchor_damping;          ///< n [N s/m]
+  /// Contact planes (§7.6.3): particle i is pushed out along `contact_normal` while
+  /// n · x < contact_offset, by a spring (and damper) along n only, inside the implicit solve.
+  /// Set each modelling step by the contact search (catheter_contacts.h); stiffness 0: none.
+  std::vector<Eigen::Vector3d> contact_normal;  ///< n, unit
+  std::vector<double> contact_offset;           ///< n [m]
+  std::vector<double> contact_stiffness;        ///< n [N/m]
+  std::vector<double> contact_damping;          ///< n [N s/m]
   // Workspace of the step (sized once): the band of the system matrix, its right-hand side.
   std::vector<double> band;  ///< (3n) x (w + 1), lower band, w = 8
   std::vector<double> rhs;   ///< 3n

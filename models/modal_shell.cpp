@@ -268,6 +268,48 @@ void apply_node_force(ModalShellState* state, int32_t node, const Eigen::Vector3
   }
 }
 
+void apply_surface_force(const haptics::MeshDatabase& surface, haptics::PrimitiveRef primitive,
+                         const Eigen::Vector3d& point_O, const Eigen::Vector3d& force_W,
+                         ModalShellState* state) {
+  switch (primitive.kind) {
+    case haptics::PrimitiveKind::kVertex:
+      apply_node_force(state, primitive.index, force_W);
+      return;
+    case haptics::PrimitiveKind::kEdge: {
+      const auto& ev = surface.edge_vertices(primitive.index);
+      const Eigen::Vector3d& a = surface.position(ev[0]);
+      const Eigen::Vector3d& b = surface.position(ev[1]);
+      const double len2 = (b - a).squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((point_O - a).dot(b - a) / len2, 0.0, 1.0) : 0.5;
+      apply_node_force(state, ev[0], (1.0 - t) * force_W);
+      apply_node_force(state, ev[1], t * force_W);
+      return;
+    }
+    case haptics::PrimitiveKind::kFace: {
+      const auto& fv = surface.face_vertices(primitive.index);
+      const Eigen::Vector3d& a = surface.position(fv[0]);
+      const Eigen::Vector3d e1 = surface.position(fv[1]) - a;
+      const Eigen::Vector3d e2 = surface.position(fv[2]) - a;
+      const Eigen::Vector3d d = point_O - a;
+      // Barycentric coordinates of the point's projection.
+      const double d11 = e1.dot(e1);
+      const double d12 = e1.dot(e2);
+      const double d22 = e2.dot(e2);
+      const double det = d11 * d22 - d12 * d12;
+      double v = det > 0.0 ? (d22 * d.dot(e1) - d12 * d.dot(e2)) / det : 1.0 / 3.0;
+      double w = det > 0.0 ? (d11 * d.dot(e2) - d12 * d.dot(e1)) / det : 1.0 / 3.0;
+      v = std::clamp(v, 0.0, 1.0);
+      w = std::clamp(w, 0.0, 1.0 - v);
+      apply_node_force(state, fv[0], (1.0 - v - w) * force_W);
+      apply_node_force(state, fv[1], v * force_W);
+      apply_node_force(state, fv[2], w * force_W);
+      return;
+    }
+    case haptics::PrimitiveKind::kNone:
+      return;
+  }
+}
+
 bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, double dt) noexcept {
   if (!(dt > 0.0) || !std::isfinite(dt) || !state->force.allFinite()) {
     state->q.setZero();

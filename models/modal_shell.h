@@ -18,6 +18,7 @@
 #include <span>
 #include <vector>
 
+#include "haptics/mesh_database.h"
 #include "models/shell_element.h"
 #include "models/shell_mesh.h"
 
@@ -120,6 +121,11 @@ struct ModalShellState {
 
 /// Adds a force at a node (translation dofs).
 void apply_node_force(ModalShellState* state, int32_t node, const Eigen::Vector3d& force_W);
+/// Adds a force at a point of the shell's triangulated surface (shell_mesh.h triangulate()),
+/// shared among the nodes of the primitive it lies on by barycentric weights.
+void apply_surface_force(const haptics::MeshDatabase& surface, haptics::PrimitiveRef primitive,
+                         const Eigen::Vector3d& point_O, const Eigen::Vector3d& force_W,
+                         ModalShellState* state);
 
 /// Advances the modes by dt (exact for a force held over the step) and updates `displacement`.
 /// Returns false (state at rest) on a non-finite force or dt.

@@ -26,4 +26,14 @@ ShellMesh make_tube_shell(double radius_m, double length_m, int32_t around, int3
   return m;
 }
 
+haptics::TriangleMesh triangulate(const ShellMesh& mesh) {
+  haptics::TriangleMesh t;
+  t.positions = mesh.nodes;
+  for (const auto& q : mesh.quads) {
+    t.triangles.push_back({q[0], q[1], q[2]});
+    t.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return t;
+}
+
 }  // namespace lap::models

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "haptics/triangle_mesh.h"
+
 namespace lap::models {
 
 struct ShellMesh {
@@ -20,5 +22,9 @@ struct ShellMesh {
 /// around. Every quad is a planar rectangle.
 [[nodiscard]] ShellMesh make_tube_shell(double radius_m, double length_m, int32_t around,
                                         int32_t along);
+
+/// The surface the proxies and the catheter touch: each quad as two triangles (0 1 2, 0 2 3),
+/// the shell's nodes as its vertices in the same order (so a displacement per node moves it).
+[[nodiscard]] haptics::TriangleMesh triangulate(const ShellMesh& mesh);
 
 }  // namespace lap::models

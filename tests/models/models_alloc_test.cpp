@@ -8,6 +8,8 @@
 
 #include "haptics/mesh_database.h"
 #include "haptics/mesh_generators.h"
+#include "models/catheter_contacts.h"
+#include "models/catheter_grasp.h"
 #include "models/catheter_model.h"
 #include "models/local_deformation.h"
 #include "models/modal_shell.h"
@@ -40,6 +42,15 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
   std::mt19937 rng(1);
   std::normal_distribution<double> g(0.0, 1.0);
   for (auto& p : cath.positions) p += 0.002 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+  // The catheter lies on a block and is grasped by jaws that close and open.
+  const haptics::MeshDatabase block =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.4, 0.1, 0.1), 4));
+  const Eigen::Isometry3d block_pose(Eigen::Translation3d(0.0, -0.0513, 0.0));
+  SurfaceTracking tracking(block, block_pose, cath);
+  std::vector<SurfaceReaction> reactions(static_cast<size_t>(catheter.particle_count()));
+  GraspState grasp;
+  JawFrame jaws;
+  jaws.hinge_W = Eigen::Vector3d(0.1, 0.01, 0.0);
   // A rigid body pushed at a corner.
   const RigidBodyModel body = RigidBodyModel::solid_box(0.2, {0.05, 0.05, 0.05});
   RigidBodyState body_state;
@@ -68,7 +79,13 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
       EXPECT_TRUE(step_modal_shell(duct_model, &duct_state, 0.005));
 
       cath.external_force[40] = Eigen::Vector3d(0.0, 0.01 * std::sin(0.01 * step), 0.0);
+      jaws.opening_rad = 0.5 + 0.4 * std::sin(0.02 * step);
+      (void)update_grasp({}, jaws, catheter, &cath, &grasp);
+      (void)coupling_force({}, jaws, cath, grasp);
+      clear_contacts(&cath);
+      const int32_t n = update_surface_contacts(block, block_pose, {}, &tracking, &cath, reactions);
       EXPECT_TRUE(step_catheter(catheter, &cath, 0.005));
+      settle_reactions(cath, {reactions.data(), static_cast<size_t>(n)});
 
       apply_force_at(body, &body_state, Eigen::Vector3d(0.1, 0.0, 0.0),
                      body_state.pose_WB * Eigen::Vector3d(0.025, 0.025, 0.0));

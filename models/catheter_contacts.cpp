@@ -1,0 +1,106 @@
+#include "models/catheter_contacts.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "haptics/closest_point.h"
+#include "haptics/point_proxy.h"
+
+namespace lap::models {
+
+namespace {
+
+bool on_boundary(const haptics::MeshDatabase& m, haptics::PrimitiveRef p) {
+  if (!m.has_boundary()) return false;
+  if (p.kind == haptics::PrimitiveKind::kEdge) return m.edge_faces(p.index)[1] < 0;
+  if (p.kind != haptics::PrimitiveKind::kVertex) return false;
+  bool boundary = false;
+  m.for_each_vertex_face(p.index, [&](int32_t f) {
+    for (int32_t e : m.face_edges(f)) boundary = boundary || m.edge_faces(e)[1] < 0;
+  });
+  return boundary;
+}
+
+}  // namespace
+
+SurfaceTracking::SurfaceTracking(const haptics::MeshDatabase& surface,
+                                 const Eigen::Isometry3d& pose_WO, const CatheterState& catheter) {
+  const Eigen::Isometry3d inv = pose_WO.inverse();
+  nearest.resize(catheter.positions.size());
+  for (size_t i = 0; i < catheter.positions.size(); ++i) {
+    const Eigen::Vector3d p = inv * catheter.positions[i];
+    double best = std::numeric_limits<double>::infinity();
+    for (int32_t f = 0; f < surface.face_count(); ++f) {
+      const auto& fv = surface.face_vertices(f);
+      haptics::TriangleFeature feature;
+      const Eigen::Vector3d q = haptics::closest_on_triangle(
+          p, surface.position(fv[0]), surface.position(fv[1]), surface.position(fv[2]), &feature);
+      const double d = (q - p).squaredNorm();
+      if (d < best) {
+        best = d;
+        nearest[i] = {haptics::PrimitiveKind::kFace, f};
+      }
+    }
+  }
+}
+
+void settle_reactions(const CatheterState& c, std::span<SurfaceReaction> reactions) noexcept {
+  for (SurfaceReaction& r : reactions) {
+    const auto i = static_cast<size_t>(r.particle);
+    const Eigen::Vector3d& n = c.contact_normal[i];
+    const double push = c.contact_stiffness[i] * (c.contact_offset[i] - n.dot(c.positions[i])) -
+                        c.contact_damping[i] * n.dot(c.velocities[i]);
+    r.force_on_surface_W = -std::max(0.0, push) * n;
+  }
+}
+
+void clear_contacts(CatheterState* catheter) noexcept {
+  for (double& k : catheter->contact_stiffness) k = 0.0;
+  for (double& c : catheter->contact_damping) c = 0.0;
+}
+
+int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
+                                const Eigen::Isometry3d& pose_WO, const SurfaceContactSettings& s,
+                                SurfaceTracking* tracking, CatheterState* cath,
+                                std::span<SurfaceReaction> out) noexcept {
+  const Eigen::Isometry3d inv = pose_WO.inverse();
+  int32_t count = 0;
+  for (size_t i = 0; i < cath->positions.size(); ++i) {
+    const Eigen::Vector3d p = inv * cath->positions[i];
+    if (!p.allFinite()) continue;
+    Eigen::Vector3d q;
+    int32_t rounds = 0;
+    const haptics::PrimitiveRef prim =
+        haptics::PointProxy::local_search(surface, tracking->nearest[i], p, &q, &rounds);
+    tracking->nearest[i] = prim;
+    // Past the rim of an open surface (the duct's ends) there is no wall: a particle whose
+    // nearest point is a boundary edge or vertex, and which lies off to the side of it rather
+    // than in front, is free.
+    if (on_boundary(surface, prim)) {
+      const Eigen::Vector3d d = p - q;
+      const double len = d.norm();
+      if (len > 0.0 && std::abs(surface.normal(prim).dot(d)) < 0.7 * len) continue;
+    }
+    Eigen::Vector3d n = surface.normal(prim);
+    if (s.from_inside) n = -n;
+    const double distance = n.dot(p - q);  // signed, along the side the particle may be on
+    if (distance >= s.clearance_m) continue;
+    // The plane the particle must stay beyond: through q + clearance n, in the world frame.
+    const Eigen::Vector3d n_W = pose_WO.linear() * n;
+    const Eigen::Vector3d q_W = pose_WO * q;
+    cath->contact_normal[i] = n_W;
+    cath->contact_offset[i] = n_W.dot(q_W) + s.clearance_m;
+    cath->contact_stiffness[i] = s.stiffness_n_per_m;
+    cath->contact_damping[i] = s.damping_n_s_per_m;
+    if (count < static_cast<int32_t>(out.size())) {
+      SurfaceReaction& r = out[count++];
+      r.particle = static_cast<int32_t>(i);
+      r.primitive = prim;
+      r.point_O = q;
+      r.force_on_surface_W = -s.stiffness_n_per_m * (s.clearance_m - distance) * n_W;
+    }
+  }
+  return count;
+}
+
+}  // namespace lap::models

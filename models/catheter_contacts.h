@@ -1,0 +1,68 @@
+#pragma once
+/// \file
+/// Contacts between the catheter and the other deformables (thesis §7.6.3, Figure 7-19): the
+/// catheter's centre-line particles against a surface (an organ, or the duct's inner wall), each
+/// kept the catheter's radius (plus, for the duct's mid-surface, half its wall) away from it.
+/// Each particle tracks its nearest primitive by the point proxy's local search (Neighborhood
+/// Watch, §4.3) from one modelling step to the next, so the cost does not depend on the surface's
+/// size; the first nearest primitives come from an exhaustive search at setup.
+///
+/// A particle closer than its clearance gets a contact plane in the catheter state (a spring
+/// along the surface normal inside the catheter's implicit step), and its reaction — equal and
+/// opposite — is reported for the surface's model (local deformation, the duct's modes).
+///
+/// The search allocates nothing and never throws.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "haptics/mesh_database.h"
+#include "models/catheter_model.h"
+
+namespace lap::models {
+
+struct SurfaceContactSettings {
+  double clearance_m = 0.00125;  ///< the catheter's radius (+ half a shell's wall)
+  double stiffness_n_per_m = 100.0;
+  double damping_n_s_per_m = 0.005;
+  /// The surface is touched from its back (the inside of a tube whose normals point out).
+  bool from_inside = false;
+};
+
+/// Per particle, the nearest primitive found last time (object frame of the surface).
+struct SurfaceTracking {
+  std::vector<haptics::PrimitiveRef> nearest;
+  /// Exhaustive search for every particle (setup; O(particles × faces)).
+  SurfaceTracking(const haptics::MeshDatabase& surface, const Eigen::Isometry3d& pose_WO,
+                  const CatheterState& catheter);
+};
+
+/// One contact's reaction on the surface.
+struct SurfaceReaction {
+  int32_t particle = -1;
+  haptics::PrimitiveRef primitive;
+  Eigen::Vector3d point_O = Eigen::Vector3d::Zero();             ///< nearest point, object frame
+  Eigen::Vector3d force_on_surface_W = Eigen::Vector3d::Zero();  ///< [N]
+};
+
+/// Tracks every particle and sets (or clears) its contact plane for this surface; writes the
+/// reactions (the spring force at the current positions, negated) into `out` and returns how
+/// many (at most out.size()). Call once per surface per modelling step, before step_catheter;
+/// with several surfaces, the last one touching a particle sets its plane.
+int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
+                                const Eigen::Isometry3d& pose_WO,
+                                const SurfaceContactSettings& settings, SurfaceTracking* tracking,
+                                CatheterState* catheter, std::span<SurfaceReaction> out) noexcept;
+
+/// After step_catheter: the reactions become the contact springs' forces at the step's end
+/// (what the implicit step applied to the catheter, negated, never pulling), so both sides of
+/// every contact see the same force.
+void settle_reactions(const CatheterState& catheter, std::span<SurfaceReaction> reactions) noexcept;
+
+/// Clears every particle's contact plane (before the surfaces set them again).
+void clear_contacts(CatheterState* catheter) noexcept;
+
+}  // namespace lap::models
