@@ -44,14 +44,25 @@ TEST(ModalShellCache, DefaultDuctIsSolvedOnceThenRead) {
               1e-6 * built.model.omega()(0));
 }
 
+// A coarse duct with few modes: quick to solve, for the cache's failure paths.
+struct SmallDuct {
+  models::DuctSettings duct;
+  models::DuctShell shell;
+  models::ModalShellSettings settings;
+  SmallDuct() {
+    duct.around = 12;
+    duct.along = 10;
+    shell = models::make_duct_shell(duct);
+    settings = models::default_duct_modal_settings(duct);
+    settings.modes = 8;
+  }
+};
+
 TEST(ModalShellCache, CorruptFileIsRebuiltAndSaid) {
   const test::TempDir tmp;
-  models::DuctSettings duct;
-  duct.around = 12;
-  duct.along = 10;
-  const models::DuctShell shell = models::make_duct_shell(duct);
-  models::ModalShellSettings settings = models::default_duct_modal_settings(duct);
-  settings.modes = 8;
+  const SmallDuct small;
+  const models::DuctShell& shell = small.shell;
+  const models::ModalShellSettings& settings = small.settings;
   const ModalShellLoad built =
       load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path());
   {
@@ -72,14 +83,9 @@ TEST(ModalShellCache, CorruptFileIsRebuiltAndSaid) {
 TEST(ModalShellCache, UnwritableDirectoryStillBuilds) {
   const test::TempDir tmp;
   const std::filesystem::path file = tmp.write("not_a_dir", "x");
-  models::DuctSettings duct;
-  duct.around = 12;
-  duct.along = 10;
-  const models::DuctShell shell = models::make_duct_shell(duct);
-  models::ModalShellSettings settings = models::default_duct_modal_settings(duct);
-  settings.modes = 8;
-  const ModalShellLoad r =
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, file / "modes");
+  const SmallDuct small;
+  const ModalShellLoad r = load_or_build_modal_shell(small.shell.mesh, small.shell.held_dof,
+                                                     small.settings, file / "modes");
   EXPECT_FALSE(r.from_cache);
   EXPECT_NE(r.note.find("could not write"), std::string::npos) << r.note;
   EXPECT_EQ(r.model.mode_count(), 8);
