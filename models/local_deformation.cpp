@@ -78,6 +78,53 @@ LocalDeformationModel LocalDeformationModel::build(const haptics::MeshDatabase& 
   return m;
 }
 
+DeformationContact rest_contact(const LocalDeformationModel& model,
+                                const haptics::MeshDatabase& deformed,
+                                haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
+                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
+  DeformationContact c;
+  c.penetration_O = force_O / stiffness_n_per_m;
+  switch (primitive.kind) {
+    case haptics::PrimitiveKind::kFace: {
+      const auto& fv = deformed.face_vertices(primitive.index);
+      const Eigen::Vector3d& a = deformed.position(fv[0]);
+      const Eigen::Vector3d e1 = deformed.position(fv[1]) - a;
+      const Eigen::Vector3d e2 = deformed.position(fv[2]) - a;
+      const Eigen::Vector3d d = point_O - a;
+      const double d11 = e1.dot(e1);
+      const double d12 = e1.dot(e2);
+      const double d22 = e2.dot(e2);
+      const double det = d11 * d22 - d12 * d12;
+      const double v = det > 0.0 ? (d22 * d.dot(e1) - d12 * d.dot(e2)) / det : 1.0 / 3.0;
+      const double w = det > 0.0 ? (d11 * d.dot(e2) - d12 * d.dot(e1)) / det : 1.0 / 3.0;
+      c.face = primitive.index;
+      c.point_O = (1.0 - v - w) * model.rest_position(fv[0]) + v * model.rest_position(fv[1]) +
+                  w * model.rest_position(fv[2]);
+      break;
+    }
+    case haptics::PrimitiveKind::kEdge: {
+      const auto& ev = deformed.edge_vertices(primitive.index);
+      const Eigen::Vector3d& a = deformed.position(ev[0]);
+      const Eigen::Vector3d ab = deformed.position(ev[1]) - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((point_O - a).dot(ab) / len2, 0.0, 1.0) : 0.5;
+      c.face = deformed.edge_faces(primitive.index)[0];
+      c.point_O = (1.0 - t) * model.rest_position(ev[0]) + t * model.rest_position(ev[1]);
+      break;
+    }
+    case haptics::PrimitiveKind::kVertex: {
+      int32_t face = -1;
+      deformed.for_each_vertex_face(primitive.index, [&](int32_t f) { face = f; });
+      c.face = face;
+      c.point_O = model.rest_position(primitive.index);
+      break;
+    }
+    case haptics::PrimitiveKind::kNone:
+      break;  // face stays -1: deform() refuses it
+  }
+  return c;
+}
+
 LocalDeformationState::LocalDeformationState(const LocalDeformationModel& model)
     : positions(static_cast<size_t>(model.vertex_count())),
       flags(static_cast<size_t>(model.vertex_count()), 0) {

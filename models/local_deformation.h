@@ -92,6 +92,17 @@ struct LocalDeformationState {
   explicit LocalDeformationState(const LocalDeformationModel& model);
 };
 
+/// The contact, on the rest shape, of a force pushing on the deformed surface (a catheter's
+/// reaction, §7.6.3; a proxy's contact): the point keeps its barycentric place on its primitive,
+/// mapped from the deformed positions to the rest ones, and the penetration is force / stiffness
+/// (the organ's haptic stiffness), so the dent answers the push as the proxies feel it.
+[[nodiscard]] DeformationContact rest_contact(const LocalDeformationModel& model,
+                                              const haptics::MeshDatabase& deformed,
+                                              haptics::PrimitiveRef primitive,
+                                              const Eigen::Vector3d& point_O,
+                                              const Eigen::Vector3d& force_O,
+                                              double stiffness_n_per_m);
+
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
 /// rest). Afterwards `changed` lists every vertex whose position changed since the previous call
 /// (what MeshDatabase::set_positions(positions, changed) needs). Returns false, leaving the rest

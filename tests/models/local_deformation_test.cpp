@@ -202,6 +202,52 @@ TEST(LocalDeformation, RealLiverAgainstBruteForce) {
       static_cast<double>(model.neighbour_entries()) / model.vertex_count());
 }
 
+// A push on the deformed surface (a catheter's reaction) becomes a contact on the rest shape:
+// the point keeps its barycentric place on its face, the penetration is force / stiffness.
+TEST(LocalDeformation, RestContactMapsAPushOnTheDeformedSurfaceBackToRest) {
+  haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 10));
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.03;
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  LocalDeformationState state(model);
+  // Dent the top, then take a point inside a dented face.
+  int32_t face = -1;
+  for (int32_t f = 0; f < db.face_count() && face < 0; ++f) {
+    if (db.face_normal(f).y() > 0.99) face = f;
+  }
+  ASSERT_GE(face, 0);
+  const auto& fv = db.face_vertices(face);
+  DeformationContact dent;
+  dent.face = face;
+  dent.point_O = db.position(fv[0]);
+  dent.penetration_O = Eigen::Vector3d(0.0, -0.006, 0.0);
+  ASSERT_TRUE(deform(model, {&dent, 1}, &state));
+  db.set_positions(state.positions, state.changed);
+  const Eigen::Vector3d bary(0.2, 0.5, 0.3);
+  const Eigen::Vector3d on_deformed =
+      bary.x() * db.position(fv[0]) + bary.y() * db.position(fv[1]) + bary.z() * db.position(fv[2]);
+  const Eigen::Vector3d force(0.001, -0.04, 0.0);
+  const DeformationContact c =
+      rest_contact(model, db, {haptics::PrimitiveKind::kFace, face}, on_deformed, force, 400.0);
+  const Eigen::Vector3d on_rest = bary.x() * model.rest_position(fv[0]) +
+                                  bary.y() * model.rest_position(fv[1]) +
+                                  bary.z() * model.rest_position(fv[2]);
+  EXPECT_EQ(c.face, face);
+  EXPECT_LT((c.point_O - on_rest).norm(), 1e-15);
+  EXPECT_LT((c.penetration_O - force / 400.0).norm(), 1e-18);
+  // On an edge: the point's place along it, and a face of the edge.
+  const int32_t e = db.face_edges(face)[0];
+  const auto& ev = db.edge_vertices(e);
+  const Eigen::Vector3d mid = 0.25 * db.position(ev[0]) + 0.75 * db.position(ev[1]);
+  const DeformationContact ce =
+      rest_contact(model, db, {haptics::PrimitiveKind::kEdge, e}, mid, force, 400.0);
+  EXPECT_LT(
+      (ce.point_O - (0.25 * model.rest_position(ev[0]) + 0.75 * model.rest_position(ev[1]))).norm(),
+      1e-15);
+  EXPECT_GE(ce.face, 0);
+}
+
 // The deformed surface is the one the proxy feels: a probe coming straight down onto the dent's
 // centre (a vertex of the top face) touches it share |P| below the rest surface.
 TEST(LocalDeformation, PointProxyFeelsTheDeformedSurface) {
