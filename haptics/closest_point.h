@@ -99,4 +99,21 @@ inline Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen
   return a + v * ab + w * ac;
 }
 
+/// Barycentric coordinates (weights of a, b, c) of p's projection on the plane of triangle
+/// (a, b, c); the centroid's for a degenerate triangle. Not clamped to the triangle.
+inline Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                   const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e1 = b - a;
+  const Eigen::Vector3d e2 = c - a;
+  const Eigen::Vector3d d = p - a;
+  const double d11 = e1.dot(e1);
+  const double d12 = e1.dot(e2);
+  const double d22 = e2.dot(e2);
+  const double det = d11 * d22 - d12 * d12;
+  if (!(det > 0.0)) return Eigen::Vector3d::Constant(1.0 / 3.0);
+  const double v = (d22 * d.dot(e1) - d12 * d.dot(e2)) / det;
+  const double w = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
+  return {1.0 - v - w, v, w};
+}
+
 }  // namespace lap::haptics

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "haptics/closest_point.h"
+
 namespace lap::models {
 
 double LocalDeformationModel::weight(double distance_m) const {
@@ -87,16 +89,10 @@ DeformationContact rest_contact(const LocalDeformationModel& model,
   switch (primitive.kind) {
     case haptics::PrimitiveKind::kFace: {
       const auto& fv = deformed.face_vertices(primitive.index);
-      const Eigen::Vector3d& a = deformed.position(fv[0]);
-      const Eigen::Vector3d e1 = deformed.position(fv[1]) - a;
-      const Eigen::Vector3d e2 = deformed.position(fv[2]) - a;
-      const Eigen::Vector3d d = point_O - a;
-      const double d11 = e1.dot(e1);
-      const double d12 = e1.dot(e2);
-      const double d22 = e2.dot(e2);
-      const double det = d11 * d22 - d12 * d12;
-      const double v = det > 0.0 ? (d22 * d.dot(e1) - d12 * d.dot(e2)) / det : 1.0 / 3.0;
-      const double w = det > 0.0 ? (d11 * d.dot(e2) - d12 * d.dot(e1)) / det : 1.0 / 3.0;
+      const Eigen::Vector3d bary = haptics::barycentric(
+          point_O, deformed.position(fv[0]), deformed.position(fv[1]), deformed.position(fv[2]));
+      const double v = bary.y();
+      const double w = bary.z();
       c.face = primitive.index;
       c.point_O = (1.0 - v - w) * model.rest_position(fv[0]) + v * model.rest_position(fv[1]) +
                   w * model.rest_position(fv[2]);

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "haptics/closest_point.h"
+
 namespace lap::models {
 
 AssembledShell assemble_shell(const ShellMesh& mesh, const ShellMaterial& material,
@@ -287,17 +289,10 @@ void apply_surface_force(const haptics::MeshDatabase& surface, haptics::Primitiv
     }
     case haptics::PrimitiveKind::kFace: {
       const auto& fv = surface.face_vertices(primitive.index);
-      const Eigen::Vector3d& a = surface.position(fv[0]);
-      const Eigen::Vector3d e1 = surface.position(fv[1]) - a;
-      const Eigen::Vector3d e2 = surface.position(fv[2]) - a;
-      const Eigen::Vector3d d = point_O - a;
-      // Barycentric coordinates of the point's projection.
-      const double d11 = e1.dot(e1);
-      const double d12 = e1.dot(e2);
-      const double d22 = e2.dot(e2);
-      const double det = d11 * d22 - d12 * d12;
-      double v = det > 0.0 ? (d22 * d.dot(e1) - d12 * d.dot(e2)) / det : 1.0 / 3.0;
-      double w = det > 0.0 ? (d11 * d.dot(e2) - d12 * d.dot(e1)) / det : 1.0 / 3.0;
+      const Eigen::Vector3d bary = haptics::barycentric(
+          point_O, surface.position(fv[0]), surface.position(fv[1]), surface.position(fv[2]));
+      double v = bary.y();
+      double w = bary.z();
       v = std::clamp(v, 0.0, 1.0);
       w = std::clamp(w, 0.0, 1.0 - v);
       apply_node_force(state, fv[0], (1.0 - v - w) * force_W);
