@@ -29,7 +29,6 @@ struct ProbePlacementQp {
   std::array<Vector6, kMaxConstraints> g{};
   std::array<double, kMaxConstraints> h{};
 
-  void clear() { count = 0; }
   /// Adds the constraint n · ((1 − u) a + u b) ≥ offset. Returns false when full.
   bool add(const Eigen::Vector3d& n, double u, double offset);
 };

@@ -262,18 +262,12 @@ bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) 
   }
   // The coupling of a free row to a fixed one carries the fixed particle's known Δv = −v: with
   // the fixed particles at rest (v = 0) that is nothing, which is how clamps are used.
-  if (!band_cholesky_solve(&state->band, &state->rhs, dofs)) {
-    for (auto& vi : v) vi.setZero();
-    return false;
-  }
+  if (!band_cholesky_solve(&state->band, &state->rhs, dofs)) return false;
   for (int i = 0; i < n; ++i) {
     const Vec3 dv = Eigen::Map<const Vec3>(state->rhs.data() + static_cast<ptrdiff_t>(3) * i);
     const Vec3 v1 = v[i] + dv;
     const Vec3 x1 = x[i] + dt * v1;
-    if (!v1.allFinite() || !x1.allFinite()) {
-      for (auto& vi : v) vi.setZero();
-      return false;
-    }
+    if (!v1.allFinite() || !x1.allFinite()) return false;  // step_catheter restores
     v[i] = v1;
     x[i] = x1;
   }
@@ -316,13 +310,13 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
 }  // namespace
 
 bool step_catheter(const CatheterModel& model, CatheterState* state, double dt) noexcept {
-  const bool ok = std::isfinite(dt) && dt > 0.0 && guarded_step(model, state, dt, 0);
+  const bool valid_dt = std::isfinite(dt) && dt > 0.0;
+  const bool ok = valid_dt && guarded_step(model, state, dt, 0);
   for (auto& f : state->external_force) f.setZero();
   if (!ok) {
-    // Back to where the step started (level 0 of the guard's saves), at rest.
-    const int n = model.particle_count();
-    for (int i = 0; i < n && std::isfinite(dt) && dt > 0.0; ++i) {
-      state->positions[i] = state->saved_positions[i];
+    // Back where the step started (the guard's level-0 save), at rest.
+    if (valid_dt) {
+      std::copy_n(state->saved_positions.begin(), model.particle_count(), state->positions.begin());
     }
     for (auto& v : state->velocities) v.setZero();
   }

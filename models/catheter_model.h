@@ -50,8 +50,8 @@ class CatheterModel {
 
   [[nodiscard]] const CatheterSettings& settings() const { return settings_; }
   [[nodiscard]] int32_t particle_count() const { return settings_.particles; }
-  [[nodiscard]] double rest_length_m() const { return l0_; }       ///< l0, per segment
-  [[nodiscard]] double particle_mass_kg() const { return mass_; }  ///< end particles half
+  [[nodiscard]] double rest_length_m() const { return l0_; }  ///< l0, per segment
+  /// Mass of particle i [kg] (the end particles carry half a segment).
   [[nodiscard]] double mass_of(int32_t i) const;
   [[nodiscard]] double stretch_stiffness() const { return k_l_; }  ///< k_l [N/m]
   [[nodiscard]] double bending_stiffness() const { return k_b_; }  ///< k_b = EI / l0 [N m]

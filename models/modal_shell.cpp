@@ -254,8 +254,7 @@ ModalShellSettings default_duct_modal_settings(const DuctSettings& duct) {
 ModalShellState::ModalShellState(const ModalShellModel& model)
     : q(Eigen::VectorXd::Zero(model.mode_count())),
       q_dot(Eigen::VectorXd::Zero(model.mode_count())),
-      force(
-          Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kShellDofsPerNode) * model.node_count())),
+      force(static_cast<size_t>(model.node_count()), Eigen::Vector3d::Zero()),
       modal_force(Eigen::VectorXd::Zero(model.mode_count())),
       displacement(static_cast<size_t>(model.node_count()), Eigen::Vector3d::Zero()),
       is_forced(static_cast<size_t>(model.node_count()), 0) {
@@ -263,7 +262,7 @@ ModalShellState::ModalShellState(const ModalShellModel& model)
 }
 
 void apply_node_force(ModalShellState* state, int32_t node, const Eigen::Vector3d& force_W) {
-  state->force.segment<3>(static_cast<Eigen::Index>(kShellDofsPerNode) * node) += force_W;
+  state->force[node] += force_W;
   if (state->is_forced[node] == 0) {
     state->is_forced[node] = 1;
     state->forced_nodes.push_back(node);  // reserved for every node: never reallocates
@@ -306,26 +305,24 @@ void apply_surface_force(const haptics::MeshDatabase& surface, haptics::Primitiv
 }
 
 bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, double dt) noexcept {
-  if (!(dt > 0.0) || !std::isfinite(dt) || !state->force.allFinite()) {
-    state->q.setZero();
-    state->q_dot.setZero();
-    state->force.setZero();
-    for (const int32_t node : state->forced_nodes) state->is_forced[node] = 0;
-    state->forced_nodes.clear();
-    for (auto& u : state->displacement) u.setZero();
-    return false;
-  }
-  const Eigen::MatrixXd& phi = model.modes();
-  // Φᵀ f over the forced nodes only: contacts touch a few nodes of hundreds.
+  // Φᵀ f over the forced nodes only (contacts touch a few nodes of hundreds), clearing them.
+  const Eigen::MatrixXd& phi = model.translation_modes();
+  bool finite = true;
   state->modal_force.setZero();
   for (const int32_t node : state->forced_nodes) {
-    const Eigen::Index row = static_cast<Eigen::Index>(kShellDofsPerNode) * node;
+    finite = finite && state->force[node].allFinite();
     state->modal_force.noalias() +=
-        phi.block(row, 0, 3, model.mode_count()).transpose() * state->force.segment<3>(row);
-    state->force.segment<3>(row).setZero();
+        phi.middleRows(3 * static_cast<Eigen::Index>(node), 3).transpose() * state->force[node];
+    state->force[node].setZero();
     state->is_forced[node] = 0;
   }
   state->forced_nodes.clear();
+  if (!(dt > 0.0) || !std::isfinite(dt) || !finite) {
+    state->q.setZero();
+    state->q_dot.setZero();
+    for (auto& u : state->displacement) u.setZero();
+    return false;
+  }
   const double zeta = model.settings().damping_ratio;
   for (int32_t k = 0; k < model.mode_count(); ++k) {
     // x = q − f/ω² oscillates freely about the static answer: advance it exactly.

@@ -111,8 +111,8 @@ struct DuctShell {
 struct ModalShellState {
   Eigen::VectorXd q;  ///< modal coordinates
   Eigen::VectorXd q_dot;
-  Eigen::VectorXd force;        ///< 6 n generalised forces [N, N m], cleared by each step
-  Eigen::VectorXd modal_force;  ///< m (workspace)
+  std::vector<Eigen::Vector3d> force;         ///< n node forces [N], cleared by each step
+  Eigen::VectorXd modal_force;                ///< m (workspace)
   std::vector<Eigen::Vector3d> displacement;  ///< n node translations u = Φ q [m]
   std::vector<int32_t> forced_nodes;          ///< nodes with a force this step (workspace)
   std::vector<uint8_t> is_forced;             ///< n flags for forced_nodes

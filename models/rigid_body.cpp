@@ -54,12 +54,6 @@ Eigen::Vector3d angular_velocity_W(const RigidBodyModel& model, const RigidBodyS
   return inverse_inertia_W(model, state.pose_WB.linear()) * state.angular_momentum_W;
 }
 
-Eigen::Vector3d point_velocity_W(const RigidBodyModel& model, const RigidBodyState& state,
-                                 const Eigen::Vector3d& p_W) {
-  return linear_velocity_W(model, state) +
-         angular_velocity_W(model, state).cross(p_W - com_W(model, state));
-}
-
 double kinetic_energy(const RigidBodyModel& model, const RigidBodyState& state) {
   return 0.5 * state.linear_momentum_W.squaredNorm() / model.mass_kg +
          0.5 * state.angular_momentum_W.dot(angular_velocity_W(model, state));
@@ -94,7 +88,8 @@ bool step_rigid_body(const RigidBodyModel& model, RigidBodyState* state, double 
   const Eigen::Vector3d c1 = c0 + dt * linear_velocity_W(model, *state);
   // The rotation by the implicit midpoint rule: R1 = exp(dt ω(R½)) R0 with ω taken at the
   // half-step attitude R½ = exp(dt ω / 2) R0, by fixed-point iteration. Second order, and its
-  // energy error stays bounded instead of drifting (explicit ω(R0) drifts ~1e-3 per second).
+  // energy error stays bounded instead of drifting (with ω taken at R0 the symmetric top's energy
+  // drifted 5.7e-4 in 2 s; see rigid_body_test).
   const Eigen::Matrix3d r0 = state->pose_WB.linear();
   const Eigen::Matrix3d inv_inertia_B = model.inertia_B.inverse();
   const Eigen::Vector3d& l = state->angular_momentum_W;

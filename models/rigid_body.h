@@ -53,10 +53,6 @@ struct RigidBodyState {
                                                 const RigidBodyState& state);
 [[nodiscard]] Eigen::Vector3d angular_velocity_W(const RigidBodyModel& model,
                                                  const RigidBodyState& state);
-/// Velocity of the body's material point now at p_W.
-[[nodiscard]] Eigen::Vector3d point_velocity_W(const RigidBodyModel& model,
-                                               const RigidBodyState& state,
-                                               const Eigen::Vector3d& p_W);
 /// Kinetic energy [J].
 [[nodiscard]] double kinetic_energy(const RigidBodyModel& model, const RigidBodyState& state);
 
