@@ -40,6 +40,9 @@ struct CommandResult {
 /// Runs a shell command, capturing stdout and stderr.
 [[nodiscard]] CommandResult run_command(const std::string& command);
 
+/// The angle between two vectors [rad], accurate near 0 and π (atan2 of |a × b| and a · b).
+[[nodiscard]] double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
 /// A closed, outward-oriented tetrahedron with its right-angle corner at offset.
 [[nodiscard]] haptics::TriangleMesh tetrahedron(
     const Eigen::Vector3d& offset = Eigen::Vector3d::Zero(), double size = 1.0);

@@ -10,6 +10,7 @@
 #include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
 #include "haptics/shading_normals.h"
+#include "tests/test_support.h"
 
 namespace lap::haptics {
 namespace {
@@ -20,9 +21,7 @@ constexpr double kLength = 0.06;
 constexpr int kSlices = 24;
 constexpr double kDt = 0.001;
 
-double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+using test::angle_between;
 
 struct Cylinder {
   MeshDatabase mesh = MeshDatabase::build(make_cylinder(kR, kLength, kSlices, 4));

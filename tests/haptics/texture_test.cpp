@@ -17,6 +17,7 @@
 #include "haptics/procedural_textures.h"
 #include "haptics/shading_normals.h"
 #include "haptics/texture_force.h"
+#include "tests/test_support.h"
 
 namespace lap::haptics {
 namespace {
@@ -28,9 +29,7 @@ constexpr double kTop = 0.05;
 constexpr double kA = 0.0005;      // texture amplitude [m]
 constexpr double kLambda = 0.005;  // wavelength [m]
 
-double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+using test::angle_between;
 
 void check_field(const HeightField& f, const char* name, double scale_m) {
   std::mt19937_64 rng(7);

@@ -175,8 +175,8 @@ TEST(LocalDeformation, BadInputIsRefusedOrIgnoredSafely) {
 }
 
 TEST(LocalDeformation, RealLiverAgainstBruteForce) {
+  LAP_REQUIRE_SHARED_MESHES();
   const auto dir = test::shared_meshes_dir();
-  if (dir.empty()) GTEST_SKIP() << "../shared/meshes not present";
   const haptics::MeshDatabase db =
       haptics::MeshDatabase::build(sim::load_mesh(dir / "liver_openhelp.stl", {0.001, 0.0}));
   LocalDeformationSettings settings;
