@@ -1,11 +1,26 @@
 #include "tests/bench/bench_support.h"
 
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 
 #include "haptics/mesh_generators.h"
+#include "sim/mesh_loader.h"
 
 namespace lap::bench {
+
+std::vector<haptics::TriangleMesh> openhelp_organs() {
+  const char* env = std::getenv("LAP_SHARED_DIR");
+  const std::filesystem::path dir =
+      std::filesystem::path(env != nullptr ? env : LAP_SHARED_DIR) / "meshes";
+  std::vector<haptics::TriangleMesh> organs;
+  for (const char* f : {"liver_openhelp.stl", "stomach_openhelp.stl", "duodenum_openhelp.stl"}) {
+    if (!std::filesystem::exists(dir / f)) return {};
+    organs.push_back(sim::load_mesh(dir / f, {0.001, 0.0}));  // the scans are in millimetres
+  }
+  return organs;
+}
 
 StepTimer::StepTimer(size_t capacity) : samples_(capacity, 0.0) {}
 

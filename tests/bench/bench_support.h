@@ -56,6 +56,10 @@ struct TableObject {
 };
 TableObject& table_4_1_scene(int64_t triangles);
 
+/// The OpenHELP liver, stomach and duodenum from ../shared/meshes (or $LAP_SHARED_DIR/meshes),
+/// in metres, in that order; empty when any of them is absent.
+std::vector<haptics::TriangleMesh> openhelp_organs();
+
 /// Radius of the spheres [m]; the cube is 10 cm.
 constexpr double kSphereRadius = 0.05;
 

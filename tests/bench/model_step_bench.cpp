@@ -5,8 +5,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -14,24 +12,19 @@
 #include "models/catheter_model.h"
 #include "models/local_deformation.h"
 #include "models/modal_shell.h"
-#include "sim/mesh_loader.h"
 #include "tests/bench/bench_support.h"
 
 namespace lap::bench {
 namespace {
 
 void BM_ModelStep(benchmark::State& state) {
-  const char* env = std::getenv("LAP_SHARED_DIR");
-  const std::filesystem::path dir =
-      std::filesystem::path(env != nullptr ? env : LAP_SHARED_DIR) / "meshes";
   std::vector<std::unique_ptr<haptics::MeshDatabase>> organs;
-  for (const char* f : {"liver_openhelp.stl", "stomach_openhelp.stl", "duodenum_openhelp.stl"}) {
-    if (!std::filesystem::exists(dir / f)) {
-      state.SkipWithError("the OpenHELP meshes are not in ../shared/meshes");
-      return;
-    }
-    organs.push_back(std::make_unique<haptics::MeshDatabase>(
-        haptics::MeshDatabase::build(sim::load_mesh(dir / f, {0.001, 0.0}))));
+  for (const haptics::TriangleMesh& mesh : openhelp_organs()) {
+    organs.push_back(std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(mesh)));
+  }
+  if (organs.empty()) {
+    state.SkipWithError("the OpenHELP meshes are not in ../shared/meshes");
+    return;
   }
   std::vector<models::LocalDeformationModel> local;
   std::vector<models::LocalDeformationState> local_state;

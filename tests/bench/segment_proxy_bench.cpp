@@ -5,14 +5,12 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <filesystem>
 #include <memory>
 
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_database.h"
 #include "haptics/segment_database.h"
 #include "haptics/segment_proxy.h"
-#include "sim/mesh_loader.h"
 #include "tests/bench/bench_support.h"
 
 namespace lap::bench {
@@ -108,13 +106,8 @@ struct OrganScene {
   std::vector<HapticObject> objects;
   int64_t triangles = 0;
   OrganScene() {
-    const char* env = std::getenv("LAP_SHARED_DIR");
-    const std::filesystem::path dir =
-        std::filesystem::path(env != nullptr ? env : LAP_SHARED_DIR) / "meshes";
-    for (const char* f : {"liver_openhelp.stl", "stomach_openhelp.stl", "duodenum_openhelp.stl"}) {
-      if (!std::filesystem::exists(dir / f)) continue;
-      dbs.push_back(std::make_unique<MeshDatabase>(
-          MeshDatabase::build(sim::load_mesh(dir / f, {0.001, 0.0}))));
+    for (const haptics::TriangleMesh& mesh : openhelp_organs()) {
+      dbs.push_back(std::make_unique<MeshDatabase>(MeshDatabase::build(mesh)));
       sds.push_back(std::make_unique<SegmentDatabase>(SegmentDatabase::build(*dbs.back())));
       HapticObject o;
       o.mesh = dbs.back().get();
