@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
 #include <regex>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace lap::sim {
 namespace fs = std::filesystem;
@@ -90,6 +92,24 @@ class Parser {
       return std::nullopt;
     }
     return n.Scalar();
+  }
+
+  // One of an enumeration's spellings; otherwise the error lists them ("expected a, b or c").
+  template <typename E>
+  std::optional<E> one_of(const YAML::Node& n, const std::string& field,
+                          std::initializer_list<std::pair<const char*, E>> choices) {
+    const std::optional<std::string> v = string(n, field);
+    if (!v) return std::nullopt;
+    std::string names;
+    size_t i = 0;
+    for (const auto& [name, value] : choices) {
+      if (*v == name) return value;
+      if (i > 0) names += i + 1 == choices.size() ? " or " : ", ";
+      names += name;
+      ++i;
+    }
+    problem(line_of(n), field, "expected " + names + ", got '" + *v + "'");
+    return std::nullopt;
   }
 
   std::optional<double> number(const YAML::Node& n, const std::string& field, double lo, double hi,
@@ -341,17 +361,11 @@ class Parser {
     }
     FrictionMapSpec& fm = m.friction_map;
     if (require(n, "kind", f)) {
-      if (auto v = string(n["kind"], f + ".kind")) {
-        if (*v == "uniform") {
-          fm.kind = FrictionMapSpec::Kind::kUniform;
-        } else if (*v == "periodic") {
-          fm.kind = FrictionMapSpec::Kind::kPeriodic;
-        } else if (*v == "random") {
-          fm.kind = FrictionMapSpec::Kind::kRandom;
-        } else {
-          problem(line_of(n["kind"]), f + ".kind",
-                  "expected uniform, periodic or random, got '" + *v + "'");
-        }
+      using K = FrictionMapSpec::Kind;
+      if (auto k = one_of<K>(
+              n["kind"], f + ".kind",
+              {{"uniform", K::kUniform}, {"periodic", K::kPeriodic}, {"random", K::kRandom}})) {
+        fm.kind = *k;
       }
     }
     optional_number(n, "period_m", f, fm.period_m, 1e-5, 0.1, "from 1e-5 to 0.1 (m)");
@@ -433,19 +447,13 @@ class Parser {
   void parse_mapping(const YAML::Node& n, const std::string& f, TextureMappingSpec& m) {
     if (!expect_map(n, f, {"kind", "origin_m", "axis", "tile_m", "repeat"})) return;
     if (require(n, "kind", f)) {
-      if (auto v = string(n["kind"], f + ".kind")) {
-        if (*v == "plane") {
-          m.kind = TextureMappingSpec::Kind::kPlane;
-        } else if (*v == "cylinder") {
-          m.kind = TextureMappingSpec::Kind::kCylinder;
-        } else if (*v == "sphere") {
-          m.kind = TextureMappingSpec::Kind::kSphere;
-        } else if (*v == "box") {
-          m.kind = TextureMappingSpec::Kind::kBox;
-        } else {
-          problem(line_of(n["kind"]), f + ".kind",
-                  "expected plane, cylinder, sphere or box, got '" + *v + "'");
-        }
+      using K = TextureMappingSpec::Kind;
+      if (auto k = one_of<K>(n["kind"], f + ".kind",
+                             {{"plane", K::kPlane},
+                              {"cylinder", K::kCylinder},
+                              {"sphere", K::kSphere},
+                              {"box", K::kBox}})) {
+        m.kind = *k;
       }
     }
     if (n["origin_m"]) {
