@@ -104,9 +104,11 @@ struct SegmentProxyStats {
   int64_t placement_limit_hits = 0;  ///< steps that ran out of placements (probe stopped safe)
   int64_t constraint_overflows = 0;  ///< contacts not added because the list was full
   int64_t cached_sweeps = 0;         ///< swept checks answered from the sweep cache
-  int64_t cached_tests = 0;          ///< primitives tested by those (faces per end + edges)
-  int64_t cache_rebuilds = 0;        ///< sweep cache refilled from the trees
-  int64_t tree_sweeps = 0;           ///< swept checks that went through the trees
+  /// Primitives tested in the cache (faces per end + edges), including the first 0.2 mm of long
+  /// motions that then went on to the trees.
+  int64_t cached_tests = 0;
+  int64_t cache_rebuilds = 0;  ///< sweep cache refilled from the trees
+  int64_t tree_sweeps = 0;     ///< swept checks that went through the trees
   int64_t faults = 0;
 };
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 #include "tests/test_support.h"
@@ -112,6 +113,26 @@ TEST(ModalShellCache, TheDuctIsHeldByItsEndsAndMembrane) {
   }
   std::printf("[ modal cache ] default duct poked with 10 mN on top: dent %.3f mm\n",
               -1e3 * state.displacement[top].y());
+}
+
+// Where the modes go: the override first, then the XDG cache, then the home directory.
+TEST(ModalShellCache, DefaultDirectoryFollowsTheEnvironment) {
+  const char* saved_override = std::getenv("LAPTRAINER_CACHE_DIR");
+  const char* saved_xdg = std::getenv("XDG_CACHE_HOME");
+  const std::string keep_override = saved_override != nullptr ? saved_override : "";
+  const std::string keep_xdg = saved_xdg != nullptr ? saved_xdg : "";
+  setenv("LAPTRAINER_CACHE_DIR", "/tmp/lap-modes", 1);
+  setenv("XDG_CACHE_HOME", "/tmp/xdg", 1);
+  EXPECT_EQ(default_mode_cache_dir(), std::filesystem::path("/tmp/lap-modes"));
+  unsetenv("LAPTRAINER_CACHE_DIR");
+  EXPECT_EQ(default_mode_cache_dir(), std::filesystem::path("/tmp/xdg/laptrainer/modes"));
+  unsetenv("XDG_CACHE_HOME");
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+    EXPECT_EQ(default_mode_cache_dir(),
+              std::filesystem::path(home) / ".cache" / "laptrainer" / "modes");
+  }
+  if (saved_override != nullptr) setenv("LAPTRAINER_CACHE_DIR", keep_override.c_str(), 1);
+  if (saved_xdg != nullptr) setenv("XDG_CACHE_HOME", keep_xdg.c_str(), 1);
 }
 
 }  // namespace
