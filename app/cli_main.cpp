@@ -1,6 +1,7 @@
 // laptrainer-cli: the headless command line (ARCHITECTURE.md "Stable command-line contracts").
 // No Qt or VTK here: it must run on machines without a display.
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,11 +19,14 @@
 #include "haptics/mesh_validation.h"
 #include "haptics/point_proxy.h"
 #include "haptics/segment_proxy.h"
+#include "hardware/device_spec.h"
+#include "sim/device_factory.h"
 #include "sim/load_error.h"
 #include "sim/mesh_loader.h"
 #include "sim/probe_path.h"
 #include "sim/scenario_loader.h"
 #include "sim/scene.h"
+#include "sim/session.h"
 
 namespace {
 
@@ -43,6 +48,10 @@ const char* const kUsage =
     "      run a proxy along a path (one row per 1 kHz tick) against one mesh and write, per "
     "tick,\n"
     "      the proxy position, force, contact primitive and step time\n"
+    "  run --scenario FILE --left DEV --right DEV [--duration S] [--fast] [--record DIR]\n"
+    "      [--rate HZ] [--model-rate HZ]\n"
+    "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
+    "      replay:FILE or phantom[:NAME]; prints the metrics as JSON\n"
     "  generate-assets --out DIR\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR\n";
 
@@ -287,6 +296,139 @@ int cmd_probe(int argc, char** argv) {
   }
 }
 
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+bool parse_positive(const std::string& text, double* v) {
+  try {
+    size_t used = 0;
+    *v = std::stod(text, &used);
+    return used == text.size() && std::isfinite(*v) && *v > 0.0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+int cmd_run(int argc, char** argv) {
+  Args args(argc, argv, {"--fast"});
+  const bool ok = args.only({"--scenario", "--left", "--right", "--duration", "--fast", "--record",
+                             "--rate", "--model-rate"});
+  for (const char* k : {"--scenario", "--left", "--right"}) {
+    if (!args.has(k)) args.errors.push_back(std::string("run needs ") + k);
+  }
+  lap::sim::RuntimeSettings rs;
+  rs.fast = args.has("--fast");
+  for (const auto& [key, field] : {std::pair<const char*, double*>{"--duration", &rs.duration_s},
+                                   {"--rate", &rs.haptic_rate_hz},
+                                   {"--model-rate", &rs.model_rate_hz}}) {
+    if (args.has(key) && !parse_positive(args.get(key), field)) {
+      args.errors.push_back(std::string(key) + " expects a positive number, got '" + args.get(key) +
+                            "'");
+    }
+  }
+  std::array<lap::hardware::DeviceSpec, 2> specs;
+  for (int side = 0; side < 2; ++side) {
+    const char* key = side == 0 ? "--left" : "--right";
+    if (!args.has(key)) continue;
+    std::string why;
+    const auto spec = lap::hardware::parse_device_spec(args.get(key), &why);
+    if (!spec) {
+      args.errors.push_back(std::string(key) + ": " + why);
+    } else {
+      specs[static_cast<size_t>(side)] = *spec;
+    }
+  }
+  if (!ok || !args.errors.empty()) return usage_error(args);
+
+  const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
+  if (!r.ok()) {
+    for (const auto& p : r.problems) std::cerr << p.to_string() << "\n";
+    return kExitProblems;
+  }
+  std::array<std::unique_ptr<lap::hardware::HapticDevice>, 2> devices;
+  for (int side = 0; side < 2; ++side) {
+    std::string why;
+    devices[static_cast<size_t>(side)] =
+        lap::sim::make_device(specs[static_cast<size_t>(side)], r.scene, side, &why);
+    if (!devices[static_cast<size_t>(side)]) {
+      std::cerr << "laptrainer-cli run: " << (side == 0 ? "--left" : "--right") << ": " << why
+                << "\n";
+      return kExitProblems;
+    }
+  }
+  std::string why;
+  auto session = lap::sim::Session::create(r.scene, std::move(devices), rs, &why);
+  if (!session) {
+    std::cerr << "laptrainer-cli run: " << why << "\n";
+    return kExitProblems;
+  }
+  const lap::sim::SessionMetrics m = session->run();
+  for (const std::string& w : m.warnings) std::cerr << "laptrainer-cli run: warning: " << w << "\n";
+  if (m.paused) {
+    std::cerr << "laptrainer-cli run: the watchdog paused the session (forces zeroed):";
+    for (const auto& e : m.events) {
+      std::cerr << " tick " << e.tick << " " << lap::sim::to_string(e.reason) << ";";
+    }
+    std::cerr << "\n";
+  }
+  if (args.has("--record")) {
+    if (!session->write_recording(args.get("--record"), &why)) {
+      std::cerr << "laptrainer-cli run: " << why << "\n";
+      return kExitProblems;
+    }
+  }
+  char hash[32];
+  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(m.state_hash));
+  std::string out = "{\n";
+  out += "  \"scenario\": " + json_string(args.get("--scenario")) + ",\n";
+  out += "  \"mode\": " + std::string(rs.fast ? "\"fast\"" : "\"realtime\"") + ",\n";
+  out += "  \"haptic\": " + m.haptic.to_json() + ",\n";
+  out += "  \"model\": " + m.model.to_json() + ",\n";
+  out += "  \"paused\": " + std::string(m.paused ? "true" : "false") + ",\n";
+  out += "  \"watchdog_events\": [";
+  for (size_t i = 0; i < m.events.size(); ++i) {
+    const auto& e = m.events[i];
+    out += std::string(i > 0 ? ", " : "") + "{\"tick\": " + std::to_string(e.tick) +
+           ", \"tool\": " +
+           json_string(e.tool == 0   ? "left"
+                       : e.tool == 1 ? "right"
+                                     : "haptic loop") +
+           ", \"reason\": " + json_string(std::string(lap::sim::to_string(e.reason))) + "}";
+  }
+  out += "],\n";
+  out += "  \"devices\": {\"left\": " +
+         json_string(std::string(lap::hardware::to_string(m.device_status[0]))) +
+         ", \"right\": " + json_string(std::string(lap::hardware::to_string(m.device_status[1]))) +
+         "},\n";
+  out += "  \"recorded_ticks\": " + std::to_string(m.recorded_ticks) + ",\n";
+  out += "  \"dropped_samples\": " + std::to_string(m.dropped_samples) + ",\n";
+  char force[64];
+  std::snprintf(force, sizeof(force), "%.6g", m.max_force_sent_n);
+  out += "  \"max_force_sent_n\": " + std::string(force) + ",\n";
+  out += "  \"warnings\": [";
+  for (size_t i = 0; i < m.warnings.size(); ++i) {
+    out += std::string(i > 0 ? ", " : "") + json_string(m.warnings[i]);
+  }
+  out += "],\n";
+  out += "  \"state_hash\": \"" + std::string(hash) + "\"\n}\n";
+  std::cout << out;
+  return kExitOk;
+}
+
 int cmd_generate_assets(int argc, char** argv) {
   Args args(argc, argv, {});
   if (!args.only({"--out"}) || !args.has("--out")) {
@@ -321,6 +463,7 @@ int main(int argc, char** argv) {
     if (cmd == "mesh-info") return cmd_mesh_info(argc, argv);
     if (cmd == "generate-assets") return cmd_generate_assets(argc, argv);
     if (cmd == "probe") return cmd_probe(argc, argv);
+    if (cmd == "run") return cmd_run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "laptrainer-cli " << cmd << ": " << e.what() << "\n";
     return 1;

@@ -56,23 +56,41 @@ GraspOutput update_grasp(const GraspSettings& s, const JawFrame& jaws, const Cat
     out.force_on_tool_W -= clamp_norm(s.attach_stiffness_n_per_m * (target - cath->positions[i]) -
                                           s.attach_damping_n_s_per_m * cath->velocities[i],
                                       s.max_force_n);
-    // The jaws' gap at this depth against the catheter's diameter.
-    const double depth = -grasp->anchor_J[k].y();
-    const double gap = 2.0 * depth * std::sin(half);
-    out.squeeze_n += s.squeeze_stiffness_n_per_m * std::max(0.0, 2.0 * r - gap);
   }
+  out.squeeze_n = grasp_squeeze(s, jaws, model, *grasp);
   return out;
+}
+
+double grasp_squeeze(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model,
+                     const GraspState& grasp) noexcept {
+  const double r = model.radius_m();
+  const double half = 0.5 * jaws.opening_rad;
+  double squeeze = 0.0;
+  for (int32_t k = 0; k < grasp.count; ++k) {
+    // The jaws' gap at this depth against the catheter's diameter.
+    const double depth = -grasp.anchor_J[k].y();
+    const double gap = 2.0 * depth * std::sin(half);
+    squeeze += s.squeeze_stiffness_n_per_m * std::max(0.0, 2.0 * r - gap);
+  }
+  return squeeze;
+}
+
+Eigen::Vector3d coupling_force(const GraspSettings& s, const JawFrame& jaws,
+                               std::span<const Eigen::Vector3d> positions,
+                               const GraspState& grasp) noexcept {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (int32_t k = 0; k < grasp.count; ++k) {
+    const auto p = static_cast<size_t>(grasp.particle[k]);
+    if (p >= positions.size()) continue;
+    const Eigen::Vector3d target = to_world(jaws, grasp.anchor_J[k]);
+    f -= clamp_norm(s.attach_stiffness_n_per_m * (target - positions[p]), s.max_force_n);
+  }
+  return f.allFinite() ? f : Eigen::Vector3d::Zero();
 }
 
 Eigen::Vector3d coupling_force(const GraspSettings& s, const JawFrame& jaws,
                                const CatheterState& cath, const GraspState& grasp) noexcept {
-  Eigen::Vector3d f = Eigen::Vector3d::Zero();
-  for (int32_t k = 0; k < grasp.count; ++k) {
-    const Eigen::Vector3d target = to_world(jaws, grasp.anchor_J[k]);
-    f -= clamp_norm(s.attach_stiffness_n_per_m * (target - cath.positions[grasp.particle[k]]),
-                    s.max_force_n);
-  }
-  return f.allFinite() ? f : Eigen::Vector3d::Zero();
+  return coupling_force(s, jaws, std::span<const Eigen::Vector3d>(cath.positions), grasp);
 }
 
 }  // namespace lap::models

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <span>
 
 #include "models/catheter_model.h"
 
@@ -60,10 +61,20 @@ GraspOutput update_grasp(const GraspSettings& settings, const JawFrame& jaws,
                          const CatheterModel& model, CatheterState* catheter,
                          GraspState* grasp) noexcept;
 
+/// The squeeze the grasped particles put on the jaws at their present opening [N] (haptic
+/// rate: it needs only the jaws and the grasp).
+[[nodiscard]] double grasp_squeeze(const GraspSettings& settings, const JawFrame& jaws,
+                                   const CatheterModel& model, const GraspState& grasp) noexcept;
+
 /// The virtual coupling at the haptic rate: the attachment springs between the jaws now and the
 /// particles where the model last put them. Clamped to max_force_n per spring.
 [[nodiscard]] Eigen::Vector3d coupling_force(const GraspSettings& settings, const JawFrame& jaws,
                                              const CatheterState& catheter,
+                                             const GraspState& grasp) noexcept;
+/// The same against particle positions published by the modelling loop (another thread's
+/// copy of CatheterState::positions).
+[[nodiscard]] Eigen::Vector3d coupling_force(const GraspSettings& settings, const JawFrame& jaws,
+                                             std::span<const Eigen::Vector3d> positions,
                                              const GraspState& grasp) noexcept;
 
 }  // namespace lap::models

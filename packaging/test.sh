@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Command two: install dependencies (Debian 12, as root), build Release with warnings as errors,
 # run every test (ctest, GUI tests under Xvfb), then the same tests built with AddressSanitizer
-# and UndefinedBehaviorSanitizer. Exits non-zero on any failure.
+# and UndefinedBehaviorSanitizer, and the runtime tests with ThreadSanitizer. Exits non-zero on
+# any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash packaging/install-deps.sh
@@ -20,4 +21,15 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   # LeakSanitizer reports in the GUI test; memory errors and undefined behaviour still abort.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --preset asan --parallel "$jobs"
+fi
+
+if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
+  echo "== ThreadSanitizer build of the runtime tests (loops, snapshots, watchdog, devices)"
+  cmake --preset tsan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON
+  cmake --build --preset tsan --parallel "$jobs" --target hardware_tests sim_tests
+  # Any race report makes the binary exit non-zero (TSan's exitcode 66).
+  TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/hardware_tests \
+    --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*'
+  TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/sim_tests \
+    --gtest_filter='Session*:*SessionWatchdog*:TrocarTool*'
 fi

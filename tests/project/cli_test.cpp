@@ -160,6 +160,66 @@ TEST(CliProbe, BadPathRowsAreNamedByLine) {
             64);
 }
 
+std::string json_field(const std::string& json, const std::string& key) {
+  const size_t at = json.find("\"" + key + "\": ");
+  if (at == std::string::npos) return {};
+  const size_t start = at + key.size() + 4;
+  return json.substr(start, json.find_first_of(",}\n", start) - start);
+}
+
+TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
+  TempDir dir;
+  // Handles above the default scenario's ports (left -0.09, right 0.08; y 0.17, z 0.12),
+  // pushed 3 cm deeper over 0.3 s while the jaws close.
+  const auto left = dir.write("left.csv",
+                              "time_s,x_m,y_m,z_m,qw,qx,qy,qz,gripper_rad\n"
+                              "0.0,-0.09,0.40,0.12,1,0,0,0,0.8\n"
+                              "0.3,-0.08,0.37,0.12,1,0,0,0,0.2\n");
+  const auto right = dir.write("right.csv",
+                               "0.0,0.08,0.40,0.12,1,0,0,0,0.8\n"
+                               "0.3,0.07,0.37,0.13,1,0,0,0,0.2\n");
+  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string rec = (dir.path() / "rec").string();
+  const CommandResult r =
+      run_command(cli() + " run --scenario " + scenario + " --left scripted:" + left.string() +
+                  " --right scripted:" + right.string() + " --duration 1 --fast --record " + rec);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json_field(r.out, "mode"), "\"fast\"");
+  EXPECT_EQ(json_field(r.out, "ticks"), "302");  // the scripts end at 0.3 s
+  EXPECT_EQ(json_field(r.out, "paused"), "false");
+  EXPECT_EQ(json_field(r.out, "recorded_ticks"), "302");
+  const std::string hash = json_field(r.out, "state_hash");
+  ASSERT_EQ(hash.size(), 18U) << r.out;
+  const CommandResult replay =
+      run_command(cli() + " run --scenario " + scenario + " --left replay:" + rec +
+                  "/left.lapdev --right replay:" + rec + "/right.lapdev --duration 1 --fast");
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  EXPECT_EQ(json_field(replay.out, "state_hash"), hash);
+}
+
+TEST(CliRun, DeviceProblemsAreClearErrors) {
+  TempDir dir;
+  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const auto bad = dir.write("bad.csv", "0,0,0,0,1,0,0,0,0\n0.1,0,0,0,1,0,0\n");
+  CommandResult r = run_command(cli() + " run --scenario " + scenario +
+                                " --left scripted:" + bad.string() + " --right simulated --fast");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad.string() + ":2: expected 9 or 10 comma-separated fields"),
+            std::string::npos)
+      << r.err;
+  r = run_command(cli() + " run --scenario " + scenario +
+                  " --left phantom --right simulated --fast");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("libHD.so"), std::string::npos) << r.err;
+  EXPECT_EQ(run_command(cli() + " run --scenario " + scenario + " --left magic --right simulated")
+                .exit_code,
+            64);
+  EXPECT_EQ(run_command(cli() + " run --scenario " + scenario +
+                        " --left simulated --right simulated --duration -1")
+                .exit_code,
+            64);
+}
+
 TEST(AppHeadless, WithoutADisplayItSaysSoAndRunsTheDefaultScenario) {
   const CommandResult r = run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + app());
   EXPECT_EQ(r.exit_code, 0) << r.err;

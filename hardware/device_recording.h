@@ -1,0 +1,47 @@
+#pragma once
+/// \file
+/// A device's inputs over a session, one sample per haptic tick, as the replay device reads
+/// them back. Binary, so that a replay feeds the very same doubles in (bit-for-bit, ARCHITECTURE
+/// `run --fast`): a 32-byte header
+///
+///     "LAPDEV01" | uint32 version (1) | uint32 record size (112) | double period_s | 8 reserved
+///
+/// then one 112-byte record per tick: int64 tick, double time_s, double position[3],
+/// double orientation[4] (w, x, y, z), double velocity[3], double gripper_angle_rad,
+/// uint32 buttons, uint32 status. Little-endian IEEE 754, as written by x86-64 and arm64 Linux.
+/// The record count is the file's length: a session cut short keeps every whole record.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hardware/haptic_device.h"
+
+namespace lap::hardware {
+
+struct RecordedSample {
+  int64_t tick = 0;
+  DeviceSample sample;
+  DeviceStatus status = DeviceStatus::kOk;
+};
+
+struct DeviceRecording {
+  double period_s = 0.001;
+  std::vector<RecordedSample> samples;
+};
+
+inline constexpr size_t kDeviceRecordingHeaderBytes = 32;
+inline constexpr size_t kDeviceRecordingRecordBytes = 112;
+
+/// Writes the recording; false and *error on failure.
+bool write_device_recording(const std::filesystem::path& file, const DeviceRecording& recording,
+                            std::string* error);
+
+/// Reads a recording and checks it: header, whole records, ticks 0, 1, 2, ... in order, finite
+/// values, known status codes. Errors name the file and the record.
+[[nodiscard]] std::optional<DeviceRecording> read_device_recording(
+    const std::filesystem::path& file, std::string* error);
+
+}  // namespace lap::hardware

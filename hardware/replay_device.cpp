@@ -1,0 +1,34 @@
+#include "hardware/replay_device.h"
+
+#include <utility>
+
+namespace lap::hardware {
+
+ReplayDevice::ReplayDevice(DeviceRecording recording, std::string name, const DeviceLimits& limits)
+    : recording_(std::move(recording)), name_(std::move(name)), limits_(limits) {}
+
+bool ReplayDevice::start(std::string* error) {
+  if (recording_.samples.empty()) {
+    if (error != nullptr) *error = name_ + ": the recording has no samples";
+    return false;
+  }
+  return true;
+}
+
+DeviceStatus ReplayDevice::read(int64_t tick, double /*period_s*/, DeviceSample* out) noexcept {
+  const auto n = static_cast<int64_t>(recording_.samples.size());
+  if (tick < 0 || tick >= n) {
+    *out = recording_.samples.back().sample;
+    out->velocity_W.setZero();
+    return DeviceStatus::kFinished;
+  }
+  const RecordedSample& r = recording_.samples[static_cast<size_t>(tick)];
+  *out = r.sample;
+  return r.status;
+}
+
+DeviceStatus ReplayDevice::write(const DeviceCommand& /*command*/) noexcept {
+  return DeviceStatus::kOk;
+}
+
+}  // namespace lap::hardware

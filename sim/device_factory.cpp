@@ -1,0 +1,74 @@
+#include "sim/device_factory.h"
+
+#include <algorithm>
+
+#include "hardware/device_recording.h"
+#include "hardware/open_haptics_library.h"
+#include "hardware/replay_device.h"
+#include "hardware/scripted_device.h"
+#include "hardware/simulated_device.h"
+
+namespace lap::sim {
+namespace {
+
+const ToolSpec* tool_on(const Scenario& sc, int side) {
+  const auto want = side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight;
+  const auto it = std::find_if(sc.tools.begin(), sc.tools.end(),
+                               [&](const ToolSpec& t) { return t.side == want; });
+  return it == sc.tools.end() ? nullptr : &*it;
+}
+
+}  // namespace
+
+Eigen::Vector3d default_handle_position(const Scene& scene, int side, double inside_m) {
+  const Scenario& sc = scene.scenario;
+  const ToolSpec* tool = tool_on(sc, side);
+  if (tool == nullptr) return Eigen::Vector3d::Zero();
+  const auto port = std::find_if(sc.trocars.begin(), sc.trocars.end(),
+                                 [&](const TrocarSpec& t) { return t.name == tool->trocar; });
+  if (port == sc.trocars.end()) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = scene.bounds().center() - port->position_m;
+  axis = axis.norm() > 1e-9 ? Eigen::Vector3d(axis.normalized())
+                            : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
+  return port->position_m - (tool->shaft_length_m - inside_m) * axis;
+}
+
+std::unique_ptr<hardware::HapticDevice> make_device(const hardware::DeviceSpec& spec,
+                                                    const Scene& scene, int side,
+                                                    std::string* error) {
+  const std::string name = side == 0 ? "left" : "right";
+  switch (spec.kind) {
+    case hardware::DeviceKind::kSimulated: {
+      hardware::SimulatedInput home;
+      home.position_W = default_handle_position(scene, side, 0.10);
+      home.gripper_angle_rad = 0.6;
+      return std::make_unique<hardware::SimulatedDevice>(home, name + " simulated");
+    }
+    case hardware::DeviceKind::kScripted: {
+      auto tr = hardware::load_scripted_trajectory(spec.argument, error);
+      if (!tr) return nullptr;
+      return std::make_unique<hardware::ScriptedDevice>(std::move(*tr), name + " scripted");
+    }
+    case hardware::DeviceKind::kReplay: {
+      auto rec = hardware::read_device_recording(spec.argument, error);
+      if (!rec) return nullptr;
+      return std::make_unique<hardware::ReplayDevice>(std::move(*rec), name + " replay");
+    }
+    case hardware::DeviceKind::kPhantom: {
+      const std::string what = "phantom" + (spec.argument.empty() ? "" : ":" + spec.argument);
+      std::string why;
+      if (!hardware::open_haptics_available(&why)) {
+        *error = what + ": " + why + ", or use simulated, scripted:FILE or replay:FILE.";
+        return nullptr;
+      }
+      *error = what +
+               ": libHD.so is present, but this version of laptrainer has no PHANToM "
+               "driver yet; use simulated, scripted:FILE or replay:FILE.";
+      return nullptr;
+    }
+  }
+  *error = "unknown device kind";
+  return nullptr;
+}
+
+}  // namespace lap::sim

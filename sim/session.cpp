@@ -1,0 +1,426 @@
+#include "sim/session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include "sim/realtime_thread.h"
+
+namespace lap::sim {
+namespace {
+
+constexpr uint64_t kFnvPrime = 1099511628211ULL;
+
+void hash_bytes(uint64_t* h, const void* data, size_t n) noexcept {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < n; ++i) {
+    *h ^= p[i];
+    *h *= kFnvPrime;
+  }
+}
+
+void hash_vector(uint64_t* h, const Eigen::Vector3d& v) noexcept {
+  hash_bytes(h, v.data(), 3 * sizeof(double));
+}
+
+models::JawFrame jaw_frame(const haptics::GripperPose& pose) {
+  models::JawFrame j;
+  j.hinge_W = pose.hinge_W;
+  j.rotation_WJ.col(0) = pose.open_dir_W;
+  j.rotation_WJ.col(1) = pose.shaft_dir_W;
+  j.rotation_WJ.col(2) = pose.open_dir_W.cross(pose.shaft_dir_W);
+  j.opening_rad = pose.opening_rad;
+  return j;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::string_view to_string(WatchdogReason reason) {
+  switch (reason) {
+    case WatchdogReason::kOverrun:
+      return "haptic tick overran";
+    case WatchdogReason::kNonFinite:
+      return "non-finite force";
+    case WatchdogReason::kDeviceDisconnected:
+      return "device disconnected";
+    case WatchdogReason::kDeviceError:
+      return "device error";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<Session> Session::create(
+    const Scene& scene, std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices,
+    const RuntimeSettings& settings, std::string* error) {
+  auto fail = [&](const std::string& why) -> std::unique_ptr<Session> {
+    if (error != nullptr) *error = why;
+    return nullptr;
+  };
+  if (!(settings.haptic_rate_hz > 0.0) || !(settings.model_rate_hz > 0.0) ||
+      settings.model_rate_hz > settings.haptic_rate_hz) {
+    return fail("rates: expected 0 < model rate <= haptic rate");
+  }
+  if (!(settings.duration_s > 0.0) || !std::isfinite(settings.duration_s)) {
+    return fail("duration: expected a positive number of seconds");
+  }
+  std::unique_ptr<Session> s(new Session());
+  s->settings_ = settings;
+  s->dt_ = 1.0 / settings.haptic_rate_hz;
+  s->ticks_per_model_ =
+      std::max<int64_t>(1, std::llround(settings.haptic_rate_hz / settings.model_rate_hz));
+  s->model_dt_ = s->dt_ * static_cast<double>(s->ticks_per_model_);
+  s->max_ticks_ = std::llround(settings.duration_s * settings.haptic_rate_hz);
+  s->haptic_stats_ = LoopStats(s->dt_);
+  s->model_stats_ = LoopStats(s->model_dt_);
+
+  for (const Organ& organ : scene.organs) {
+    s->dbs_.push_back(
+        std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(organ.mesh)));
+    s->sds_.push_back(std::make_unique<haptics::SegmentDatabase>(
+        haptics::SegmentDatabase::build(*s->dbs_.back())));
+    s->surfaces_.push_back(build_organ_surface(organ, *s->dbs_.back()));
+  }
+  for (size_t i = 0; i < scene.organs.size(); ++i) {
+    haptics::HapticObject o;
+    o.mesh = s->dbs_[i].get();
+    o.segments = s->sds_[i].get();
+    s->surfaces_[i].apply(scene.organs[i].material, &o);
+    s->objects_.push_back(o);
+  }
+
+  // The tools: left and right, each at its trocar.
+  const Scenario& sc = scene.scenario;
+  for (int side = 0; side < 2; ++side) {
+    const auto want = side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight;
+    const auto it = std::find_if(sc.tools.begin(), sc.tools.end(),
+                                 [&](const ToolSpec& t) { return t.side == want; });
+    if (it == sc.tools.end()) {
+      return fail(sc.file.string() + ": tools: expected a " + (side == 0 ? "left" : "right") +
+                  " tool");
+    }
+    const auto port = std::find_if(sc.trocars.begin(), sc.trocars.end(),
+                                   [&](const TrocarSpec& t) { return t.name == it->trocar; });
+    if (port == sc.trocars.end()) {
+      return fail(sc.file.string() + ": tools: " + it->name + ": trocar '" + it->trocar +
+                  "' is not among the trocars");
+    }
+    Tool& tool = s->tools_[static_cast<size_t>(side)];
+    tool.trocar.port_W = port->position_m;
+    tool.trocar.shaft_length_m = it->shaft_length_m;
+    tool.trocar.jaw_length_m = it->jaw_length_m;
+    haptics::GripperGeometry g;
+    g.jaw_length_m = it->jaw_length_m;
+    g.shaft_length_m = it->shaft_length_m;
+    tool.gripper = haptics::LaparoscopicGripper(g);
+    tool.device = std::move(devices[static_cast<size_t>(side)]);
+    if (tool.device == nullptr)
+      return fail("no device for the " + std::string(side == 0 ? "left" : "right") + " tool");
+    tool.limiter = hardware::CommandLimiter(tool.device->limits());
+    // Start pointing from the port at the scene's centre.
+    const Eigen::Vector3d centre = scene.bounds().center();
+    if ((centre - tool.trocar.port_W).norm() > 1e-9) {
+      tool.axis_W = (centre - tool.trocar.port_W).normalized();
+    }
+  }
+
+  // The catheter (§7.7(3)): its proximal end held where it enters, pointing at the task's
+  // target and ending 2 cm short of its centre.
+  models::CatheterSettings cs;
+  if (sc.catheter) {
+    cs.length_m = sc.catheter->length_m;
+    cs.outer_diameter_m = sc.catheter->diameter_m;
+    cs.particles = sc.catheter->particles;
+    cs.bending_stiffness_n_m2 = sc.catheter->bending_stiffness_n_m2;
+    cs.linear_density_kg_per_m = sc.catheter->mass_kg / sc.catheter->length_m;
+  }
+  try {
+    s->catheter_model_ = std::make_unique<models::CatheterModel>(models::CatheterModel::build(cs));
+  } catch (const std::exception& e) {
+    return fail(sc.file.string() + ": catheter: " + e.what());
+  }
+  Eigen::Vector3d target = scene.bounds().center();
+  if (sc.task) {
+    for (const Organ& organ : scene.organs) {
+      if (organ.name != sc.task->target || organ.mesh.positions.empty()) continue;
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& p : organ.mesh.positions) c += p;
+      target = c / static_cast<double>(organ.mesh.positions.size());
+    }
+  }
+  const Eigen::Vector3d entry = 0.5 * (s->tools_[0].trocar.port_W + s->tools_[1].trocar.port_W);
+  Eigen::Vector3d dir = target - entry;
+  dir = dir.norm() > 1e-9 ? Eigen::Vector3d(dir.normalized())
+                          : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
+  s->catheter_ = std::make_unique<models::CatheterState>(*s->catheter_model_,
+                                                         target - (cs.length_m + 0.02) * dir, dir);
+  s->catheter_->fixed[0] = 1;
+
+  ModelSnapshot m0;
+  m0.catheter = s->catheter_->positions;
+  s->model_to_haptic_.reset(m0);
+  s->model_to_graphics_.reset(m0);
+
+  // Recording and event space for the whole duration (the haptic loop never allocates).
+  for (hardware::DeviceRecording& r : s->recordings_) {
+    r.period_s = s->dt_;
+    r.samples.reserve(static_cast<size_t>(s->max_ticks_) + 1);
+  }
+  s->events_.reserve(1024);
+
+  for (Tool& tool : s->tools_) {
+    std::string why;
+    if (!tool.device->start(&why)) {
+      return fail(std::string(tool.device->name()) + ": " + why);
+    }
+    tool.started = true;
+  }
+  return s;
+}
+
+Session::~Session() {
+  for (Tool& tool : tools_) {
+    if (tool.started && tool.device) tool.device->stop();
+  }
+}
+
+void Session::trip(int64_t tick, int32_t tool, WatchdogReason reason) noexcept {
+  if (events_.size() < events_.capacity()) {
+    events_.push_back({tick, tool, reason});
+  } else {
+    ++events_dropped_;
+  }
+  paused_.store(true, std::memory_order_relaxed);
+  gain_ = 0.0;
+}
+
+void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
+  if (resume_requested_.exchange(false, std::memory_order_relaxed) &&
+      paused_.load(std::memory_order_relaxed)) {
+    paused_.store(false, std::memory_order_relaxed);
+    gain_ = 0.0;
+  }
+  if (lateness_s > settings_.overrun_periods * dt_) trip(tick, -1, WatchdogReason::kOverrun);
+
+  const ModelSnapshot& model = model_to_haptic_.latest();
+  HapticSnapshot& snap = to_model_.write_slot();
+  snap.tick = tick;
+  std::array<hardware::DeviceCommand, 2> wanted{};
+  for (size_t i = 0; i < 2; ++i) {
+    Tool& tool = tools_[i];
+    hardware::DeviceSample sample;
+    const hardware::DeviceStatus st = tool.device->read(tick, dt_, &sample);
+    tool.status = st;
+    if (st == hardware::DeviceStatus::kFinished) tool.finished = true;
+    if (st == hardware::DeviceStatus::kDisconnected) {
+      trip(tick, static_cast<int32_t>(i), WatchdogReason::kDeviceDisconnected);
+    } else if (st == hardware::DeviceStatus::kError) {
+      trip(tick, static_cast<int32_t>(i), WatchdogReason::kDeviceError);
+    }
+    hardware::DeviceRecording& rec = recordings_[i];
+    if (rec.samples.size() < rec.samples.capacity()) {
+      rec.samples.push_back({tick, sample, st});
+    } else {
+      ++dropped_samples_;
+    }
+    const bool sample_ok = sample.position_W.allFinite() &&
+                           sample.orientation_W.coeffs().allFinite() &&
+                           std::isfinite(sample.gripper_angle_rad);
+    if (!sample_ok) {
+      trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+      continue;  // keep the tool where it was
+    }
+    const ToolKinematics k = tool_kinematics(tool.trocar, sample, tool.axis_W);
+    tool.axis_W = k.axis_W;
+    const haptics::GripperOutput out = tool.gripper.step(objects_, k.pose, dt_);
+    Eigen::Vector3d force = out.force_W;
+    double squeeze = out.squeeze_n;
+    const models::GraspState& grasp = model.grasps[i];
+    if (grasp.grasping()) {
+      // The virtual coupling to the grasped catheter at the haptic rate, against the particles
+      // where the modelling loop last put them (catheter_grasp.h); the squeeze from the jaws'
+      // closure on it.
+      const models::JawFrame jaws = jaw_frame(k.pose);
+      force += models::coupling_force(grasp_settings_, jaws, model.catheter, grasp);
+      squeeze = std::max(squeeze, grasp_squeeze(grasp_settings_, jaws, *catheter_model_, grasp));
+    }
+    if (out.fault || !force.allFinite()) {
+      trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+      force.setZero();
+    }
+    wanted[i] = handle_command(k, force, out.torque_W, squeeze);
+    ToolSnapshot& ts = snap.tools[i];
+    ts.pose = k.pose;
+    ts.handle_W = k.handle_W;
+    ts.force_tip_W = force;
+    ts.contacts = out.segments[0].contact_count + out.segments[1].contact_count +
+                  out.segments[2].contact_count;
+    ts.grasping = grasp.grasping();
+  }
+  // Limits, the watchdog's zero, and the resume ramp; then write.
+  const bool paused = paused_.load(std::memory_order_relaxed);
+  if (!paused && gain_ < 1.0) {
+    gain_ =
+        settings_.resume_ramp_s > 0.0 ? std::min(1.0, gain_ + dt_ / settings_.resume_ramp_s) : 1.0;
+  }
+  std::array<hardware::DeviceCommand, 2> sent{};
+  for (size_t i = 0; i < 2; ++i) {
+    if (paused) {
+      sent[i] = tools_[i].limiter.zero();
+    } else {
+      const hardware::LimitedCommand l = tools_[i].limiter.apply(wanted[i], dt_, gain_);
+      if (l.non_finite) trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+      sent[i] = l.command;
+    }
+  }
+  if (paused_.load(std::memory_order_relaxed)) {
+    for (size_t i = 0; i < 2; ++i) sent[i] = tools_[i].limiter.zero();
+  }
+  for (size_t i = 0; i < 2; ++i) {
+    const hardware::DeviceStatus st = tools_[i].device->write(sent[i]);
+    if (st == hardware::DeviceStatus::kDisconnected || st == hardware::DeviceStatus::kError) {
+      trip(tick, static_cast<int32_t>(i),
+           st == hardware::DeviceStatus::kError ? WatchdogReason::kDeviceError
+                                                : WatchdogReason::kDeviceDisconnected);
+    }
+    snap.tools[i].command = sent[i];
+    max_force_sent_n_ = std::max(max_force_sent_n_, sent[i].force_W.norm());
+    hash_vector(&hash_, sent[i].force_W);
+    hash_vector(&hash_, sent[i].torque_W);
+    hash_bytes(&hash_, &sent[i].squeeze_n, sizeof(double));
+    hash_vector(&hash_, snap.tools[i].pose.hinge_W);
+  }
+  snap.paused = paused_.load(std::memory_order_relaxed);
+  to_graphics_.publish(snap);
+  to_model_.publish();
+}
+
+void Session::model_tick(int64_t tick) noexcept {
+  const HapticSnapshot& h = to_model_.latest();
+  for (size_t i = 0; i < 2; ++i) {
+    if (h.tick < 0) break;
+    (void)models::update_grasp(grasp_settings_, jaw_frame(h.tools[i].pose), *catheter_model_,
+                               catheter_.get(), &grasps_[i]);
+  }
+  (void)models::step_catheter(*catheter_model_, catheter_.get(), model_dt_);
+  for (const Eigen::Vector3d& p : catheter_->positions) hash_vector(&model_hash_, p);
+  for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
+    ModelSnapshot& m = buf->write_slot();
+    m.tick = tick;
+    m.catheter = catheter_->positions;  // same size: no allocation
+    m.grasps = grasps_;
+    buf->publish();
+  }
+}
+
+void Session::run_fast() {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto model_t = std::chrono::steady_clock::now();
+  for (int64_t tick = 0; tick < max_ticks_; ++tick) {
+    if (stop_.load(std::memory_order_relaxed)) break;
+    const double late = tick == injected_late_tick_ ? injected_late_s_ : 0.0;
+    const auto a = std::chrono::steady_clock::now();
+    haptic_tick(tick, late);
+    haptic_stats_.add(late, seconds_since(a));
+    if (tick % ticks_per_model_ == 0) {
+      const auto b = std::chrono::steady_clock::now();
+      model_tick(tick);
+      model_stats_.add(0.0, seconds_since(b));
+    }
+    if (tools_[0].finished && tools_[1].finished) break;
+  }
+  haptic_stats_.set_elapsed(seconds_since(t0));
+  model_stats_.set_elapsed(seconds_since(model_t));
+}
+
+void Session::run_realtime() {
+  if (settings_.realtime_priority) {
+    const std::string mem = lock_memory();
+    if (!mem.empty()) warnings_.push_back(mem);
+  }
+  std::string haptic_warning;
+  const int64_t period_ns = std::llround(dt_ * 1e9);
+  const int64_t model_period_ns = period_ns * ticks_per_model_;
+  const int64_t start_ns = monotonic_ns() + 5 * period_ns;
+  haptic_done_.store(false);
+  std::thread haptic([&] {
+    if (settings_.realtime_priority) haptic_warning = request_realtime_priority(80);
+    for (int64_t tick = 0; tick < max_ticks_; ++tick) {
+      if (stop_.load(std::memory_order_relaxed)) break;
+      const int64_t deadline = start_ns + tick * period_ns;
+      sleep_until_ns(deadline, settings_.spin_ns);
+      const int64_t begin = monotonic_ns();
+      const double late = static_cast<double>(begin - deadline) * 1e-9;
+      haptic_tick(tick, late);
+      haptic_stats_.add(late, static_cast<double>(monotonic_ns() - begin) * 1e-9);
+      if (tools_[0].finished && tools_[1].finished) break;
+    }
+    haptic_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
+    haptic_done_.store(true);
+  });
+  std::thread model([&] {
+    for (int64_t k = 0; !haptic_done_.load(); ++k) {
+      const int64_t deadline = start_ns + k * model_period_ns;
+      sleep_until_ns(deadline, 0);
+      const int64_t begin = monotonic_ns();
+      model_tick(k * ticks_per_model_);
+      model_stats_.add(static_cast<double>(begin - deadline) * 1e-9,
+                       static_cast<double>(monotonic_ns() - begin) * 1e-9);
+    }
+    model_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
+  });
+  haptic.join();
+  model.join();
+  if (!haptic_warning.empty()) warnings_.push_back(haptic_warning);
+}
+
+SessionMetrics Session::run() {
+  if (settings_.fast) {
+    run_fast();
+  } else {
+    run_realtime();
+  }
+  // The devices feel nothing once the session is over.
+  for (Tool& tool : tools_) {
+    tool.limiter.zero();
+    (void)tool.device->write(hardware::DeviceCommand{});
+  }
+  SessionMetrics m;
+  m.haptic = haptic_stats_;
+  m.model = model_stats_;
+  m.paused = paused_.load();
+  m.events = events_;
+  m.recorded_ticks = static_cast<int64_t>(recordings_[0].samples.size());
+  m.dropped_samples = dropped_samples_;
+  // Each loop hashes its own state (no sharing between threads); the two are combined here.
+  m.state_hash = hash_;
+  hash_bytes(&m.state_hash, &model_hash_, sizeof(model_hash_));
+  m.device_status = {tools_[0].status, tools_[1].status};
+  m.warnings = warnings_;
+  if (events_dropped_ > 0) {
+    m.warnings.push_back(std::to_string(events_dropped_) + " watchdog events beyond the first " +
+                         std::to_string(events_.size()) + " were counted but not listed");
+  }
+  m.max_force_sent_n = max_force_sent_n_;
+  return m;
+}
+
+bool Session::write_recording(const std::string& dir, std::string* error) const {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    if (error != nullptr) *error = dir + ": cannot create the recording folder: " + ec.message();
+    return false;
+  }
+  const std::filesystem::path d(dir);
+  return hardware::write_device_recording(d / "left.lapdev", recordings_[0], error) &&
+         hardware::write_device_recording(d / "right.lapdev", recordings_[1], error);
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,208 @@
+#pragma once
+/// \file
+/// A running session: the three loops of ARCHITECTURE.md over a loaded scene (thesis §6.5,
+/// §7.6: haptics fastest, modelling slower, graphics slowest), two tools each driven by a
+/// device through its trocar, the watchdog, and the recording of every device input.
+///
+/// - Haptic loop (default 1 kHz): read both devices, tool kinematics through the trocars, the
+///   three-segment gripper proxies against the organs, the virtual coupling to a grasped
+///   catheter, the wrench back through the fulcrum, limits, write both devices. No allocation,
+///   lock or exception after start-up.
+/// - Modelling loop (default 200 Hz): grasping and the mass-spring catheter (§7.7(3)).
+/// - Graphics: whoever shows the session reads snapshots (graphics_snapshot()).
+/// The loops exchange whole snapshots through triple buffers: nobody waits for anybody.
+///
+/// Real time: the haptic and modelling loops are threads woken at absolute times. --fast: the
+/// same ticks run in lockstep in the calling thread as fast as possible, so a run is a pure
+/// function of its inputs (state_hash) — replays reproduce a recorded session bit for bit.
+///
+/// Watchdog: a haptic tick starting more than 2 periods late, a non-finite force, or a device
+/// that reports an error or a disconnect sends zero force on that tick, pauses the session
+/// (forces stay zero; proxies, models and recording go on) and records why; resume() ramps the
+/// forces back in.
+
+#include <array>
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "haptics/laparoscopic_gripper.h"
+#include "haptics/mesh_database.h"
+#include "haptics/segment_database.h"
+#include "hardware/command_limiter.h"
+#include "hardware/device_recording.h"
+#include "hardware/haptic_device.h"
+#include "hardware/triple_buffer.h"
+#include "models/catheter_grasp.h"
+#include "models/catheter_model.h"
+#include "sim/loop_stats.h"
+#include "sim/organ_surface.h"
+#include "sim/scene.h"
+#include "sim/trocar_tool.h"
+
+namespace lap::sim {
+
+struct RuntimeSettings {
+  double haptic_rate_hz = 1000.0;
+  double model_rate_hz = 200.0;
+  bool fast = false;              ///< lockstep, as fast as possible, deterministic
+  double duration_s = 10.0;       ///< the session ends here, or when every device has finished
+  double resume_ramp_s = 0.5;     ///< forces ramp from 0 to full over this after resume()
+  double overrun_periods = 2.0;   ///< a tick later than this many periods trips the watchdog
+  int64_t spin_ns = 50000;        ///< the haptic loop spins this long before its deadline
+  bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
+};
+
+enum class WatchdogReason : uint8_t { kOverrun, kNonFinite, kDeviceDisconnected, kDeviceError };
+[[nodiscard]] std::string_view to_string(WatchdogReason reason);
+
+struct WatchdogEvent {
+  int64_t tick = 0;
+  int32_t tool = -1;  ///< 0 left, 1 right, -1 the loop itself
+  WatchdogReason reason = WatchdogReason::kOverrun;
+};
+
+struct ToolSnapshot {
+  haptics::GripperPose pose;
+  Eigen::Vector3d handle_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_tip_W = Eigen::Vector3d::Zero();  ///< tissue + grasp on the tool [N]
+  hardware::DeviceCommand command;                        ///< as sent to the device
+  int32_t contacts = 0;
+  bool grasping = false;
+};
+
+struct HapticSnapshot {
+  int64_t tick = -1;
+  bool paused = false;
+  std::array<ToolSnapshot, 2> tools{};
+};
+
+struct ModelSnapshot {
+  int64_t tick = -1;
+  std::vector<Eigen::Vector3d> catheter;  ///< particle positions [m]
+  std::array<models::GraspState, 2> grasps{};
+};
+
+struct SessionMetrics {
+  LoopStats haptic;
+  LoopStats model;
+  bool paused = false;
+  std::vector<WatchdogEvent> events;
+  int64_t recorded_ticks = 0;
+  int64_t dropped_samples = 0;  ///< inputs not recorded because the recording was full
+  uint64_t state_hash = 0;
+  std::array<hardware::DeviceStatus, 2> device_status{};
+  std::vector<std::string> warnings;
+  double max_force_sent_n = 0.0;
+};
+
+class Session {
+ public:
+  /// Set-up: databases for every organ, the tools at their trocars, the catheter, recording
+  /// space for the whole duration. Devices are started here. nullptr and *error on failure.
+  static std::unique_ptr<Session> create(
+      const Scene& scene, std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices,
+      const RuntimeSettings& settings, std::string* error);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  Session(Session&&) = delete;
+  Session& operator=(Session&&) = delete;
+
+  /// Runs the session to its end (fast or real time) and returns the metrics.
+  SessionMetrics run();
+  /// Any thread: end the session at the next tick.
+  void request_stop() { stop_.store(true, std::memory_order_relaxed); }
+  /// Any thread: un-pause; forces ramp back in over resume_ramp_s.
+  void resume() { resume_requested_.store(true, std::memory_order_relaxed); }
+  [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_relaxed); }
+
+  /// Tests (fast mode): make tick `tick` start `late_s` late, as a stalled loop would.
+  void inject_lateness(int64_t tick, double late_s) {
+    injected_late_tick_ = tick;
+    injected_late_s_ = late_s;
+  }
+
+  /// The graphics loop (one reader): the newest haptic and model snapshots.
+  const HapticSnapshot& graphics_haptic() { return to_graphics_.latest(); }
+  const ModelSnapshot& graphics_model() { return model_to_graphics_.latest(); }
+
+  /// Every device's inputs so far (the recording keeps what was recorded when a session
+  /// pauses or stops early).
+  [[nodiscard]] const hardware::DeviceRecording& recording(int tool) const {
+    return recordings_[static_cast<size_t>(tool)];
+  }
+  /// Writes DIR/left.lapdev, DIR/right.lapdev. false and *error on failure.
+  bool write_recording(const std::string& dir, std::string* error) const;
+
+  [[nodiscard]] const RuntimeSettings& settings() const { return settings_; }
+
+ private:
+  Session() = default;
+  void haptic_tick(int64_t tick, double lateness_s) noexcept;
+  void model_tick(int64_t tick) noexcept;
+  void trip(int64_t tick, int32_t tool, WatchdogReason reason) noexcept;
+  void run_fast();
+  void run_realtime();
+
+  struct Tool {
+    std::unique_ptr<hardware::HapticDevice> device;
+    TrocarToolSettings trocar;
+    haptics::LaparoscopicGripper gripper;
+    hardware::CommandLimiter limiter;
+    Eigen::Vector3d axis_W = Eigen::Vector3d::UnitY();
+    bool started = false;
+    bool finished = false;
+    hardware::DeviceStatus status = hardware::DeviceStatus::kOk;
+  };
+
+  RuntimeSettings settings_;
+  double dt_ = 0.001;
+  double model_dt_ = 0.005;
+  int64_t ticks_per_model_ = 5;
+  int64_t max_ticks_ = 0;
+
+  // Scene for the proxies.
+  std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs_;
+  std::vector<std::unique_ptr<haptics::SegmentDatabase>> sds_;
+  std::vector<OrganSurface> surfaces_;
+  std::vector<haptics::HapticObject> objects_;
+  std::array<Tool, 2> tools_;
+
+  // Models (the modelling thread's own).
+  std::unique_ptr<models::CatheterModel> catheter_model_;
+  std::unique_ptr<models::CatheterState> catheter_;
+  models::GraspSettings grasp_settings_;
+  std::array<models::GraspState, 2> grasps_{};
+
+  // Exchange (each buffer: one writer, one reader).
+  hardware::TripleBuffer<HapticSnapshot> to_model_;
+  hardware::TripleBuffer<HapticSnapshot> to_graphics_;
+  hardware::TripleBuffer<ModelSnapshot> model_to_haptic_;
+  hardware::TripleBuffer<ModelSnapshot> model_to_graphics_;
+
+  // Watchdog and safety (haptic thread).
+  std::atomic<bool> paused_{false};
+  std::atomic<bool> resume_requested_{false};
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> haptic_done_{false};
+  double gain_ = 1.0;
+  std::vector<WatchdogEvent> events_;  ///< capacity reserved at set-up
+  int64_t events_dropped_ = 0;
+  int64_t injected_late_tick_ = -1;
+  double injected_late_s_ = 0.0;
+  double max_force_sent_n_ = 0.0;
+
+  // Recording (haptic thread writes, capacity reserved at set-up).
+  std::array<hardware::DeviceRecording, 2> recordings_{};
+  int64_t dropped_samples_ = 0;
+  uint64_t hash_ = 1469598103934665603ULL;        ///< haptic thread: commands, tool poses
+  uint64_t model_hash_ = 1469598103934665603ULL;  ///< modelling thread: catheter
+
+  LoopStats haptic_stats_;
+  LoopStats model_stats_;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace lap::sim

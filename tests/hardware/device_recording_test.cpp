@@ -1,0 +1,105 @@
+#include "hardware/device_recording.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "hardware/replay_device.h"
+
+namespace lap::hardware {
+namespace {
+
+namespace fs = std::filesystem;
+
+DeviceRecording make_recording(int n) {
+  DeviceRecording r;
+  r.period_s = 0.001;
+  for (int i = 0; i < n; ++i) {
+    RecordedSample s;
+    s.tick = i;
+    s.sample.time_s = 0.001 * i;
+    // Values with full mantissas, so a lossy format would show.
+    s.sample.position_W = {std::sin(i * 0.1), 1.0 / 3.0 + i, std::exp(-0.01 * i)};
+    s.sample.orientation_W =
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d(1, 2, 3).normalized()));
+    s.sample.velocity_W = {0.1 * i, -0.2, M_PI};
+    s.sample.gripper_angle_rad = 0.5 + 1e-17 * i;
+    s.sample.buttons = static_cast<uint32_t>(i % 3);
+    s.status = i == n - 1 ? DeviceStatus::kFinished : DeviceStatus::kOk;
+    r.samples.push_back(s);
+  }
+  return r;
+}
+
+fs::path temp_file(const std::string& name) {
+  return fs::temp_directory_path() / ("laptrainer_" + std::to_string(::getpid()) + "_" + name);
+}
+
+TEST(DeviceRecording, RoundTripsBitForBitAndReplaysIt) {
+  const DeviceRecording r = make_recording(100);
+  const fs::path f = temp_file("roundtrip.lapdev");
+  std::string error;
+  ASSERT_TRUE(write_device_recording(f, r, &error)) << error;
+  EXPECT_EQ(fs::file_size(f), kDeviceRecordingHeaderBytes + 100 * kDeviceRecordingRecordBytes);
+  auto back = read_device_recording(f, &error);
+  ASSERT_TRUE(back.has_value()) << error;
+  ASSERT_EQ(back->samples.size(), 100U);
+  EXPECT_EQ(back->period_s, 0.001);
+  ReplayDevice replay(*back, "left");
+  ASSERT_TRUE(replay.start(&error));
+  for (int i = 0; i < 100; ++i) {
+    DeviceSample s;
+    const DeviceStatus st = replay.read(i, 0.001, &s);
+    const RecordedSample& want = r.samples[static_cast<size_t>(i)];
+    EXPECT_EQ(st, want.status);
+    EXPECT_EQ(std::memcmp(s.position_W.data(), want.sample.position_W.data(), 24), 0) << i;
+    EXPECT_EQ(
+        std::memcmp(s.orientation_W.coeffs().data(), want.sample.orientation_W.coeffs().data(), 32),
+        0);
+    EXPECT_EQ(s.velocity_W, want.sample.velocity_W);
+    EXPECT_EQ(s.gripper_angle_rad, want.sample.gripper_angle_rad);
+    EXPECT_EQ(s.buttons, want.sample.buttons);
+  }
+  DeviceSample past;
+  EXPECT_EQ(replay.read(100, 0.001, &past), DeviceStatus::kFinished);
+  fs::remove(f);
+}
+
+TEST(DeviceRecording, TruncatedAndForeignFilesAreClearErrors) {
+  const fs::path f = temp_file("bad.lapdev");
+  std::string error;
+  ASSERT_TRUE(write_device_recording(f, make_recording(10), &error));
+  fs::resize_file(f, kDeviceRecordingHeaderBytes + 3 * kDeviceRecordingRecordBytes + 5);
+  EXPECT_FALSE(read_device_recording(f, &error).has_value());
+  EXPECT_EQ(error, f.string() + ": ends inside record 3 (5 stray bytes): the file is truncated");
+
+  { std::ofstream(f, std::ios::binary | std::ios::trunc) << "hello, not a recording at all....."; }
+  EXPECT_FALSE(read_device_recording(f, &error).has_value());
+  EXPECT_EQ(error,
+            f.string() + ": not a laptrainer device recording (expected the header 'LAPDEV01')");
+
+  // Records out of order.
+  DeviceRecording r = make_recording(4);
+  r.samples[2].tick = 7;
+  ASSERT_TRUE(write_device_recording(f, r, &error));
+  EXPECT_FALSE(read_device_recording(f, &error).has_value());
+  EXPECT_EQ(error, f.string() +
+                       ": record 2: tick 7: expected tick 2 (records are one per tick, in order)");
+
+  // A non-finite value.
+  r = make_recording(4);
+  r.samples[1].sample.position_W.y() = std::numeric_limits<double>::quiet_NaN();
+  ASSERT_TRUE(write_device_recording(f, r, &error));
+  EXPECT_FALSE(read_device_recording(f, &error).has_value());
+  EXPECT_NE(error.find("record 1: expected finite values"), std::string::npos) << error;
+
+  EXPECT_FALSE(read_device_recording(temp_file("missing.lapdev"), &error).has_value());
+  EXPECT_NE(error.find("cannot open the device recording"), std::string::npos);
+  fs::remove(f);
+}
+
+}  // namespace
+}  // namespace lap::hardware

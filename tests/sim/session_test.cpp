@@ -1,0 +1,302 @@
+#include "sim/session.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <limits>
+#include <thread>
+
+#include "hardware/device_recording.h"
+#include "hardware/replay_device.h"
+#include "hardware/scripted_device.h"
+#include "sim/device_factory.h"
+#include "tests/support/counting_allocator.h"
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using hardware::DeviceStatus;
+
+const Scene& default_scene() {
+  static const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+  EXPECT_TRUE(r.ok());
+  return r.scene;
+}
+
+// The tool pushed from 5 cm to 20 cm inside its trocar over 1 s, then swept sideways while the
+// jaws close: it meets the organs, so forces are not zero.
+hardware::ScriptedTrajectory push_in(const Scene& scene, int side) {
+  hardware::ScriptedTrajectory t;
+  const Eigen::Vector3d a = default_handle_position(scene, side, 0.05);
+  const Eigen::Vector3d b = default_handle_position(scene, side, 0.20);
+  t.keyframes.push_back({0.0, a, Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back({1.0, b, Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back({2.0, b + Eigen::Vector3d(0.03, 0, 0.02),
+                         Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY())), 0.1,
+                         1});
+  return t;
+}
+
+// A device that misbehaves at one tick: a NaN position, an error, a disconnect, or a stall.
+class FaultyDevice final : public hardware::HapticDevice {
+ public:
+  enum class Fault { kNone, kNaN, kError, kDisconnect, kStall };
+  FaultyDevice(hardware::ScriptedTrajectory t, Fault fault, int64_t at)
+      : inner_(std::move(t), "faulty"), fault_(fault), at_(at) {}
+  bool start(std::string* e) override { return inner_.start(e); }
+  void stop() override {}
+  DeviceStatus read(int64_t tick, double dt, hardware::DeviceSample* out) noexcept override {
+    const DeviceStatus st = inner_.read(tick, dt, out);
+    if (tick != at_) return st;
+    switch (fault_) {
+      case Fault::kNaN:
+        out->position_W.x() = std::numeric_limits<double>::quiet_NaN();
+        return st;
+      case Fault::kError:
+        return DeviceStatus::kError;
+      case Fault::kDisconnect:
+        return DeviceStatus::kDisconnected;
+      case Fault::kStall:
+        std::this_thread::sleep_for(std::chrono::milliseconds(6));
+        return st;
+      case Fault::kNone:
+        break;
+    }
+    return st;
+  }
+  DeviceStatus write(const hardware::DeviceCommand& c) noexcept override {
+    commands.push_back(c);
+    return DeviceStatus::kOk;
+  }
+  [[nodiscard]] const hardware::DeviceLimits& limits() const override { return inner_.limits(); }
+  [[nodiscard]] std::string_view name() const override { return "faulty"; }
+  [[nodiscard]] std::string last_error() const override { return {}; }
+  std::vector<hardware::DeviceCommand> commands;  // reserved by the test
+
+ private:
+  hardware::ScriptedDevice inner_;
+  Fault fault_;
+  int64_t at_;
+};
+
+RuntimeSettings fast(double duration) {
+  RuntimeSettings s;
+  s.fast = true;
+  s.duration_s = duration;
+  return s;
+}
+
+std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
+  const Scene& scene = default_scene();
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  std::string error;
+  auto s = Session::create(scene, std::move(d), rs, &error);
+  EXPECT_NE(s, nullptr) << error;
+  return s;
+}
+
+TEST(Session, FastRunsAreDeterministicAndTouchTheOrgans) {
+  auto a = scripted_session(fast(2.5));
+  auto b = scripted_session(fast(2.5));
+  const SessionMetrics ma = a->run();
+  const SessionMetrics mb = b->run();
+  // The scripts end at 2 s: the session stops when both devices have finished.
+  EXPECT_EQ(ma.haptic.ticks(), 2002);
+  EXPECT_EQ(ma.model.ticks(), 401);
+  EXPECT_EQ(ma.state_hash, mb.state_hash);
+  EXPECT_FALSE(ma.paused);
+  EXPECT_GT(ma.max_force_sent_n, 0.05);  // the tools pressed on tissue
+  EXPECT_LE(ma.max_force_sent_n, hardware::DeviceLimits{}.max_force_n + 1e-12);
+  EXPECT_EQ(ma.recorded_ticks, 2002);
+}
+
+TEST(Session, AReplayReproducesTheRecordedSessionBitForBit) {
+  auto original = scripted_session(fast(2.5));
+  const SessionMetrics m = original->run();
+  const fs::path dir =
+      fs::temp_directory_path() / ("laptrainer_replay_" + std::to_string(::getpid()));
+  std::string error;
+  ASSERT_TRUE(original->write_recording(dir.string(), &error)) << error;
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d;
+  for (int side = 0; side < 2; ++side) {
+    auto rec =
+        hardware::read_device_recording(dir / (side == 0 ? "left.lapdev" : "right.lapdev"), &error);
+    ASSERT_TRUE(rec.has_value()) << error;
+    d[static_cast<size_t>(side)] =
+        std::make_unique<hardware::ReplayDevice>(std::move(*rec), "replay");
+  }
+  auto replay = Session::create(default_scene(), std::move(d), fast(2.5), &error);
+  ASSERT_NE(replay, nullptr) << error;
+  const SessionMetrics r = replay->run();
+  EXPECT_EQ(r.haptic.ticks(), m.haptic.ticks());
+  EXPECT_EQ(r.state_hash, m.state_hash);
+  fs::remove_all(dir);
+}
+
+struct FaultCase {
+  FaultyDevice::Fault fault;
+  WatchdogReason reason;
+};
+
+class SessionWatchdog : public ::testing::TestWithParam<FaultCase> {};
+
+TEST_P(SessionWatchdog, ZeroForceOnTheTickPausedAndNothingLost) {
+  const Scene& scene = default_scene();
+  const int64_t at = 1500;  // the tool is pressing by then
+  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), GetParam().fault, at);
+  FaultyDevice* dev = left.get();
+  dev->commands.reserve(4000);
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  std::string error;
+  auto s = Session::create(scene, std::move(d), fast(2.5), &error);
+  ASSERT_NE(s, nullptr) << error;
+  const SessionMetrics m = s->run();
+  ASSERT_GT(dev->commands[at - 1].force_W.norm(), 0.0) << "the fault must hit a pressing tool";
+  EXPECT_EQ(dev->commands[at].force_W, Eigen::Vector3d::Zero());
+  EXPECT_EQ(dev->commands[at].squeeze_n, 0.0);
+  for (size_t t = at; t < dev->commands.size(); ++t) {
+    ASSERT_EQ(dev->commands[t].force_W, Eigen::Vector3d::Zero()) << t;
+  }
+  EXPECT_TRUE(m.paused);
+  ASSERT_FALSE(m.events.empty());
+  EXPECT_EQ(m.events[0].tick, at);
+  EXPECT_EQ(m.events[0].reason, GetParam().reason);
+  // Every tick's input was recorded, before and after the fault.
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+  EXPECT_EQ(s->recording(0).samples.size(), static_cast<size_t>(m.haptic.ticks()));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Faults, SessionWatchdog,
+    ::testing::Values(FaultCase{FaultyDevice::Fault::kNaN, WatchdogReason::kNonFinite},
+                      FaultCase{FaultyDevice::Fault::kError, WatchdogReason::kDeviceError},
+                      FaultCase{FaultyDevice::Fault::kDisconnect,
+                                WatchdogReason::kDeviceDisconnected}));
+
+TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
+  const Scene& scene = default_scene();
+  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* dev = left.get();
+  dev->commands.reserve(4000);
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  std::string error;
+  auto s = Session::create(scene, std::move(d), fast(2.5), &error);
+  ASSERT_NE(s, nullptr);
+  s->inject_lateness(1500, 0.0025);  // 2.5 periods late
+  const SessionMetrics m = s->run();
+  ASSERT_FALSE(m.events.empty());
+  EXPECT_EQ(m.events[0].reason, WatchdogReason::kOverrun);
+  EXPECT_EQ(m.events[0].tool, -1);
+  EXPECT_EQ(dev->commands[1500].force_W, Eigen::Vector3d::Zero());
+  EXPECT_GT(dev->commands[1499].force_W.norm(), 0.0);
+}
+
+TEST(Session, ResumeRampsForcesBackInAfterAPause) {
+  const Scene& scene = default_scene();
+  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* dev = left.get();
+  dev->commands.reserve(4000);
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  RuntimeSettings rs = fast(2.5);
+  rs.resume_ramp_s = 0.1;
+  std::string error;
+  auto s = Session::create(scene, std::move(d), rs, &error);
+  ASSERT_NE(s, nullptr);
+  s->inject_lateness(1200, 0.01);
+  s->resume();  // a resume before the pause does nothing
+  // Resume on the next tick after the pause, from "another thread" (the flag is atomic).
+  std::thread resumer([&] {
+    while (!s->paused()) std::this_thread::yield();
+    s->resume();
+  });
+  const SessionMetrics m = s->run();
+  resumer.join();
+  EXPECT_FALSE(m.paused);
+  EXPECT_EQ(dev->commands[1200].force_W, Eigen::Vector3d::Zero());
+  // The forces come back through the ramp: the gain grows by dt / ramp = 1 % per tick, so the
+  // first force after the resume is at most 1 % of the device's 3 N, and later ones grow.
+  size_t first = 0;
+  for (size_t t = 1201; t < dev->commands.size() && first == 0; ++t) {
+    if (dev->commands[t].force_W.norm() > 0.0) first = t;
+  }
+  ASSERT_GT(first, 0U) << "forces never came back";
+  EXPECT_LE(dev->commands[first].force_W.norm(), 0.01 * 3.0 + 1e-12);
+  double later = 0.0;
+  for (size_t t = first; t < dev->commands.size(); ++t) {
+    later = std::max(later, dev->commands[t].force_W.norm());
+  }
+  EXPECT_GT(later, 10.0 * dev->commands[first].force_W.norm());
+}
+
+TEST(Session, TheFastLoopAllocatesNothingPerTick) {
+  // The same session run for 200 and for 2000 ticks allocates the same number of times: set-up
+  // and the metrics allocate, the ticks do not.
+  auto count_for = [&](double duration) {
+    auto s = scripted_session(fast(duration));
+    test::AllocationCounter counter;
+    const SessionMetrics m = s->run();
+    return counter.count();
+  };
+  const int64_t short_run = count_for(0.2);
+  const int64_t long_run = count_for(2.0);
+  EXPECT_EQ(short_run, long_run);
+}
+
+TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
+  const Scene& scene = default_scene();
+  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kStall, 300);
+  FaultyDevice* dev = left.get();
+  dev->commands.reserve(4000);
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  RuntimeSettings rs;
+  rs.duration_s = 0.5;
+  rs.realtime_priority = false;
+  std::string error;
+  auto s = Session::create(scene, std::move(d), rs, &error);
+  ASSERT_NE(s, nullptr);
+  const SessionMetrics m = s->run();
+  EXPECT_EQ(m.haptic.ticks(), 500);
+  EXPECT_GT(m.model.ticks(), 10);
+  // Tick 300 slept 6 ms: tick 301 started more than 2 periods late, sent zero, paused. (A busy
+  // machine may add earlier overruns of its own; this one must be there.)
+  const auto it = std::find_if(m.events.begin(), m.events.end(),
+                               [](const WatchdogEvent& e) { return e.tick == 301; });
+  ASSERT_NE(it, m.events.end());
+  EXPECT_EQ(it->reason, WatchdogReason::kOverrun);
+  EXPECT_EQ(dev->commands[301].force_W, Eigen::Vector3d::Zero());
+  EXPECT_EQ(m.recorded_ticks, 500);
+}
+
+TEST(Session, BadSettingsAndScenesAreClearErrors) {
+  const Scene& scene = default_scene();
+  std::string error;
+  RuntimeSettings rs;
+  rs.model_rate_hz = 5000.0;
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  EXPECT_EQ(Session::create(scene, std::move(d), rs, &error), nullptr);
+  EXPECT_EQ(error, "rates: expected 0 < model rate <= haptic rate");
+  Scene no_tools = scene;
+  no_tools.scenario.tools.clear();
+  d = {std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
+       std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  EXPECT_EQ(Session::create(no_tools, std::move(d), RuntimeSettings{}, &error), nullptr);
+  EXPECT_NE(error.find("tools: expected a left tool"), std::string::npos) << error;
+  hardware::DeviceSpec phantom{hardware::DeviceKind::kPhantom, ""};
+  EXPECT_EQ(make_device(phantom, scene, 0, &error), nullptr);
+  EXPECT_NE(error.find("libHD.so"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace lap::sim
