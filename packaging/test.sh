@@ -26,10 +26,10 @@ fi
 if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
   echo "== ThreadSanitizer build of the runtime tests (loops, snapshots, watchdog, devices)"
   cmake --preset tsan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON
-  cmake --build --preset tsan --parallel "$jobs" --target hardware_tests sim_tests
+  cmake --build --preset tsan --parallel "$jobs" --target hardware_tests sim_tests fake_hd
   # Any race report makes the binary exit non-zero (TSan's exitcode 66).
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/hardware_tests \
-    --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*'
+    --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*:Phantom*'
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/sim_tests \
     --gtest_filter='Session*:*SessionWatchdog*:TrocarTool*'
 fi

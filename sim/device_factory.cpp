@@ -3,7 +3,8 @@
 #include <algorithm>
 
 #include "hardware/device_recording.h"
-#include "hardware/open_haptics_library.h"
+#include "hardware/open_haptics_api.h"
+#include "hardware/phantom_device.h"
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
 #include "hardware/simulated_device.h"
@@ -55,16 +56,20 @@ std::unique_ptr<hardware::HapticDevice> make_device(const hardware::DeviceSpec& 
       return std::make_unique<hardware::ReplayDevice>(std::move(*rec), name + " replay");
     }
     case hardware::DeviceKind::kPhantom: {
-      const std::string what = "phantom" + (spec.argument.empty() ? "" : ":" + spec.argument);
+      // The device's origin (the middle of its workspace) at the handle's home, 10 cm in.
+      hardware::PhantomSettings ps;
+      ps.device_name = spec.argument;
+      ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, side, 0.10)) *
+                           Eigen::Isometry3d::Identity();
+      auto dev = std::make_unique<hardware::PhantomDevice>(ps);
       std::string why;
-      if (!hardware::open_haptics_available(&why)) {
-        *error = what + ": " + why + ", or use simulated, scripted:FILE or replay:FILE.";
+      // Started by the session; here only the library is checked, to fail early and clearly.
+      if (!hardware::hd::load_api(ps.library, &why)) {
+        *error = std::string(dev->name()) + ": " + why +
+                 ", or use simulated, scripted:FILE or replay:FILE.";
         return nullptr;
       }
-      *error = what +
-               ": libHD.so is present, but this version of laptrainer has no PHANToM "
-               "driver yet; use simulated, scripted:FILE or replay:FILE.";
-      return nullptr;
+      return dev;
     }
   }
   *error = "unknown device kind";

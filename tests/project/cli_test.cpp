@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -195,6 +196,19 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
                   "/left.lapdev --right replay:" + rec + "/right.lapdev --duration 1 --fast");
   ASSERT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_EQ(json_field(replay.out, "state_hash"), hash);
+}
+
+TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {
+  // The fake libHD.so stands in for OpenHaptics: found through LD_LIBRARY_PATH as the real one
+  // would be through the system's library path.
+  const std::string dir = std::filesystem::path(LAP_FAKE_HD).parent_path().string();
+  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const CommandResult r =
+      run_command("LD_LIBRARY_PATH=" + dir + " " + cli() + " run --scenario " + scenario +
+                  " --left phantom --right simulated --duration 0.3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json_field(r.out, "left"), "\"ok\"") << r.out;
+  EXPECT_EQ(json_field(r.out, "paused"), "false") << r.out;
 }
 
 TEST(CliRun, DeviceProblemsAreClearErrors) {

@@ -9,10 +9,12 @@
 #include <thread>
 
 #include "hardware/device_recording.h"
+#include "hardware/phantom_device.h"
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
 #include "sim/device_factory.h"
 #include "tests/support/counting_allocator.h"
+#include "tests/support/fake_hd_control.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -277,6 +279,53 @@ TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
   EXPECT_EQ(m.recorded_ticks, 500);
 }
 
+// The watchdog with a PHANToM (through the fake libHD.so): a servo error zeroes the force the
+// device outputs and pauses the session; an unplugged arm is reported as disconnected.
+TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
+  test::FakeHd fake;
+  ASSERT_NE(fake.handle, nullptr);
+  for (const bool unplug : {false, true}) {
+    fake.reset();
+    const Scene& scene = default_scene();
+    hardware::PhantomSettings ps;
+    ps.library = LAP_FAKE_HD;
+    // The device's origin 10 cm in, at the left tool's home: the arm starts there.
+    ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, 0, 0.10)) *
+                         Eigen::Isometry3d::Identity();
+    std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+        std::make_unique<hardware::PhantomDevice>(ps),
+        std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+    RuntimeSettings rs;
+    rs.duration_s = 0.6;
+    rs.realtime_priority = false;
+    std::string error;
+    auto s = Session::create(scene, std::move(d), rs, &error);
+    ASSERT_NE(s, nullptr) << error;
+    std::thread fault([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      if (unplug) {
+        fake.unplug(0, true);
+      } else {
+        fake.set_servo_error(0x0204);
+      }
+    });
+    const SessionMetrics m = s->run();
+    fault.join();
+    EXPECT_TRUE(m.paused);
+    const auto want = unplug ? WatchdogReason::kDeviceDisconnected : WatchdogReason::kDeviceError;
+    const auto it = std::find_if(m.events.begin(), m.events.end(),
+                                 [&](const WatchdogEvent& e) { return e.reason == want; });
+    EXPECT_NE(it, m.events.end()) << (unplug ? "unplug" : "servo error");
+    if (!unplug) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      EXPECT_EQ(fake.force(0), Eigen::Vector3d::Zero());
+    }
+    EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+    s.reset();
+  }
+  fake.reset();
+}
+
 TEST(Session, BadSettingsAndScenesAreClearErrors) {
   const Scene& scene = default_scene();
   std::string error;
@@ -293,9 +342,12 @@ TEST(Session, BadSettingsAndScenesAreClearErrors) {
        std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
   EXPECT_EQ(Session::create(no_tools, std::move(d), RuntimeSettings{}, &error), nullptr);
   EXPECT_NE(error.find("tools: expected a left tool"), std::string::npos) << error;
+  // No OpenHaptics on the library path (the fake is loaded by its full path only).
   hardware::DeviceSpec phantom{hardware::DeviceKind::kPhantom, ""};
   EXPECT_EQ(make_device(phantom, scene, 0, &error), nullptr);
-  EXPECT_NE(error.find("libHD.so"), std::string::npos) << error;
+  EXPECT_NE(error.find("phantom: OpenHaptics' HD library (libHD.so) could not be loaded"),
+            std::string::npos)
+      << error;
 }
 
 }  // namespace
