@@ -1,7 +1,9 @@
 #pragma once
 /// \file
 /// The device specifications accepted on the command line (ARCHITECTURE.md `run --left DEV`):
-/// `simulated`, `scripted:FILE`, `replay:FILE`, `phantom` or `phantom:NAME`.
+/// `simulated`, `scripted:FILE`, `replay:FILE`, `phantom` or `phantom:NAME`, each optionally
+/// followed by `+gripper`: the actuated USB gripper on the arm's end gives the jaw opening and
+/// renders the squeeze (thesis Figure 7-9).
 
 #include <optional>
 #include <string>
@@ -15,7 +17,8 @@ enum class DeviceKind { kSimulated, kScripted, kReplay, kPhantom };
 /// A parsed DEV argument.
 struct DeviceSpec {
   DeviceKind kind = DeviceKind::kSimulated;
-  std::string argument;  ///< file for scripted/replay, device name for phantom (may be empty)
+  std::string argument;      ///< file for scripted/replay, device name for phantom (may be empty)
+  bool usb_gripper = false;  ///< `+gripper`: the actuated gripper over USB
 };
 
 /// Parses DEV; on failure returns nullopt and sets *error to what was expected.

@@ -3,11 +3,13 @@
 #include <algorithm>
 
 #include "hardware/device_recording.h"
+#include "hardware/libusb_transport.h"
 #include "hardware/open_haptics_api.h"
 #include "hardware/phantom_device.h"
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
 #include "hardware/simulated_device.h"
+#include "hardware/usb_gripper.h"
 
 namespace lap::sim {
 namespace {
@@ -34,9 +36,10 @@ Eigen::Vector3d default_handle_position(const Scene& scene, int side, double ins
   return port->position_m - (tool->shaft_length_m - inside_m) * axis;
 }
 
-std::unique_ptr<hardware::HapticDevice> make_device(const hardware::DeviceSpec& spec,
-                                                    const Scene& scene, int side,
-                                                    std::string* error) {
+namespace {
+
+std::unique_ptr<hardware::HapticDevice> make_arm(const hardware::DeviceSpec& spec,
+                                                 const Scene& scene, int side, std::string* error) {
   const std::string name = side == 0 ? "left" : "right";
   switch (spec.kind) {
     case hardware::DeviceKind::kSimulated: {
@@ -74,6 +77,19 @@ std::unique_ptr<hardware::HapticDevice> make_device(const hardware::DeviceSpec& 
   }
   *error = "unknown device kind";
   return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<hardware::HapticDevice> make_device(const hardware::DeviceSpec& spec,
+                                                    const Scene& scene, int side,
+                                                    std::string* error) {
+  auto arm = make_arm(spec, scene, side, error);
+  if (!arm || !spec.usb_gripper) return arm;
+  // The actuated gripper on the arm's end (started, and checked, with the session).
+  return std::make_unique<hardware::ArmWithGripper>(
+      std::move(arm),
+      std::make_unique<hardware::UsbGripper>(std::make_unique<hardware::LibusbTransport>()));
 }
 
 }  // namespace lap::sim

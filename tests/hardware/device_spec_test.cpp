@@ -15,6 +15,13 @@ TEST(DeviceSpec, ParsesEveryForm) {
   EXPECT_EQ(parse_device_spec("replay:run1", &error)->kind, DeviceKind::kReplay);
   EXPECT_EQ(parse_device_spec("phantom", &error)->argument, "");
   EXPECT_EQ(parse_device_spec("phantom:Left Device", &error)->argument, "Left Device");
+  EXPECT_FALSE(parse_device_spec("phantom:Left Device", &error)->usb_gripper);
+  const auto g = parse_device_spec("phantom:Left Device+gripper", &error);
+  ASSERT_TRUE(g);
+  EXPECT_EQ(g->argument, "Left Device");
+  EXPECT_TRUE(g->usb_gripper);
+  EXPECT_TRUE(parse_device_spec("scripted:a.csv+gripper", &error)->usb_gripper);
+  EXPECT_EQ(parse_device_spec("scripted:a.csv+gripper", &error)->argument, "a.csv");
 }
 
 TEST(DeviceSpec, RejectsWithAClearMessage) {
@@ -24,7 +31,8 @@ TEST(DeviceSpec, RejectsWithAClearMessage) {
   EXPECT_FALSE(parse_device_spec("mouse", &error));
   EXPECT_EQ(
       error,
-      "device 'mouse': expected simulated, scripted:FILE, replay:FILE, phantom or phantom:NAME");
+      "device 'mouse': expected simulated, scripted:FILE, replay:FILE, phantom or phantom:NAME "
+      "(each optionally +gripper)");
   EXPECT_FALSE(parse_device_spec("simulated:x", &error));
 }
 

@@ -225,6 +225,10 @@ TEST(CliRun, DeviceProblemsAreClearErrors) {
                   " --left phantom --right simulated --fast");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("libHD.so"), std::string::npos) << r.err;
+  r = run_command(cli() + " run --scenario " + scenario +
+                  " --left simulated+gripper --right simulated --fast");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("no actuated gripper found (USB 1209:4c54)"), std::string::npos) << r.err;
   EXPECT_EQ(run_command(cli() + " run --scenario " + scenario + " --left magic --right simulated")
                 .exit_code,
             64);

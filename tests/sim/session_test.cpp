@@ -9,9 +9,11 @@
 #include <thread>
 
 #include "hardware/device_recording.h"
+#include "hardware/gripper_emulator.h"
 #include "hardware/phantom_device.h"
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
+#include "hardware/usb_gripper.h"
 #include "sim/device_factory.h"
 #include "tests/support/counting_allocator.h"
 #include "tests/support/fake_hd_control.h"
@@ -180,7 +182,20 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(FaultCase{FaultyDevice::Fault::kNaN, WatchdogReason::kNonFinite},
                       FaultCase{FaultyDevice::Fault::kError, WatchdogReason::kDeviceError},
                       FaultCase{FaultyDevice::Fault::kDisconnect,
-                                WatchdogReason::kDeviceDisconnected}));
+                                WatchdogReason::kDeviceDisconnected}),
+    // Named by the fault (the default name would print the struct's bytes, padding included).
+    [](const ::testing::TestParamInfo<FaultCase>& info) {
+      switch (info.param.fault) {
+        case FaultyDevice::Fault::kNaN:
+          return std::string("NaN");
+        case FaultyDevice::Fault::kError:
+          return std::string("DeviceError");
+        case FaultyDevice::Fault::kDisconnect:
+          return std::string("Disconnect");
+        default:
+          return std::string("Other");
+      }
+    });
 
 TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
   const Scene& scene = default_scene();
@@ -324,6 +339,45 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
     s.reset();
   }
   fake.reset();
+}
+
+// The watchdog with the actuated gripper (emulated behind the USB seam): a motor fault pauses
+// the session and the gripper is sent zero squeeze from then on; the recording is kept.
+TEST(Session, AGripperFaultPausesWithZeroSqueeze) {
+  const Scene& scene = default_scene();
+  auto emulator = std::make_unique<hardware::GripperEmulator>();
+  hardware::GripperEmulator* emu = emulator.get();
+  hardware::GripperEmulator::Controls c;
+  c.encoder_counts = 100;  // nearly closed: the jaws squeeze what they hold
+  emu->set(c);
+  auto left = std::make_unique<hardware::ArmWithGripper>(
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
+      std::make_unique<hardware::UsbGripper>(std::move(emulator)));
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  RuntimeSettings rs;
+  rs.duration_s = 0.5;
+  rs.realtime_priority = false;
+  std::string error;
+  auto s = Session::create(scene, std::move(d), rs, &error);
+  ASSERT_NE(s, nullptr) << error;
+  std::thread fault([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    hardware::GripperEmulator::Controls f = emu->controls();
+    f.motor_fault = true;
+    emu->set(f);
+  });
+  const SessionMetrics m = s->run();
+  fault.join();
+  EXPECT_TRUE(m.paused);
+  const auto it = std::find_if(m.events.begin(), m.events.end(), [](const WatchdogEvent& e) {
+    return e.reason == WatchdogReason::kDeviceError && e.tool == 0;
+  });
+  EXPECT_NE(it, m.events.end());
+  std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(emu->last_command().has_value());
+  EXPECT_EQ(emu->last_command()->squeeze_mn, 0);
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
 }
 
 TEST(Session, BadSettingsAndScenesAreClearErrors) {

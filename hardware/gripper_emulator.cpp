@@ -1,0 +1,102 @@
+#include "hardware/gripper_emulator.h"
+
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+namespace lap::hardware {
+
+bool GripperEmulator::open(std::string* error) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!controls_.plugged) {
+    if (error != nullptr) *error = "no actuated gripper found (USB 1209:4c54, emulated)";
+    return false;
+  }
+  open_ = true;
+  ++opens_;
+  return true;
+}
+
+void GripperEmulator::close() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  open_ = false;
+}
+
+TransferResult GripperEmulator::read(std::span<uint8_t> buffer, int timeout_ms, size_t* received) {
+  *received = 0;
+  std::array<uint8_t, gripper::kStateReportBytes> report{};
+  size_t size = report.size();
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!controls_.plugged || !open_) return TransferResult::kNoDevice;
+    if (controls_.stall_in) return TransferResult::kStall;
+    if (controls_.timeouts > 0) {
+      --controls_.timeouts;
+    } else {
+      gripper::StateReport s;
+      s.flags = static_cast<uint8_t>((controls_.calibrated ? gripper::kFlagCalibrated : 0) |
+                                     (controls_.motor_fault ? gripper::kFlagMotorFault : 0));
+      s.sequence = ++sequence_;
+      s.encoder_counts = controls_.encoder_counts;
+      report = gripper::encode(s);
+      if (controls_.malformed_reports > 0) {
+        --controls_.malformed_reports;
+        report[5] ^= 0x40;  // a flipped bit: the CRC no longer matches
+      }
+      size = report.size();
+      timeout_ms = 1;  // the device reports every millisecond
+    }
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(timeout_ms));
+  if (timeout_ms != 1) return TransferResult::kTimeout;
+  const size_t n = std::min(size, buffer.size());
+  std::memcpy(buffer.data(), report.data(), n);
+  *received = n;
+  return TransferResult::kOk;
+}
+
+TransferResult GripperEmulator::write(std::span<const uint8_t> bytes, int /*timeout_ms*/) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!controls_.plugged || !open_) return TransferResult::kNoDevice;
+  std::string why;
+  if (auto c = gripper::decode_command(bytes, &why)) {
+    last_command_ = *c;
+    ++commands_;
+  }
+  return TransferResult::kOk;
+}
+
+TransferResult GripperEmulator::clear_stall(uint8_t endpoint) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!controls_.plugged || !open_) return TransferResult::kNoDevice;
+  if (endpoint == gripper::kEndpointIn) controls_.stall_in = false;
+  return TransferResult::kOk;
+}
+
+void GripperEmulator::set(const Controls& c) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  controls_ = c;
+  if (!c.plugged) open_ = false;
+}
+
+GripperEmulator::Controls GripperEmulator::controls() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return controls_;
+}
+
+std::optional<gripper::CommandReport> GripperEmulator::last_command() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return last_command_;
+}
+
+int64_t GripperEmulator::commands_received() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return commands_;
+}
+
+int64_t GripperEmulator::opens() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return opens_;
+}
+
+}  // namespace lap::hardware

@@ -1,0 +1,32 @@
+#pragma once
+/// \file
+/// UsbTransport over libusb-1.0 for the actuated gripper (gripper_protocol.h's ids and
+/// endpoints). The only file in the project that includes libusb (ARCHITECTURE.md).
+
+#include <memory>
+
+#include "hardware/usb_transport.h"
+
+namespace lap::hardware {
+
+class LibusbTransport final : public UsbTransport {
+ public:
+  LibusbTransport();
+  ~LibusbTransport() override;
+  LibusbTransport(const LibusbTransport&) = delete;
+  LibusbTransport& operator=(const LibusbTransport&) = delete;
+  LibusbTransport(LibusbTransport&&) = delete;
+  LibusbTransport& operator=(LibusbTransport&&) = delete;
+
+  bool open(std::string* error) override;
+  void close() override;
+  TransferResult read(std::span<uint8_t> buffer, int timeout_ms, size_t* received) override;
+  TransferResult write(std::span<const uint8_t> bytes, int timeout_ms) override;
+  TransferResult clear_stall(uint8_t endpoint) override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lap::hardware
