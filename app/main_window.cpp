@@ -7,8 +7,10 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QCloseEvent>
 #include <QElapsedTimer>
 #include <QFileDialog>
+#include <QKeyEvent>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QStatusBar>
@@ -53,7 +55,11 @@ MainWindow::MainWindow() {
     QMessageBox::information(
         this, "Controls",
         "Mouse: left drag orbits, middle drag (or Shift+left) pans, right drag or wheel zooms.\n"
-        "Keys: arrows orbit, +/- zoom, W/A/S/D pan, R resets the camera.");
+        "Keys: arrows orbit, +/- zoom, W/A/S/D pan, R resets the camera.\n\n"
+        "Tools (simulated devices): T switches between the left and right tool. J/L move the\n"
+        "handle left/right, I/K away/towards you, U/O up/down, 2 mm a press (the tip moves the\n"
+        "other way: the shaft pivots in its trocar). [ closes the jaws, ] opens them.\n"
+        "Space resumes after the safety watchdog paused the session.");
   });
   help->addAction("&About laptrainer", this, [this] {
     QMessageBox::about(this, "About laptrainer",
@@ -64,13 +70,18 @@ MainWindow::MainWindow() {
   scene_label_ = new QLabel(this);
   fps_label_ = new QLabel(this);
   statusBar()->addWidget(scene_label_, 1);
+  loops_label_ = new QLabel(this);
+  statusBar()->addPermanentWidget(loops_label_);
   statusBar()->addPermanentWidget(fps_label_);
 
   // The graphics loop (ARCHITECTURE.md: Qt event loop, 30-60 Hz): redraw at 60 Hz so that moving
   // tools and deforming organs appear as the other loops publish them.
   auto* frame_timer = new QTimer(this);
   frame_timer->setTimerType(Qt::PreciseTimer);
-  connect(frame_timer, &QTimer::timeout, view_, &VtkView::render);
+  connect(frame_timer, &QTimer::timeout, this, [this] {
+    if (session_.running()) actors_.update(session_.haptic(), session_.model());
+    view_->render();
+  });
   frame_timer->start(1000 / 60);
 
   // Frame rate shown in the status bar once a second.
@@ -84,6 +95,7 @@ MainWindow::MainWindow() {
     fps_label_->setText(
         QString("%1 frames/s").arg((f - *last_frames) / std::max(s, 1e-3), 0, 'f', 0));
     *last_frames = f;
+    update_loops();
   });
   timer->start(1000);
 }
@@ -102,6 +114,7 @@ bool MainWindow::open_scenario(const QString& file, QStringList* problems) {
 }
 
 void MainWindow::show_scene(const sim::Scene& scene) {
+  session_.stop();
   vtkRenderer* ren = view_->renderer();
   ren->RemoveAllViewProps();
   for (const sim::Organ& o : scene.organs) {
@@ -123,8 +136,94 @@ void MainWindow::show_scene(const sim::Scene& scene) {
   }
   pose.view_angle_deg = c.view_angle_deg;
   view_->set_home_camera(pose);
+  // The loops: two simulated tools through their trocars, the catheter.
+  std::string error;
+  if (session_.start(scene, &error)) {
+    std::array<haptics::GripperGeometry, 2> tools;
+    for (const sim::ToolSpec& t : scene.scenario.tools) {
+      haptics::GripperGeometry& g = tools[t.side == sim::ToolSpec::Side::kLeft ? 0 : 1];
+      g.shaft_length_m = t.shaft_length_m;
+      g.jaw_length_m = t.jaw_length_m;
+    }
+    actors_.add_to(ren, tools, static_cast<int>(session_.model().catheter.size()));
+  } else {
+    loops_label_->setText(QString("loops not started: %1").arg(QString::fromStdString(error)));
+  }
+  last_haptic_tick_ = -1;
+  last_model_steps_ = 0;
   setWindowTitle(QString("laptrainer - %1").arg(QString::fromStdString(scene.scenario.name)));
   update_status();
+}
+
+void MainWindow::update_loops() {
+  if (!session_.running()) return;
+  const sim::HapticSnapshot& h = session_.haptic();
+  const sim::ModelSnapshot& m = session_.model();
+  const int64_t ticks = last_haptic_tick_ < 0 ? 0 : h.tick - last_haptic_tick_;
+  const int64_t steps = m.steps - last_model_steps_;
+  last_haptic_tick_ = h.tick;
+  last_model_steps_ = m.steps;
+  QString text = QString("haptic %1 Hz (worst late %2 us, %3 missed) | model %4 Hz | %5 tool")
+                     .arg(ticks)
+                     .arg(h.worst_lateness_s * 1e6, 0, 'f', 0)
+                     .arg(h.missed_deadlines)
+                     .arg(steps)
+                     .arg(active_tool_ == 0 ? "left" : "right");
+  if (h.paused) {
+    text = QString("PAUSED (%1): forces off, Space resumes | ")
+               .arg(QString::fromStdString(std::string(sim::to_string(h.last_reason)))) +
+           text;
+  }
+  loops_label_->setText(text);
+}
+
+void MainWindow::keyPressEvent(QKeyEvent* e) {
+  constexpr double kStep = 0.002;    // m per press
+  constexpr double kOpening = 0.05;  // rad per press
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  double opening = 0.0;
+  switch (e->key()) {
+    case Qt::Key_T:
+      active_tool_ = 1 - active_tool_;
+      update_loops();
+      return;
+    case Qt::Key_Space:
+      session_.resume();
+      return;
+    case Qt::Key_J:
+      d.x() = -kStep;
+      break;
+    case Qt::Key_L:
+      d.x() = kStep;
+      break;
+    case Qt::Key_I:
+      d.z() = -kStep;
+      break;
+    case Qt::Key_K:
+      d.z() = kStep;
+      break;
+    case Qt::Key_U:
+      d.y() = kStep;
+      break;
+    case Qt::Key_O:
+      d.y() = -kStep;
+      break;
+    case Qt::Key_BracketLeft:
+      opening = -kOpening;
+      break;
+    case Qt::Key_BracketRight:
+      opening = kOpening;
+      break;
+    default:
+      QMainWindow::keyPressEvent(e);
+      return;
+  }
+  session_.nudge(active_tool_, d, opening);
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  session_.stop();
+  QMainWindow::closeEvent(event);
 }
 
 void MainWindow::update_status() {

@@ -6,6 +6,8 @@
 #include <QMainWindow>
 #include <QString>
 
+#include "app/live_session.h"
+#include "app/tool_actors.h"
 #include "app/vtk_view.h"
 #include "sim/scene.h"
 
@@ -20,8 +22,13 @@ class MainWindow : public QMainWindow {
   bool open_scenario(const QString& file, QStringList* problems = nullptr);
   VtkView* view() { return view_; }
 
+ protected:
+  void keyPressEvent(QKeyEvent* event) override;
+  void closeEvent(QCloseEvent* event) override;
+
  private:
   void show_scene(const sim::Scene& scene);
+  void update_loops();
   void open_dialog();
   void screenshot_dialog();
   void update_status();
@@ -29,6 +36,12 @@ class MainWindow : public QMainWindow {
   VtkView* view_ = nullptr;
   QLabel* scene_label_ = nullptr;
   QLabel* fps_label_ = nullptr;
+  QLabel* loops_label_ = nullptr;
+  LiveSession session_;
+  SessionActors actors_;
+  int active_tool_ = 0;
+  int64_t last_haptic_tick_ = -1;
+  int64_t last_model_steps_ = 0;
   sim::Scene scene_;
   bool wireframe_ = false;
 };

@@ -111,7 +111,6 @@ void UsbGripper::io_loop() {
         }
         bad_run = 0;
         last_report = Clock::now();
-        ++reports_;
         if ((report->flags & gripper::kFlagCalibrated) == 0) {
           set_error(DeviceStatus::kError,
                     "not calibrated: close the handle fully once so the jaws home");
@@ -123,6 +122,7 @@ void UsbGripper::io_loop() {
           opening_.publish(gripper::opening_rad(settings_.calibration, report->encoder_counts));
           status_.store(static_cast<uint8_t>(DeviceStatus::kOk));
         }
+        ++reports_;  // after the status, so start() sees the report's verdict
         break;
       }
       case TransferResult::kTimeout:

@@ -18,8 +18,8 @@ namespace lap::sim {
                                                                   const Scene& scene, int side,
                                                                   std::string* error);
 
-/// Where the handle is when the tool's tip is `inside_m` into its trocar, pointing at the
-/// scene's centre (for simulated devices and generated scripts).
+/// Where the handle is when the tool's tip is `inside_m` into its trocar, pointing at the task's
+/// target organ (else the scene's centre): for simulated devices and generated scripts.
 [[nodiscard]] Eigen::Vector3d default_handle_position(const Scene& scene, int side,
                                                       double inside_m);
 

@@ -170,7 +170,12 @@ std::unique_ptr<Session> Session::create(
   // Recording and event space for the whole duration (the haptic loop never allocates).
   for (hardware::DeviceRecording& r : s->recordings_) {
     r.period_s = s->dt_;
-    r.samples.reserve(static_cast<size_t>(s->max_ticks_) + 1);
+    const int64_t keep =
+        settings.record_s < 0.0
+            ? s->max_ticks_
+            : std::min<int64_t>(s->max_ticks_,
+                                std::llround(settings.record_s * settings.haptic_rate_hz));
+    r.samples.reserve(static_cast<size_t>(keep) + 1);
   }
   s->events_.reserve(1024);
 
@@ -297,6 +302,13 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     hash_vector(&hash_, snap.tools[i].pose.hinge_W);
   }
   snap.paused = paused_.load(std::memory_order_relaxed);
+  snap.lateness_s = lateness_s;
+  worst_lateness_s_ = std::max(worst_lateness_s_, lateness_s);
+  if (lateness_s > LoopStats::kMissedLateS) ++missed_deadlines_;
+  snap.worst_lateness_s = worst_lateness_s_;
+  snap.missed_deadlines = missed_deadlines_;
+  snap.watchdog_events = static_cast<int64_t>(events_.size()) + events_dropped_;
+  if (!events_.empty()) snap.last_reason = events_.back().reason;
   to_graphics_.publish(snap);
   to_model_.publish();
 }
@@ -309,10 +321,12 @@ void Session::model_tick(int64_t tick) noexcept {
                                catheter_.get(), &grasps_[i]);
   }
   (void)models::step_catheter(*catheter_model_, catheter_.get(), model_dt_);
+  ++model_steps_;
   for (const Eigen::Vector3d& p : catheter_->positions) hash_vector(&model_hash_, p);
   for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
     ModelSnapshot& m = buf->write_slot();
     m.tick = tick;
+    m.steps = model_steps_;
     m.catheter = catheter_->positions;  // same size: no allocation
     m.grasps = grasps_;
     buf->publish();

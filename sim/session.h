@@ -46,9 +46,10 @@ namespace lap::sim {
 struct RuntimeSettings {
   double haptic_rate_hz = 1000.0;
   double model_rate_hz = 200.0;
-  bool fast = false;              ///< lockstep, as fast as possible, deterministic
-  double duration_s = 10.0;       ///< the session ends here, or when every device has finished
-  double resume_ramp_s = 0.5;     ///< forces ramp from 0 to full over this after resume()
+  bool fast = false;           ///< lockstep, as fast as possible, deterministic
+  double duration_s = 10.0;    ///< the session ends here, or when every device has finished
+  double resume_ramp_s = 0.5;  ///< forces ramp from 0 to full over this after resume()
+  double record_s = -1.0;      ///< inputs kept for this long (reserved at start); < 0: the duration
   double overrun_periods = 2.0;   ///< a tick later than this many periods trips the watchdog
   int64_t spin_ns = 50000;        ///< the haptic loop spins this long before its deadline
   bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
@@ -76,10 +77,17 @@ struct HapticSnapshot {
   int64_t tick = -1;
   bool paused = false;
   std::array<ToolSnapshot, 2> tools{};
+  // The loop's own figures, for the app to show while the session runs.
+  double lateness_s = 0.0;        ///< this tick's start against its schedule
+  double worst_lateness_s = 0.0;  ///< so far
+  int64_t missed_deadlines = 0;   ///< ticks started more than 2 ms late, so far
+  int64_t watchdog_events = 0;
+  WatchdogReason last_reason = WatchdogReason::kOverrun;  ///< of the latest event, if any
 };
 
 struct ModelSnapshot {
-  int64_t tick = -1;
+  int64_t tick = -1;                      ///< the haptic tick this step belongs to
+  int64_t steps = 0;                      ///< modelling steps so far
   std::vector<Eigen::Vector3d> catheter;  ///< particle positions [m]
   std::array<models::GraspState, 2> grasps{};
 };
@@ -193,6 +201,9 @@ class Session {
   int64_t injected_late_tick_ = -1;
   double injected_late_s_ = 0.0;
   double max_force_sent_n_ = 0.0;
+  double worst_lateness_s_ = 0.0;
+  int64_t missed_deadlines_ = 0;
+  int64_t model_steps_ = 0;  ///< modelling thread
 
   // Recording (haptic thread writes, capacity reserved at set-up).
   std::array<hardware::DeviceRecording, 2> recordings_{};

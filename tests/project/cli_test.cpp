@@ -170,15 +170,15 @@ std::string json_field(const std::string& json, const std::string& key) {
 
 TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
   TempDir dir;
-  // Handles above the default scenario's ports (left -0.09, right 0.08; y 0.17, z 0.12),
-  // pushed 3 cm deeper over 0.3 s while the jaws close.
+  // Handles in front of the default scenario's ports (left x -0.07, right 0.06; y 0.03,
+  // z 0.18), pushed 3 cm deeper over 0.3 s while the jaws close.
   const auto left = dir.write("left.csv",
                               "time_s,x_m,y_m,z_m,qw,qx,qy,qz,gripper_rad\n"
-                              "0.0,-0.09,0.40,0.12,1,0,0,0,0.8\n"
-                              "0.3,-0.08,0.37,0.12,1,0,0,0,0.2\n");
+                              "0.0,-0.07,0.03,0.40,1,0,0,0,0.8\n"
+                              "0.3,-0.06,0.03,0.37,1,0,0,0,0.2\n");
   const auto right = dir.write("right.csv",
-                               "0.0,0.08,0.40,0.12,1,0,0,0,0.8\n"
-                               "0.3,0.07,0.37,0.13,1,0,0,0,0.2\n");
+                               "0.0,0.06,0.03,0.40,1,0,0,0,0.8\n"
+                               "0.3,0.05,0.04,0.37,1,0,0,0,0.2\n");
   const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
   const std::string rec = (dir.path() / "rec").string();
   const CommandResult r =

@@ -1,0 +1,49 @@
+#include "app/live_session.h"
+
+#include <algorithm>
+
+#include "sim/device_factory.h"
+
+namespace lap::app {
+
+bool LiveSession::start(const sim::Scene& scene, std::string* error) {
+  stop();
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
+  for (int side = 0; side < 2; ++side) {
+    hardware::SimulatedInput home;
+    home.position_W = sim::default_handle_position(scene, side, 0.10);
+    home.gripper_angle_rad = 0.6;
+    inputs_[static_cast<size_t>(side)] = home;
+    auto dev = std::make_unique<hardware::SimulatedDevice>(home, side == 0 ? "left" : "right");
+    devices_[static_cast<size_t>(side)] = dev.get();
+    devices[static_cast<size_t>(side)] = std::move(dev);
+  }
+  sim::RuntimeSettings rs;
+  rs.duration_s = 24.0 * 3600.0;  // until the window closes
+  rs.record_s = 600.0;            // the first ten minutes of inputs are kept
+  session_ = sim::Session::create(scene, std::move(devices), rs, error);
+  if (!session_) return false;
+  runner_ = std::thread([this] {
+    const sim::SessionMetrics m = session_->run();
+    warnings_ = m.warnings;
+  });
+  return true;
+}
+
+void LiveSession::stop() {
+  if (!session_) return;
+  session_->request_stop();
+  runner_.join();
+  session_.reset();
+  devices_ = {};
+}
+
+void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_rad) {
+  if (!session_ || tool < 0 || tool > 1) return;
+  hardware::SimulatedInput& in = inputs_[static_cast<size_t>(tool)];
+  in.position_W += delta;
+  in.gripper_angle_rad = std::clamp(in.gripper_angle_rad + opening_rad, 0.0, 1.0);
+  devices_[static_cast<size_t>(tool)]->set_input(in);
+}
+
+}  // namespace lap::app
