@@ -385,12 +385,6 @@ int cmd_run(int argc, char** argv) {
     }
     std::cerr << "\n";
   }
-  if (args.has("--record")) {
-    if (!session->write_recording(args.get("--record"), &why)) {
-      std::cerr << "laptrainer-cli run: " << why << "\n";
-      return kExitProblems;
-    }
-  }
   char hash[32];
   std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(m.state_hash));
   std::string out = "{\n";
@@ -426,6 +420,20 @@ int cmd_run(int argc, char** argv) {
   out += "],\n";
   out += "  \"state_hash\": \"" + std::string(hash) + "\"\n}\n";
   std::cout << out;
+  if (args.has("--record")) {
+    // The inputs (for replay) and the metrics, side by side.
+    if (!session->write_recording(args.get("--record"), &why)) {
+      std::cerr << "laptrainer-cli run: " << why << "\n";
+      return kExitProblems;
+    }
+    const fs::path metrics = fs::path(args.get("--record")) / "metrics.json";
+    std::ofstream f(metrics);
+    f << out;
+    if (!f) {
+      std::cerr << "laptrainer-cli run: " << metrics.string() << ": cannot write the metrics\n";
+      return kExitProblems;
+    }
+  }
   return kExitOk;
 }
 

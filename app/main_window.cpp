@@ -25,6 +25,9 @@ MainWindow::MainWindow() {
   resize(1024, 720);
   view_ = new VtkView(this);
   setCentralWidget(view_);
+  connect(view_, &VtkView::tool_moved, this, [this](double dx, double dy, double dz) {
+    session_.nudge(active_tool_, Eigen::Vector3d(dx, dy, dz), 0.0);
+  });
 
   QMenu* file = menuBar()->addMenu("&File");
   file->addAction("&Open Scenario...", QKeySequence::Open, this, &MainWindow::open_dialog);
@@ -56,7 +59,9 @@ MainWindow::MainWindow() {
         this, "Controls",
         "Mouse: left drag orbits, middle drag (or Shift+left) pans, right drag or wheel zooms.\n"
         "Keys: arrows orbit, +/- zoom, W/A/S/D pan, R resets the camera.\n\n"
-        "Tools (simulated devices): T switches between the left and right tool. J/L move the\n"
+        "Tools (simulated devices): Ctrl+left drag moves the active tool's handle in the view's\n"
+        "plane, Ctrl+wheel along the view. T switches between the left and right tool. J/L move "
+        "the\n"
         "handle left/right, I/K away/towards you, U/O up/down, 2 mm a press (the tip moves the\n"
         "other way: the shaft pivots in its trocar). [ closes the jaws, ] opens them.\n"
         "Space resumes after the safety watchdog paused the session.");

@@ -144,7 +144,22 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
   const QPoint d = p - last_mouse_;
   last_mouse_ = p;
   const bool shift = (e->modifiers() & Qt::ShiftModifier) != 0;
-  if ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift)) {
+  const bool ctrl = (e->modifiers() & Qt::ControlModifier) != 0;
+  if ((buttons_ & Qt::LeftButton) && ctrl) {
+    // The tool's handle follows the mouse in the view's plane, 0.2 mm per pixel.
+    vtkCamera* cam = renderer_->GetActiveCamera();
+    double up[3];
+    double dir[3];
+    cam->GetViewUp(up);
+    cam->GetDirectionOfProjection(dir);
+    const double right[3] = {dir[1] * up[2] - dir[2] * up[1], dir[2] * up[0] - dir[0] * up[2],
+                             dir[0] * up[1] - dir[1] * up[0]};
+    constexpr double kMetresPerPixel = 2e-4;
+    const double sx = kMetresPerPixel * d.x();
+    const double sy = -kMetresPerPixel * d.y();
+    emit tool_moved(sx * right[0] + sy * up[0], sx * right[1] + sy * up[1],
+                    sx * right[2] + sy * up[2]);
+  } else if ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift)) {
     pan(d.x(), d.y());
   } else if (buttons_ & Qt::LeftButton) {
     orbit(-0.4 * d.x(), 0.4 * d.y());
@@ -155,7 +170,18 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
 
 void VtkView::mouseReleaseEvent(QMouseEvent* e) { buttons_ = e->buttons(); }
 
-void VtkView::wheelEvent(QWheelEvent* e) { zoom(std::pow(1.1, e->angleDelta().y() / 120.0)); }
+void VtkView::wheelEvent(QWheelEvent* e) {
+  const double notches = e->angleDelta().y() / 120.0;
+  if ((e->modifiers() & Qt::ControlModifier) != 0) {
+    // Along the view direction, 2 mm per notch (away from the viewer for a forward turn).
+    double dir[3];
+    renderer_->GetActiveCamera()->GetDirectionOfProjection(dir);
+    const double s = 0.002 * notches;
+    emit tool_moved(s * dir[0], s * dir[1], s * dir[2]);
+    return;
+  }
+  zoom(std::pow(1.1, notches));
+}
 
 void VtkView::keyPressEvent(QKeyEvent* e) {
   switch (e->key()) {

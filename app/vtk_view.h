@@ -23,7 +23,8 @@ struct CameraPose {
 };
 
 /// The 3D view: orbit with the left button, pan with the middle button or Shift+left, zoom with
-/// the right button or the wheel; arrow keys orbit, +/- zoom, W/A/S/D pan, R resets.
+/// the right button or the wheel; arrow keys orbit, +/- zoom, W/A/S/D pan, R resets. With Ctrl
+/// held, the left button and the wheel move the active tool instead (tool_moved).
 class VtkView : public QWidget {
   Q_OBJECT
 
@@ -48,6 +49,9 @@ class VtkView : public QWidget {
 
  signals:
   void frame_rendered();
+  /// Ctrl+left drag (in the view's plane) or Ctrl+wheel (along the view): a world displacement
+  /// [m] for the active tool's handle.
+  void tool_moved(double dx, double dy, double dz);
 
  protected:
   void paintEvent(QPaintEvent* event) override;

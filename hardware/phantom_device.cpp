@@ -104,9 +104,11 @@ hd::HDCallbackCode PhantomDevice::servo(void* self_ptr) {
   a.hdGetDoublev(hd::kCurrentVelocity, s.velocity_mm_s);
   a.hdGetDoublev(hd::kCurrentTransform, s.transform);
   a.hdGetIntegerv(hd::kCurrentButtons, &s.buttons);
-  const Eigen::Vector3d f = self->zero_force_.load(std::memory_order_relaxed)
-                                ? Eigen::Vector3d::Zero()
-                                : self->forces_.latest();
+  // After a servo error the arm gets zero force from here on, without waiting for the haptic
+  // loop to notice (it will, and pause the session).
+  const bool zero = self->zero_force_.load(std::memory_order_relaxed) ||
+                    self->servo_error_.load(std::memory_order_relaxed) != 0;
+  const Eigen::Vector3d f = zero ? Eigen::Vector3d::Zero() : self->forces_.latest();
   a.hdSetDoublev(hd::kCurrentForce, f.data());
   a.hdEndFrame(self->hhd_);
   const hd::HDErrorInfo e = a.hdGetError();

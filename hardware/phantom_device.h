@@ -9,7 +9,8 @@
 /// - Units: the HD API reports millimetres; samples leave here in metres, in the world frame
 ///   (`device_to_world` places the device's frame).
 /// - Safety: force output starts with OpenHaptics' force ramping enabled; stop() zeroes the force
-///   before the scheduler stops; a servo error is reported as kError, a servo that stops
+///   before the scheduler stops; after a servo error the servo itself sends zero force and the
+///   error is reported as kError; a servo that stops
 ///   delivering samples (unplugged) as kDisconnected after `stale_reads` reads.
 /// - Calibration is checked at start: a device that needs it is refused with what to do.
 /// - Two devices by name (`phantom:NAME`, the names of the Touch Setup configuration).

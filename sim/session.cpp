@@ -130,6 +130,20 @@ std::unique_ptr<Session> Session::create(
     }
   }
 
+  // A tissue stiffer than a device renders stably is worth saying before the session starts.
+  for (size_t i = 0; i < scene.organs.size(); ++i) {
+    for (const Tool& tool : s->tools_) {
+      const double k = s->objects_[i].law.stiffness_n_per_m;
+      const double k_max = tool.device->limits().max_stiffness_n_per_m;
+      if (k > k_max) {
+        s->warnings_.push_back(scene.organs[i].name + ": stiffness " + std::to_string(k) +
+                               " N/m is above what " + std::string(tool.device->name()) +
+                               " renders stably (" + std::to_string(k_max) +
+                               " N/m); expect buzzing");
+      }
+    }
+  }
+
   // The catheter (§7.7(3)): its proximal end held where it enters, pointing at the task's
   // target and ending 2 cm short of its centre.
   models::CatheterSettings cs;

@@ -189,6 +189,10 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
   EXPECT_EQ(json_field(r.out, "ticks"), "302");  // the scripts end at 0.3 s
   EXPECT_EQ(json_field(r.out, "paused"), "false");
   EXPECT_EQ(json_field(r.out, "recorded_ticks"), "302");
+  std::ifstream metrics(rec + "/metrics.json");
+  std::stringstream saved;
+  saved << metrics.rdbuf();
+  EXPECT_EQ(saved.str(), r.out);  // the metrics are kept beside the inputs
   const std::string hash = json_field(r.out, "state_hash");
   ASSERT_EQ(hash.size(), 18U) << r.out;
   const CommandResult replay =
@@ -208,7 +212,9 @@ TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {
                   " --left phantom --right simulated --duration 0.3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(json_field(r.out, "left"), "\"ok\"") << r.out;
-  EXPECT_EQ(json_field(r.out, "paused"), "false") << r.out;
+  // Real time: a busy machine may pause the session for a late tick, but every tick ran and
+  // its inputs were kept.
+  EXPECT_EQ(json_field(r.out, "recorded_ticks"), "300") << r.out;
 }
 
 TEST(CliRun, DeviceProblemsAreClearErrors) {

@@ -339,7 +339,7 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
       } else {
         fake.set_servo_error(0x0204);
       }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
       after = fake.force(0);
     });
     const SessionMetrics m = s->run();
@@ -408,6 +408,22 @@ TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
     ASSERT_EQ(arm_log->commands[k].squeeze_n, 0.0) << k;
   }
   EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+}
+
+TEST(Session, WarnsOfTissueStifferThanADeviceRendersStably) {
+  const Scene& scene = default_scene();
+  hardware::DeviceLimits soft;
+  soft.max_stiffness_n_per_m = 250.0;  // the liver is 300 N/m, the gallbladder 200
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left", soft),
+      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  std::string error;
+  auto s = Session::create(scene, std::move(d), fast(0.01), &error);
+  ASSERT_NE(s, nullptr) << error;
+  const SessionMetrics m = s->run();
+  ASSERT_EQ(m.warnings.size(), 1U);
+  EXPECT_NE(m.warnings[0].find("liver: stiffness 300"), std::string::npos) << m.warnings[0];
+  EXPECT_NE(m.warnings[0].find("left renders stably (250"), std::string::npos) << m.warnings[0];
 }
 
 TEST(Session, BadSettingsAndScenesAreClearErrors) {
