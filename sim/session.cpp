@@ -210,6 +210,13 @@ Session::~Session() {
 }
 
 void Session::trip(int64_t tick, int32_t tool, WatchdogReason reason) noexcept {
+  // A fault that lasts (a device still unplugged) is one event, not one per tick.
+  const bool repeat = paused_.load(std::memory_order_relaxed) && !events_.empty() &&
+                      events_.back().tool == tool && events_.back().reason == reason;
+  if (repeat) {
+    gain_ = 0.0;
+    return;
+  }
   if (events_.size() < events_.capacity()) {
     events_.push_back({tick, tool, reason});
   } else {

@@ -94,6 +94,15 @@ RuntimeSettings fast(double duration) {
   return s;
 }
 
+// Real time, for device faults: a busy test machine's late ticks must not pause first.
+RuntimeSettings device_fault_run(double duration) {
+  RuntimeSettings s;
+  s.duration_s = duration;
+  s.realtime_priority = false;
+  s.overrun_periods = 1e6;
+  return s;
+}
+
 std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
   const Scene& scene = default_scene();
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
@@ -310,11 +319,7 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
     std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
         std::make_unique<hardware::PhantomDevice>(ps),
         std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
-    RuntimeSettings rs;
-    rs.duration_s = 0.6;
-    rs.realtime_priority = false;
-    // Device faults are under test: a busy test machine's late ticks must not pause first.
-    rs.overrun_periods = 1e6;
+    const RuntimeSettings rs = device_fault_run(0.6);
     std::string error;
     auto s = Session::create(scene, std::move(d), rs, &error);
     ASSERT_NE(s, nullptr) << error;
@@ -351,6 +356,10 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
     const auto it = std::find_if(m.events.begin(), m.events.end(),
                                  [&](const WatchdogEvent& e) { return e.reason == want; });
     EXPECT_NE(it, m.events.end()) << (unplug ? "unplug" : "servo error");
+    // The fault lasts to the end of the session: one event for it, not one per tick.
+    EXPECT_EQ(std::count_if(m.events.begin(), m.events.end(),
+                            [&](const WatchdogEvent& e) { return e.reason == want; }),
+              1);
     // A servo error: the arm is still there and is sent zero within the session (checked while
     // the session still ran, not by the zero every session sends when it ends).
     if (!unplug) {
@@ -380,11 +389,7 @@ TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
       std::move(arm), std::make_unique<hardware::UsbGripper>(std::move(emulator)));
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
       std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
-  RuntimeSettings rs;
-  rs.duration_s = 1.8;
-  rs.realtime_priority = false;
-  // Device faults are under test: a busy test machine's late ticks must not pause first.
-  rs.overrun_periods = 1e6;
+  const RuntimeSettings rs = device_fault_run(1.8);
   std::string error;
   auto s = Session::create(scene, std::move(d), rs, &error);
   ASSERT_NE(s, nullptr) << error;
