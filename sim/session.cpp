@@ -210,9 +210,12 @@ Session::~Session() {
 }
 
 void Session::trip(int64_t tick, int32_t tool, WatchdogReason reason) noexcept {
-  // A fault that lasts (a device still unplugged) is one event, not one per tick.
+  // A fault that lasts (a device still unplugged: the same fault tick after tick) is one
+  // event, not one per tick; a fault that comes back later is a new one.
   const bool repeat = paused_.load(std::memory_order_relaxed) && !events_.empty() &&
-                      events_.back().tool == tool && events_.back().reason == reason;
+                      events_.back().tool == tool && events_.back().reason == reason &&
+                      tick <= last_trip_tick_ + 1;
+  last_trip_tick_ = tick;
   if (repeat) {
     gain_ = 0.0;
     return;

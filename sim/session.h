@@ -198,6 +198,7 @@ class Session {
   double gain_ = 1.0;
   std::vector<WatchdogEvent> events_;  ///< capacity reserved at set-up
   int64_t events_dropped_ = 0;
+  int64_t last_trip_tick_ = -2;  ///< for telling a lasting fault from a new one
   int64_t injected_late_tick_ = -1;
   double injected_late_s_ = 0.0;
   double max_force_sent_n_ = 0.0;

@@ -7,6 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,8 @@
 
 #include "hardware/scripted_device.h"
 #include "sim/device_factory.h"
+#include "sim/loop_stats.h"
+#include "sim/realtime_thread.h"
 #include "sim/scenario_loader.h"
 #include "sim/session.h"
 
@@ -95,6 +98,43 @@ void BM_RuntimeLoop(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RuntimeLoop)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+// BM_SleepLoopBaseline: the haptic loop's timing with no work in it — the same absolute-time
+// sleep and spin, the same priority request — for LAP_RUNTIME_BENCH_S seconds (default 30). What
+// this machine's scheduler does to an idle 1 kHz loop, against which BM_RuntimeLoop's lateness
+// is read.
+void BM_SleepLoopBaseline(benchmark::State& state) {
+  const char* env = std::getenv("LAP_RUNTIME_BENCH_S");
+  const double duration = env != nullptr ? std::atof(env) : 30.0;
+  for (auto _ : state) {
+    double worst = 0.0;
+    sim::LoopStats stats(0.001);
+    std::thread loop([&] {
+      const std::string refused = sim::request_realtime_priority(80);
+      state.counters["sched_fifo"] = refused.empty() ? 1.0 : 0.0;
+      const auto ticks = static_cast<int64_t>(duration * 1000.0);
+      const int64_t period_ns = 1000000;
+      const int64_t start = sim::monotonic_ns() + period_ns;
+      for (int64_t k = 0; k < ticks; ++k) {
+        const int64_t deadline = start + k * period_ns;
+        sim::sleep_until_ns(deadline, 50000);
+        const double late = static_cast<double>(sim::monotonic_ns() - deadline) * 1e-9;
+        stats.add(late, 0.0);
+        worst = std::max(worst, late);
+      }
+      stats.set_elapsed(static_cast<double>(sim::monotonic_ns() - start) * 1e-9);
+    });
+    loop.join();
+    state.counters["seconds"] = duration;
+    state.counters["achieved_rate_hz"] = stats.achieved_rate_hz();
+    state.counters["jitter_p50_us"] = stats.jitter_quantile_s(0.5) * 1e6;
+    state.counters["jitter_p99_us"] = stats.jitter_quantile_s(0.99) * 1e6;
+    state.counters["jitter_p999_us"] = stats.jitter_quantile_s(0.999) * 1e6;
+    state.counters["worst_late_us"] = worst * 1e6;
+    state.counters["missed_deadlines"] = static_cast<double>(stats.missed_deadlines());
+  }
+}
+BENCHMARK(BM_SleepLoopBaseline)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 }  // namespace lap::bench
