@@ -36,14 +36,16 @@ class LiveSession {
   /// UI thread (the graphics loop is the snapshots' one reader).
   const sim::HapticSnapshot& haptic() { return session_->graphics_haptic(); }
   const sim::ModelSnapshot& model() { return session_->graphics_model(); }
-  [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
+  /// The tools' shaft and jaw lengths, as the session renders them.
+  [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
+    return session_->tool_geometry(tool);
+  }
 
  private:
   std::unique_ptr<sim::Session> session_;
   std::array<hardware::SimulatedDevice*, 2> devices_{};
   std::array<hardware::SimulatedInput, 2> inputs_{};
   std::thread runner_;
-  std::vector<std::string> warnings_;
 };
 
 }  // namespace lap::app

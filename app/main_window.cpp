@@ -144,13 +144,8 @@ void MainWindow::show_scene(const sim::Scene& scene) {
   // The loops: two simulated tools through their trocars, the catheter.
   std::string error;
   if (session_.start(scene, &error)) {
-    std::array<haptics::GripperGeometry, 2> tools;
-    for (const sim::ToolSpec& t : scene.scenario.tools) {
-      haptics::GripperGeometry& g = tools[t.side == sim::ToolSpec::Side::kLeft ? 0 : 1];
-      g.shaft_length_m = t.shaft_length_m;
-      g.jaw_length_m = t.jaw_length_m;
-    }
-    actors_.add_to(ren, tools, static_cast<int>(session_.model().catheter.size()));
+    actors_.add_to(ren, {session_.tool_geometry(0), session_.tool_geometry(1)},
+                   static_cast<int>(session_.model().catheter.size()));
   } else {
     loops_label_->setText(QString("loops not started: %1").arg(QString::fromStdString(error)));
   }

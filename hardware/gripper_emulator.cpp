@@ -13,7 +13,6 @@ bool GripperEmulator::open(std::string* error) {
     return false;
   }
   open_ = true;
-  ++opens_;
   return true;
 }
 
@@ -61,7 +60,6 @@ TransferResult GripperEmulator::write(std::span<const uint8_t> bytes, int /*time
   std::string why;
   if (auto c = gripper::decode_command(bytes, &why)) {
     last_command_ = *c;
-    ++commands_;
   }
   return TransferResult::kOk;
 }
@@ -87,16 +85,6 @@ GripperEmulator::Controls GripperEmulator::controls() const {
 std::optional<gripper::CommandReport> GripperEmulator::last_command() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return last_command_;
-}
-
-int64_t GripperEmulator::commands_received() const {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return commands_;
-}
-
-int64_t GripperEmulator::opens() const {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return opens_;
 }
 
 }  // namespace lap::hardware

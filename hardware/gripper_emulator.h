@@ -35,8 +35,6 @@ class GripperEmulator final : public UsbTransport {
   void set(const Controls& c);
   [[nodiscard]] Controls controls() const;
   [[nodiscard]] std::optional<gripper::CommandReport> last_command() const;
-  [[nodiscard]] int64_t commands_received() const;
-  [[nodiscard]] int64_t opens() const;
 
  private:
   mutable std::mutex mutex_;
@@ -44,8 +42,6 @@ class GripperEmulator final : public UsbTransport {
   bool open_ = false;
   uint16_t sequence_ = 0;
   std::optional<gripper::CommandReport> last_command_;
-  int64_t commands_ = 0;
-  int64_t opens_ = 0;
 };
 
 }  // namespace lap::hardware

@@ -5,11 +5,11 @@
 namespace lap::hardware {
 
 ReplayDevice::ReplayDevice(DeviceRecording recording, std::string name, const DeviceLimits& limits)
-    : recording_(std::move(recording)), name_(std::move(name)), limits_(limits) {}
+    : InputDevice(std::move(name), limits), recording_(std::move(recording)) {}
 
 bool ReplayDevice::start(std::string* error) {
   if (recording_.samples.empty()) {
-    if (error != nullptr) *error = name_ + ": the recording has no samples";
+    if (error != nullptr) *error = std::string(name()) + ": the recording has no samples";
     return false;
   }
   return true;
@@ -25,10 +25,6 @@ DeviceStatus ReplayDevice::read(int64_t tick, double /*period_s*/, DeviceSample*
   const RecordedSample& r = recording_.samples[static_cast<size_t>(tick)];
   *out = r.sample;
   return r.status;
-}
-
-DeviceStatus ReplayDevice::write(const DeviceCommand& /*command*/) noexcept {
-  return DeviceStatus::kOk;
 }
 
 }  // namespace lap::hardware

@@ -6,11 +6,11 @@ namespace lap::hardware {
 
 ScriptedDevice::ScriptedDevice(ScriptedTrajectory trajectory, std::string name,
                                const DeviceLimits& limits)
-    : trajectory_(std::move(trajectory)), name_(std::move(name)), limits_(limits) {}
+    : InputDevice(std::move(name), limits), trajectory_(std::move(trajectory)) {}
 
 bool ScriptedDevice::start(std::string* error) {
   if (trajectory_.keyframes.empty()) {
-    if (error != nullptr) *error = name_ + ": the trajectory has no keyframes";
+    if (error != nullptr) *error = std::string(name()) + ": the trajectory has no keyframes";
     return false;
   }
   cursor_ = 0;
@@ -21,11 +21,6 @@ DeviceStatus ScriptedDevice::read(int64_t tick, double period_s, DeviceSample* o
   const double t = static_cast<double>(tick) * period_s;
   trajectory_.sample(t, &cursor_, out);
   return t > trajectory_.duration_s() ? DeviceStatus::kFinished : DeviceStatus::kOk;
-}
-
-DeviceStatus ScriptedDevice::write(const DeviceCommand& command) noexcept {
-  last_command_ = command;
-  return DeviceStatus::kOk;
 }
 
 }  // namespace lap::hardware

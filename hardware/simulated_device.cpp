@@ -6,7 +6,7 @@ namespace lap::hardware {
 
 SimulatedDevice::SimulatedDevice(const SimulatedInput& home, std::string name,
                                  const DeviceLimits& limits)
-    : name_(std::move(name)), limits_(limits), input_(home) {}
+    : InputDevice(std::move(name), limits), input_(home) {}
 
 bool SimulatedDevice::start(std::string* /*error*/) {
   has_last_ = false;
@@ -18,7 +18,7 @@ DeviceStatus SimulatedDevice::read(int64_t tick, double period_s, DeviceSample* 
   DeviceSample s;
   s.time_s = static_cast<double>(tick) * period_s;
   s.position_W =
-      in.position_W.cwiseMax(limits_.workspace_W.min()).cwiseMin(limits_.workspace_W.max());
+      in.position_W.cwiseMax(limits().workspace_W.min()).cwiseMin(limits().workspace_W.max());
   s.orientation_W = in.orientation_W.normalized();
   s.gripper_angle_rad = in.gripper_angle_rad;
   s.buttons = in.buttons;
@@ -28,11 +28,6 @@ DeviceStatus SimulatedDevice::read(int64_t tick, double period_s, DeviceSample* 
   last_ = s;
   has_last_ = true;
   *out = s;
-  return DeviceStatus::kOk;
-}
-
-DeviceStatus SimulatedDevice::write(const DeviceCommand& command) noexcept {
-  commands_.publish(command);
   return DeviceStatus::kOk;
 }
 

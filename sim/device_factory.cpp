@@ -1,7 +1,5 @@
 #include "sim/device_factory.h"
 
-#include <algorithm>
-
 #include "hardware/device_recording.h"
 #include "hardware/libusb_transport.h"
 #include "hardware/open_haptics_api.h"
@@ -12,39 +10,13 @@
 #include "hardware/usb_gripper.h"
 
 namespace lap::sim {
-namespace {
-
-const ToolSpec* tool_on(const Scenario& sc, int side) {
-  const auto want = side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight;
-  const auto it = std::find_if(sc.tools.begin(), sc.tools.end(),
-                               [&](const ToolSpec& t) { return t.side == want; });
-  return it == sc.tools.end() ? nullptr : &*it;
-}
-
-// Where the tools point at rest: the task's target organ (the duct), else the scene's centre.
-Eigen::Vector3d aim_point(const Scene& scene) {
-  const Scenario& sc = scene.scenario;
-  if (sc.task) {
-    for (const Organ& organ : scene.organs) {
-      if (organ.name != sc.task->target || organ.mesh.positions.empty()) continue;
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
-      for (const Eigen::Vector3d& p : organ.mesh.positions) c += p;
-      return c / static_cast<double>(organ.mesh.positions.size());
-    }
-  }
-  return scene.bounds().center();
-}
-
-}  // namespace
 
 Eigen::Vector3d default_handle_position(const Scene& scene, int side, double inside_m) {
   const Scenario& sc = scene.scenario;
-  const ToolSpec* tool = tool_on(sc, side);
-  if (tool == nullptr) return Eigen::Vector3d::Zero();
-  const auto port = std::find_if(sc.trocars.begin(), sc.trocars.end(),
-                                 [&](const TrocarSpec& t) { return t.name == tool->trocar; });
-  if (port == sc.trocars.end()) return Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis = aim_point(scene) - port->position_m;
+  const ToolSpec* tool = sc.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
+  const TrocarSpec* port = tool == nullptr ? nullptr : sc.trocar(tool->trocar);
+  if (port == nullptr) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = scene.task_target_point() - port->position_m;
   axis = axis.norm() > 1e-9 ? Eigen::Vector3d(axis.normalized())
                             : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
   return port->position_m - (tool->shaft_length_m - inside_m) * axis;

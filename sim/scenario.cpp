@@ -1,5 +1,7 @@
 #include "sim/scenario.h"
 
+#include <algorithm>
+
 namespace lap::sim {
 
 Eigen::Affine3d OrganSpec::transform() const {
@@ -11,6 +13,18 @@ Eigen::Affine3d OrganSpec::transform() const {
            Eigen::AngleAxisd(rotation_deg.y() * kDeg, Eigen::Vector3d::UnitY()) *
            Eigen::AngleAxisd(rotation_deg.x() * kDeg, Eigen::Vector3d::UnitX()));
   return T;
+}
+
+const ToolSpec* Scenario::tool(ToolSpec::Side side) const {
+  const auto it =
+      std::find_if(tools.begin(), tools.end(), [&](const ToolSpec& t) { return t.side == side; });
+  return it == tools.end() ? nullptr : &*it;
+}
+
+const TrocarSpec* Scenario::trocar(const std::string& trocar_name) const {
+  const auto it = std::find_if(trocars.begin(), trocars.end(),
+                               [&](const TrocarSpec& t) { return t.name == trocar_name; });
+  return it == trocars.end() ? nullptr : &*it;
 }
 
 }  // namespace lap::sim

@@ -147,6 +147,11 @@ struct Scenario {
   std::vector<ToolSpec> tools;
   std::optional<CatheterSpec> catheter;
   std::optional<TaskSpec> task;
+
+  /// The tool held in that hand, or nullptr.
+  [[nodiscard]] const ToolSpec* tool(ToolSpec::Side side) const;
+  /// The trocar of that name, or nullptr.
+  [[nodiscard]] const TrocarSpec* trocar(const std::string& trocar_name) const;
 };
 
 }  // namespace lap::sim

@@ -628,9 +628,7 @@ class Parser {
       if (require(t, "trocar", f)) {
         if (auto v = string(t["trocar"], f + ".trocar")) {
           tool.trocar = *v;
-          const auto& ts = out_.scenario.trocars;
-          if (std::none_of(ts.begin(), ts.end(),
-                           [&](const TrocarSpec& x) { return x.name == *v; })) {
+          if (out_.scenario.trocar(*v) == nullptr) {
             problem(line_of(t["trocar"]), f + ".trocar",
                     "no trocar named '" + *v + "' (expected a name from trocars)");
           }

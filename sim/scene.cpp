@@ -15,6 +15,18 @@ Eigen::AlignedBox3d Scene::bounds() const {
   return box;
 }
 
+Eigen::Vector3d Scene::task_target_point() const {
+  if (scenario.task) {
+    for (const Organ& organ : organs) {
+      if (organ.name != scenario.task->target || organ.mesh.positions.empty()) continue;
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& p : organ.mesh.positions) c += p;
+      return c / static_cast<double>(organ.mesh.positions.size());
+    }
+  }
+  return bounds().center();
+}
+
 int64_t Scene::triangle_count() const {
   int64_t n = 0;
   for (const Organ& o : organs) n += o.mesh.triangle_count();

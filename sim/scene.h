@@ -36,6 +36,9 @@ struct Scene {
   /// Bounds of all organs in the world [m].
   [[nodiscard]] Eigen::AlignedBox3d bounds() const;
   [[nodiscard]] int64_t triangle_count() const;
+  /// Where the task happens: the centroid of the task's target organ (the duct), else the
+  /// centre of the bounds. The tools point there at rest; the catheter is laid towards it.
+  [[nodiscard]] Eigen::Vector3d task_target_point() const;
 };
 
 /// The scene and the problems met while loading its meshes.

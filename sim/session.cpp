@@ -98,23 +98,19 @@ std::unique_ptr<Session> Session::create(
   // The tools: left and right, each at its trocar.
   const Scenario& sc = scene.scenario;
   for (int side = 0; side < 2; ++side) {
-    const auto want = side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight;
-    const auto it = std::find_if(sc.tools.begin(), sc.tools.end(),
-                                 [&](const ToolSpec& t) { return t.side == want; });
-    if (it == sc.tools.end()) {
+    const ToolSpec* it = sc.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
+    if (it == nullptr) {
       return fail(sc.file.string() + ": tools: expected a " + (side == 0 ? "left" : "right") +
                   " tool");
     }
-    const auto port = std::find_if(sc.trocars.begin(), sc.trocars.end(),
-                                   [&](const TrocarSpec& t) { return t.name == it->trocar; });
-    if (port == sc.trocars.end()) {
+    const TrocarSpec* port = sc.trocar(it->trocar);
+    if (port == nullptr) {
       return fail(sc.file.string() + ": tools: " + it->name + ": trocar '" + it->trocar +
                   "' is not among the trocars");
     }
     Tool& tool = s->tools_[static_cast<size_t>(side)];
     tool.trocar.port_W = port->position_m;
     tool.trocar.shaft_length_m = it->shaft_length_m;
-    tool.trocar.jaw_length_m = it->jaw_length_m;
     haptics::GripperGeometry g;
     g.jaw_length_m = it->jaw_length_m;
     g.shaft_length_m = it->shaft_length_m;
@@ -159,15 +155,7 @@ std::unique_ptr<Session> Session::create(
   } catch (const std::exception& e) {
     return fail(sc.file.string() + ": catheter: " + e.what());
   }
-  Eigen::Vector3d target = scene.bounds().center();
-  if (sc.task) {
-    for (const Organ& organ : scene.organs) {
-      if (organ.name != sc.task->target || organ.mesh.positions.empty()) continue;
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
-      for (const Eigen::Vector3d& p : organ.mesh.positions) c += p;
-      target = c / static_cast<double>(organ.mesh.positions.size());
-    }
-  }
+  const Eigen::Vector3d target = scene.task_target_point();
   const Eigen::Vector3d entry = 0.5 * (s->tools_[0].trocar.port_W + s->tools_[1].trocar.port_W);
   Eigen::Vector3d dir = target - entry;
   dir = dir.norm() > 1e-9 ? Eigen::Vector3d(dir.normalized())
@@ -286,11 +274,8 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     wanted[i] = handle_command(k, force, out.torque_W, squeeze);
     ToolSnapshot& ts = snap.tools[i];
     ts.pose = k.pose;
-    ts.handle_W = k.handle_W;
-    ts.force_tip_W = force;
     ts.contacts = out.segments[0].contact_count + out.segments[1].contact_count +
                   out.segments[2].contact_count;
-    ts.grasping = grasp.grasping();
   }
   // Limits, the watchdog's zero, and the resume ramp; then write.
   const bool paused = paused_.load(std::memory_order_relaxed);
@@ -299,15 +284,14 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
         settings_.resume_ramp_s > 0.0 ? std::min(1.0, gain_ + dt_ / settings_.resume_ramp_s) : 1.0;
   }
   std::array<hardware::DeviceCommand, 2> sent{};
-  for (size_t i = 0; i < 2; ++i) {
-    if (paused) {
-      sent[i] = tools_[i].limiter.zero();
-    } else {
+  if (!paused) {
+    for (size_t i = 0; i < 2; ++i) {
       const hardware::LimitedCommand l = tools_[i].limiter.apply(wanted[i], dt_, gain_);
       if (l.non_finite) trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
       sent[i] = l.command;
     }
   }
+  // Paused before this tick or by it: zero, past the rate limit.
   if (paused_.load(std::memory_order_relaxed)) {
     for (size_t i = 0; i < 2; ++i) sent[i] = tools_[i].limiter.zero();
   }
@@ -318,7 +302,6 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
            st == hardware::DeviceStatus::kError ? WatchdogReason::kDeviceError
                                                 : WatchdogReason::kDeviceDisconnected);
     }
-    snap.tools[i].command = sent[i];
     max_force_sent_n_ = std::max(max_force_sent_n_, sent[i].force_W.norm());
     hash_vector(&hash_, sent[i].force_W);
     hash_vector(&hash_, sent[i].torque_W);
@@ -326,12 +309,10 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     hash_vector(&hash_, snap.tools[i].pose.hinge_W);
   }
   snap.paused = paused_.load(std::memory_order_relaxed);
-  snap.lateness_s = lateness_s;
   worst_lateness_s_ = std::max(worst_lateness_s_, lateness_s);
   if (lateness_s > LoopStats::kMissedLateS) ++missed_deadlines_;
   snap.worst_lateness_s = worst_lateness_s_;
   snap.missed_deadlines = missed_deadlines_;
-  snap.watchdog_events = static_cast<int64_t>(events_.size()) + events_dropped_;
   if (!events_.empty()) snap.last_reason = events_.back().reason;
   to_graphics_.publish(snap);
   to_model_.publish();
@@ -359,7 +340,6 @@ void Session::model_tick(int64_t tick) noexcept {
 
 void Session::run_fast() {
   const auto t0 = std::chrono::steady_clock::now();
-  auto model_t = std::chrono::steady_clock::now();
   for (int64_t tick = 0; tick < max_ticks_; ++tick) {
     if (stop_.load(std::memory_order_relaxed)) break;
     const double late = tick == injected_late_tick_ ? injected_late_s_ : 0.0;
@@ -373,8 +353,9 @@ void Session::run_fast() {
     }
     if (tools_[0].finished && tools_[1].finished) break;
   }
-  haptic_stats_.set_elapsed(seconds_since(t0));
-  model_stats_.set_elapsed(seconds_since(model_t));
+  const double elapsed = seconds_since(t0);
+  haptic_stats_.set_elapsed(elapsed);
+  model_stats_.set_elapsed(elapsed);
 }
 
 void Session::run_realtime() {

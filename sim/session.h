@@ -65,12 +65,8 @@ struct WatchdogEvent {
 };
 
 struct ToolSnapshot {
-  haptics::GripperPose pose;
-  Eigen::Vector3d handle_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d force_tip_W = Eigen::Vector3d::Zero();  ///< tissue + grasp on the tool [N]
-  hardware::DeviceCommand command;                        ///< as sent to the device
-  int32_t contacts = 0;
-  bool grasping = false;
+  haptics::GripperPose pose;  ///< the tool as the device put it
+  int32_t contacts = 0;       ///< over its three segments
 };
 
 struct HapticSnapshot {
@@ -78,10 +74,8 @@ struct HapticSnapshot {
   bool paused = false;
   std::array<ToolSnapshot, 2> tools{};
   // The loop's own figures, for the app to show while the session runs.
-  double lateness_s = 0.0;        ///< this tick's start against its schedule
   double worst_lateness_s = 0.0;  ///< so far
   int64_t missed_deadlines = 0;   ///< ticks started more than 2 ms late, so far
-  int64_t watchdog_events = 0;
   WatchdogReason last_reason = WatchdogReason::kOverrun;  ///< of the latest event, if any
 };
 
@@ -144,7 +138,9 @@ class Session {
   /// Writes DIR/left.lapdev, DIR/right.lapdev. false and *error on failure.
   bool write_recording(const std::string& dir, std::string* error) const;
 
-  [[nodiscard]] const RuntimeSettings& settings() const { return settings_; }
+  [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
+    return tools_[static_cast<size_t>(tool)].gripper.geometry();
+  }
 
  private:
   Session() = default;

@@ -26,9 +26,8 @@ namespace lap::sim {
 struct TrocarToolSettings {
   Eigen::Vector3d port_W = Eigen::Vector3d::Zero();
   double shaft_length_m = 0.36;  ///< handle to tip (hinge)
-  double jaw_length_m = 0.02;
-  double min_inside_m = 0.01;   ///< the tip stays at least this far in (it cannot leave the port)
-  double min_outside_m = 0.03;  ///< the handle stays at least this far out
+  double min_inside_m = 0.01;    ///< the tip stays at least this far in (it cannot leave the port)
+  double min_outside_m = 0.03;   ///< the handle stays at least this far out
 };
 
 struct ToolKinematics {

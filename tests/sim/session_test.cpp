@@ -87,6 +87,20 @@ class FaultyDevice final : public hardware::HapticDevice {
   int64_t at_;
 };
 
+using Devices = std::array<std::unique_ptr<hardware::HapticDevice>, 2>;
+
+// `left` on the left tool, the right tool scripted.
+Devices with_left(const Scene& scene, std::unique_ptr<hardware::HapticDevice> left) {
+  return {std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+}
+
+// A left FaultyDevice with room for every tick's command.
+std::unique_ptr<FaultyDevice> logged(const Scene& scene, FaultyDevice::Fault fault, int64_t at) {
+  auto d = std::make_unique<FaultyDevice>(push_in(scene, 0), fault, at);
+  d->commands.reserve(4000);
+  return d;
+}
+
 RuntimeSettings fast(double duration) {
   RuntimeSettings s;
   s.fast = true;
@@ -105,9 +119,8 @@ RuntimeSettings device_fault_run(double duration) {
 
 std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
   const Scene& scene = default_scene();
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
-      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d =
+      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
   std::string error;
   auto s = Session::create(scene, std::move(d), rs, &error);
   EXPECT_NE(s, nullptr) << error;
@@ -162,11 +175,9 @@ class SessionWatchdog : public ::testing::TestWithParam<FaultCase> {};
 TEST_P(SessionWatchdog, ZeroForceOnTheTickPausedAndNothingLost) {
   const Scene& scene = default_scene();
   const int64_t at = 1500;  // the tool is pressing by then
-  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), GetParam().fault, at);
+  auto left = logged(scene, GetParam().fault, at);
   FaultyDevice* dev = left.get();
-  dev->commands.reserve(4000);
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d = with_left(scene, std::move(left));
   std::string error;
   auto s = Session::create(scene, std::move(d), fast(2.5), &error);
   ASSERT_NE(s, nullptr) << error;
@@ -208,11 +219,9 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
   const Scene& scene = default_scene();
-  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kNone, -1);
+  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
   FaultyDevice* dev = left.get();
-  dev->commands.reserve(4000);
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d = with_left(scene, std::move(left));
   std::string error;
   auto s = Session::create(scene, std::move(d), fast(2.5), &error);
   ASSERT_NE(s, nullptr);
@@ -227,11 +236,9 @@ TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
 
 TEST(Session, ResumeRampsForcesBackInAfterAPause) {
   const Scene& scene = default_scene();
-  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kNone, -1);
+  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
   FaultyDevice* dev = left.get();
-  dev->commands.reserve(4000);
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d = with_left(scene, std::move(left));
   RuntimeSettings rs = fast(2.5);
   rs.resume_ramp_s = 0.1;
   std::string error;
@@ -275,15 +282,18 @@ TEST(Session, TheFastLoopAllocatesNothingPerTick) {
   const int64_t short_run = count_for(0.2);
   const int64_t long_run = count_for(2.0);
   EXPECT_EQ(short_run, long_run);
+  // The counter is live in this binary (else both counts would be 0 whatever the loop did).
+  static std::unique_ptr<int> kept;
+  test::AllocationCounter probe;
+  kept = std::make_unique<int>(1);
+  EXPECT_EQ(probe.count(), 1);
 }
 
 TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
   const Scene& scene = default_scene();
-  auto left = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kStall, 300);
+  auto left = logged(scene, FaultyDevice::Fault::kStall, 300);
   FaultyDevice* dev = left.get();
-  dev->commands.reserve(4000);
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d = with_left(scene, std::move(left));
   RuntimeSettings rs;
   rs.duration_s = 0.5;
   rs.realtime_priority = false;
@@ -321,9 +331,7 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
     // The device's origin 10 cm in, at the left tool's home: the arm starts there.
     ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, 0, 0.10)) *
                          Eigen::Isometry3d::Identity();
-    std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-        std::make_unique<hardware::PhantomDevice>(ps),
-        std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+    Devices d = with_left(scene, std::make_unique<hardware::PhantomDevice>(ps));
     const RuntimeSettings rs = device_fault_run(0.6);
     std::string error;
     auto s = Session::create(scene, std::move(d), rs, &error);
@@ -387,13 +395,11 @@ TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
   hardware::GripperEmulator::Controls c;
   c.encoder_counts = 6500;  // jaws open 0.79 rad, as the script starts
   emu->set(c);
-  auto arm = std::make_unique<FaultyDevice>(push_in(scene, 0), FaultyDevice::Fault::kNone, -1);
+  auto arm = logged(scene, FaultyDevice::Fault::kNone, -1);
   FaultyDevice* arm_log = arm.get();
-  arm_log->commands.reserve(4000);
   auto left = std::make_unique<hardware::ArmWithGripper>(
       std::move(arm), std::make_unique<hardware::UsbGripper>(std::move(emulator)));
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d = with_left(scene, std::move(left));
   const RuntimeSettings rs = device_fault_run(1.8);
   std::string error;
   auto s = Session::create(scene, std::move(d), rs, &error);
@@ -424,9 +430,8 @@ TEST(Session, WarnsOfTissueStifferThanADeviceRendersStably) {
   const Scene& scene = default_scene();
   hardware::DeviceLimits soft;
   soft.max_stiffness_n_per_m = 250.0;  // the liver is 300 N/m, the gallbladder 200
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left", soft),
-      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d =
+      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left", soft));
   std::string error;
   auto s = Session::create(scene, std::move(d), fast(0.01), &error);
   ASSERT_NE(s, nullptr) << error;
@@ -441,15 +446,13 @@ TEST(Session, BadSettingsAndScenesAreClearErrors) {
   std::string error;
   RuntimeSettings rs;
   rs.model_rate_hz = 5000.0;
-  std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
-      std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  Devices d =
+      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
   EXPECT_EQ(Session::create(scene, std::move(d), rs, &error), nullptr);
   EXPECT_EQ(error, "rates: expected 0 < model rate <= haptic rate");
   Scene no_tools = scene;
   no_tools.scenario.tools.clear();
-  d = {std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"),
-       std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+  d = with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
   EXPECT_EQ(Session::create(no_tools, std::move(d), RuntimeSettings{}, &error), nullptr);
   EXPECT_NE(error.find("tools: expected a left tool"), std::string::npos) << error;
   // No OpenHaptics on the library path (the fake is loaded by its full path only).
