@@ -170,11 +170,12 @@ MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSet
     db.edge_faces_.shrink_to_fit();
   }
   db.vertex_normals_.resize(nv);
+  db.face_normals_.resize(db.face_vertices_.size());
   db.update_vertex_normals();
   return db;
 }
 
-Eigen::Vector3d MeshDatabase::face_normal(int32_t f) const {
+Eigen::Vector3d MeshDatabase::compute_face_normal(int32_t f) const {
   const auto& t = face_vertices_[f];
   const Eigen::Vector3d n =
       (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]);
@@ -242,6 +243,7 @@ void MeshDatabase::update_vertex_normals() {
                     &vertex_normals_[t[2]]);
   }
   for (Eigen::Vector3d& n : vertex_normals_) n = unit_or_up(n);
+  for (int32_t f = 0; f < face_count(); ++f) face_normals_[f] = compute_face_normal(f);
 }
 
 void MeshDatabase::update_vertex_normal(int32_t v) {
@@ -305,6 +307,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   // hundred vertices a local deformation moves, than a mark per vertex of the mesh.
   for (int32_t v : moved) {
     for_each_vertex_face(v, [&](int32_t f) {
+      face_normals_[f] = compute_face_normal(f);
       for (int32_t w : face_vertices_[f]) update_vertex_normal(w);
     });
   }
@@ -352,6 +355,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
     c[1].setZero();
     c[2].setZero();
     accumulate_face(face_vertices_[s->dirty_faces[slot]], positions_, &c[0], &c[1], &c[2]);
+    face_normals_[s->dirty_faces[slot]] = compute_face_normal(s->dirty_faces[slot]);
   }
   // Their vertices' normals: the fan's contributions, the clean faces' computed on the spot
   // (only at the rim of the region). Summed in fan order, as update_vertex_normal() does.

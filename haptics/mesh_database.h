@@ -83,7 +83,7 @@ class MeshDatabase {
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved,
                      struct MeshUpdateScratch* scratch);
   /// The three parts of set_positions, for callers that schedule them apart: copy the
-  /// positions, refit the tree (O(n)), recompute all vertex normals (O(n)).
+  /// positions, refit the tree (O(n)), recompute all face and vertex normals (O(n)).
   void move_vertices(std::span<const Eigen::Vector3d> positions);
   void refit_tree();
   void update_vertex_normals();
@@ -142,7 +142,7 @@ class MeshDatabase {
   /// Fans larger than this are refused at build (no real vertex has that many faces).
   static constexpr int32_t kMaxFan = 1024;
   /// Unit face normal (counter-clockwise winding), computed from the positions.
-  [[nodiscard]] Eigen::Vector3d face_normal(int32_t f) const;
+  [[nodiscard]] const Eigen::Vector3d& face_normal(int32_t f) const { return face_normals_[f]; }
   /// Unit edge normal: the normalised sum of its faces' normals (§4.2).
   [[nodiscard]] Eigen::Vector3d edge_normal(int32_t e) const;
   /// Unit vertex normal, weighted by the angles its faces subtend at it (§4.2).
@@ -168,9 +168,12 @@ class MeshDatabase {
 
  private:
   void update_vertex_normal(int32_t v);
+  [[nodiscard]] Eigen::Vector3d compute_face_normal(int32_t f) const;
 
-  std::vector<Eigen::Vector3d> positions_;             // n_v x 3 [m]
-  std::vector<Eigen::Vector3d> vertex_normals_;        // n_v x 3, unit
+  std::vector<Eigen::Vector3d> positions_;       // n_v x 3 [m]
+  std::vector<Eigen::Vector3d> face_normals_;    // n_f x 3, unit (stored: the segment proxy reads
+                                                 // them many times per tick)
+  std::vector<Eigen::Vector3d> vertex_normals_;  // n_v x 3, unit
   std::vector<std::array<int32_t, 3>> face_vertices_;  // n_f x 3, tree order
   std::vector<std::array<int32_t, 3>> face_edges_;     // n_f x 3: edge k joins corners k, k+1
   std::vector<std::array<int32_t, 2>> edge_vertices_;  // n_e x 2, smaller index first

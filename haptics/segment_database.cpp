@@ -44,8 +44,8 @@ SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
       db.contactable_[e] = 1;  // boundary: the probe can rest on it from either side
       continue;
     }
-    const Eigen::Vector3d n0 = mesh.face_normal(ef[0]);
-    const Eigen::Vector3d n1 = mesh.face_normal(ef[1]);
+    const Eigen::Vector3d& n0 = mesh.face_normal(ef[0]);
+    const Eigen::Vector3d& n1 = mesh.face_normal(ef[1]);
     const auto& ev = mesh.edge_vertices(e);
     const auto& t1 = mesh.face_vertices(ef[1]);
     int32_t far = t1[0];

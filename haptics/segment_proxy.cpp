@@ -41,7 +41,7 @@ Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e, const E
   const Eigen::Vector3d axis = mesh.position(ev[1]) - mesh.position(ev[0]);
   // The edge normal is the normalised sum of its faces' normals (MeshDatabase::edge_normal),
   // computed here from the two normals the cone test needs anyway.
-  const Eigen::Vector3d n1 = mesh.face_normal(ef[0]);
+  const Eigen::Vector3d& n1 = mesh.face_normal(ef[0]);
   const bool boundary = ef[1] < 0;
   const Eigen::Vector3d n2 = boundary ? n1 : mesh.face_normal(ef[1]);
   const Eigen::Vector3d sum = n1 + n2;
@@ -63,7 +63,7 @@ Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e, const E
 bool portion_on_face(const SegmentDatabase& sd, int32_t f, const Eigen::Vector3d& a,
                      const Eigen::Vector3d& b, double* u0, double* u1) {
   const MeshDatabase& m = sd.mesh();
-  const Eigen::Vector3d n = m.face_normal(f);
+  const Eigen::Vector3d& n = m.face_normal(f);
   double lo = 2.0;
   double hi = -1.0;
   auto clip = [&](int32_t g) {
@@ -246,13 +246,16 @@ void SegmentProxy::track(std::span<const HapticObject> objects) {
 //
 // A segment–edge constraint is really "the probe's line stays outside the edge's line", which
 // the plane at a fixed u only linearises: once the probe turns, another point of it is nearest
-// the edge. So the QP is solved again with each edge constraint moved to the new nearest point
-// (and its normal to the new probe direction) until they stop moving — a few sequential
-// linearisations; without this the swept check finds the same edge crossed at once and the
-// placement makes no progress.
+// the edge. So the QP is solved once more with each edge constraint moved to the new nearest
+// point (and its normal to the new probe direction); without this the swept check finds the same
+// edge crossed at once and the placement makes no progress. Only once: on a nearly flat edge the
+// nearest point does not settle but runs to an end of the probe, and a jaw re-linearised up to
+// four times could stay caught on such an edge, pushing, after the tool had left the organ
+// (ToolOnOrgans.NoForceOnceTheToolIsClearOfEveryOrgan). The constraints are still moved after
+// the last solve, so the next pass starts from the new nearest points.
 void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
                          const Eigen::Vector3d& b_W, Eigen::Vector3d* a, Eigen::Vector3d* b) {
-  for (int outer = 0; outer < 4; ++outer) {
+  for (int outer = 0; outer < 2; ++outer) {
     solve_placement(a_W, b_W, a, b);
     bool moved = false;
     for (int i = 0; i < constraint_count_; ++i) {

@@ -36,7 +36,7 @@ ShadingNormals ShadingNormals::build(const MeshDatabase& mesh, double crease_ang
   const double cos_crease = std::cos(crease_angle_rad);
   s.corners_.resize(nf);
   for (int32_t f = 0; f < nf; ++f) {
-    const Eigen::Vector3d nf_f = mesh.face_normal(f);
+    const Eigen::Vector3d& nf_f = mesh.face_normal(f);
     for (int k = 0; k < 3; ++k) {
       if (s.shaded_[f] == 0) {
         s.corners_[f][k] = nf_f;
@@ -46,7 +46,7 @@ ShadingNormals ShadingNormals::build(const MeshDatabase& mesh, double crease_ang
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       mesh.for_each_vertex_face(v, [&](int32_t g) {
         if (s.shaded_[g] == 0) return;
-        const Eigen::Vector3d ng = mesh.face_normal(g);
+        const Eigen::Vector3d& ng = mesh.face_normal(g);
         if (ng.dot(nf_f) < cos_crease) return;
         sum += angle_at(mesh, g, corner_of(mesh, g, v)) * ng;
       });

@@ -14,6 +14,14 @@
 namespace lap::haptics {
 namespace {
 
+// The unit normal of face f from its vertices' current positions (MeshDatabase's formula).
+Eigen::Vector3d face_normal_now(const MeshDatabase& db, int32_t f) {
+  const auto& t = db.face_vertices(f);
+  const Eigen::Vector3d n =
+      (db.position(t[1]) - db.position(t[0])).cross(db.position(t[2]) - db.position(t[0]));
+  return n / n.norm();
+}
+
 TEST(MeshDatabase, NeighbourListsOfAClosedSphereAreConsistent) {
   const TriangleMesh s = make_uv_sphere(0.05, 12, 24);
   const MeshDatabase db = MeshDatabase::build(s);
@@ -190,6 +198,9 @@ TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
   // Normals followed the deformation.
   for (int32_t v = 0; v < db.vertex_count(); v += 37)
     EXPECT_TRUE(db.vertex_normal(v).isApprox(fresh.vertex_normal(v), 1e-12));
+  // The stored face normals too, bit for bit.
+  for (int32_t f = 0; f < db.face_count(); ++f)
+    ASSERT_EQ(db.face_normal(f), face_normal_now(db, f));
 }
 
 // A local deformation (§6.5) through the workspace touches each face, vertex and leaf once,
@@ -219,6 +230,11 @@ TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
     for (int32_t v = 0; v < local.vertex_count(); ++v) {
       ASSERT_EQ(local.vertex_normal(v), plain.vertex_normal(v)) << "round " << round << " v " << v;
       ASSERT_EQ(local.position(v), plain.position(v));
+    }
+    // Stored face normals: both paths give the normal of the face as it now is, bit for bit.
+    for (int32_t f = 0; f < local.face_count(); ++f) {
+      ASSERT_EQ(local.face_normal(f), face_normal_now(local, f)) << "round " << round << " f " << f;
+      ASSERT_EQ(plain.face_normal(f), face_normal_now(plain, f)) << "round " << round << " f " << f;
     }
     const auto& a = local.tree().nodes();
     const auto& b = plain.tree().nodes();

@@ -8,6 +8,9 @@
 #include <limits>
 #include <thread>
 
+#include "haptics/brute_force_reference.h"
+#include "haptics/laparoscopic_gripper.h"
+#include "haptics/segment_database.h"
 #include "hardware/device_recording.h"
 #include "hardware/gripper_emulator.h"
 #include "hardware/phantom_device.h"
@@ -15,6 +18,7 @@
 #include "hardware/scripted_device.h"
 #include "hardware/usb_gripper.h"
 #include "sim/device_factory.h"
+#include "sim/trocar_tool.h"
 #include "tests/support/counting_allocator.h"
 #include "tests/support/fake_hd_control.h"
 #include "tests/test_support.h"
@@ -33,6 +37,9 @@ const Scene& default_scene() {
 
 // The tool pushed from 5 cm to 20 cm inside its trocar over 1 s, then swept sideways while the
 // jaws close: it meets the organs, so forces are not zero.
+// A tick at which push_in's left tool presses on the organs (tests of faults there assert it).
+constexpr int64_t kPressingTick = 1300;
+
 hardware::ScriptedTrajectory push_in(const Scene& scene, int side) {
   hardware::ScriptedTrajectory t;
   const Eigen::Vector3d a = default_handle_position(scene, side, 0.05);
@@ -43,6 +50,96 @@ hardware::ScriptedTrajectory push_in(const Scene& scene, int side) {
                          Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY())), 0.1,
                          1});
   return t;
+}
+
+// The tool pushed in as by push_in() and then held there, pressing, to the end (2.5 s).
+hardware::ScriptedTrajectory push_and_hold(const Scene& scene, int side) {
+  hardware::ScriptedTrajectory t;
+  t.keyframes.push_back(
+      {0.0, default_handle_position(scene, side, 0.05), Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back(
+      {1.0, default_handle_position(scene, side, 0.20), Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back(
+      {2.5, default_handle_position(scene, side, 0.20), Eigen::Quaterniond::Identity(), 0.8, 0});
+  return t;
+}
+
+// The left tool of push_in() driven through its trocar against the default scene's organs, with
+// no session around it. Regression: a jaw re-linearising its edge contacts too often could get
+// stuck on a nearly flat edge and keep pushing (7–10 N) after the whole tool had left the organs.
+// Whenever every sampled tick of the last 10 found all three segments of the tool (as the device
+// puts them) at least 1 mm clear of every organ, by exhaustive search, the force must be zero.
+TEST(ToolOnOrgans, NoForceOnceTheToolIsClearOfEveryOrgan) {
+  const Scene& scene = default_scene();
+  std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs;
+  std::vector<std::unique_ptr<haptics::SegmentDatabase>> sds;
+  std::vector<haptics::HapticObject> objects;
+  for (const Organ& organ : scene.organs) {
+    dbs.push_back(
+        std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(organ.mesh)));
+    sds.push_back(
+        std::make_unique<haptics::SegmentDatabase>(haptics::SegmentDatabase::build(*dbs.back())));
+    haptics::HapticObject o;
+    o.mesh = dbs.back().get();
+    o.segments = sds.back().get();
+    objects.push_back(o);
+  }
+  const ToolSpec* spec = scene.scenario.tool(ToolSpec::Side::kLeft);
+  ASSERT_NE(spec, nullptr);
+  const TrocarSpec* port = scene.scenario.trocar(spec->trocar);
+  ASSERT_NE(port, nullptr);
+  TrocarToolSettings trocar;
+  trocar.port_W = port->position_m;
+  trocar.shaft_length_m = spec->shaft_length_m;
+  haptics::GripperGeometry g;
+  g.jaw_length_m = spec->jaw_length_m;
+  g.shaft_length_m = spec->shaft_length_m;
+  haptics::LaparoscopicGripper gripper(g);
+  hardware::ScriptedDevice device(push_in(scene, 0), "left");
+  std::string error;
+  ASSERT_TRUE(device.start(&error)) << error;
+  Eigen::Vector3d axis = (scene.bounds().center() - trocar.port_W).normalized();
+  const double dt = 0.001;
+  int64_t clear_since = -1;  // first of the current run of clear samples
+  int64_t checked = 0;
+  int64_t pressing = 0;
+  double most_clear = 0.0;
+  for (int64_t tick = 0; tick < 2000; ++tick) {
+    hardware::DeviceSample sample;
+    ASSERT_EQ(device.read(tick, dt, &sample), DeviceStatus::kOk);
+    const ToolKinematics k = tool_kinematics(trocar, sample, axis);
+    axis = k.axis_W;
+    const haptics::GripperOutput out = gripper.step(objects, k.pose, dt);
+    ASSERT_FALSE(out.fault);
+    if (out.force_W.norm() > 0.0) ++pressing;
+    if (tick < 1000 || tick % 5 != 0) continue;  // (it is pushing in before)
+    std::array<Eigen::Vector3d, 3> a;
+    std::array<Eigen::Vector3d, 3> b;
+    gripper.segments(k.pose, &a, &b);
+    double clearance = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < 3; ++i) {
+      for (const haptics::HapticObject& o : objects) {
+        const double d = haptics::reference_segment_distance(*o.mesh, a[i], b[i]).distance;
+        const bool inside = haptics::reference_inside(*o.mesh, a[i]);
+        clearance = std::min(clearance, inside ? 0.0 : d);
+      }
+    }
+    if (clearance < 1e-3) {
+      clear_since = -1;
+      continue;
+    }
+    if (clear_since < 0) clear_since = tick;
+    most_clear = std::max(most_clear, clearance);
+    if (tick - clear_since >= 10) {
+      ++checked;
+      EXPECT_EQ(out.force_W.norm(), 0.0)
+          << "tick " << tick << ": the tool is " << clearance << " m clear of every organ";
+    }
+  }
+  EXPECT_GT(pressing, 500) << "the tool must meet the organs on its way";
+  EXPECT_GT(checked, 50) << "the tool must leave them again";
+  std::printf("%lld ticks pressing, %lld clear ticks checked (up to %.4f m clear)\n",
+              static_cast<long long>(pressing), static_cast<long long>(checked), most_clear);
 }
 
 // A device that misbehaves at one tick: a NaN position, an error, a disconnect, or a stall.
@@ -174,7 +271,7 @@ class SessionWatchdog : public ::testing::TestWithParam<FaultCase> {};
 
 TEST_P(SessionWatchdog, ZeroForceOnTheTickPausedAndNothingLost) {
   const Scene& scene = default_scene();
-  const int64_t at = 1500;  // the tool is pressing by then
+  const int64_t at = kPressingTick;
   auto left = logged(scene, GetParam().fault, at);
   FaultyDevice* dev = left.get();
   Devices d = with_left(scene, std::move(left));
@@ -225,18 +322,21 @@ TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
   std::string error;
   auto s = Session::create(scene, std::move(d), fast(2.5), &error);
   ASSERT_NE(s, nullptr);
-  s->inject_lateness(1500, 0.0025);  // 2.5 periods late
+  s->inject_lateness(kPressingTick, 0.0025);  // 2.5 periods late
   const SessionMetrics m = s->run();
   ASSERT_FALSE(m.events.empty());
   EXPECT_EQ(m.events[0].reason, WatchdogReason::kOverrun);
   EXPECT_EQ(m.events[0].tool, -1);
-  EXPECT_EQ(dev->commands[1500].force_W, Eigen::Vector3d::Zero());
-  EXPECT_GT(dev->commands[1499].force_W.norm(), 0.0);
+  EXPECT_EQ(dev->commands[kPressingTick].force_W, Eigen::Vector3d::Zero());
+  EXPECT_GT(dev->commands[kPressingTick - 1].force_W.norm(), 0.0);
 }
 
 TEST(Session, ResumeRampsForcesBackInAfterAPause) {
   const Scene& scene = default_scene();
-  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
+  // The tool keeps pressing after the pause, however late the resume comes in fast mode.
+  auto left =
+      std::make_unique<FaultyDevice>(push_and_hold(scene, 0), FaultyDevice::Fault::kNone, -1);
+  left->commands.reserve(4000);
   FaultyDevice* dev = left.get();
   Devices d = with_left(scene, std::move(left));
   RuntimeSettings rs = fast(2.5);
