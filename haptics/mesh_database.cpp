@@ -171,7 +171,7 @@ MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSet
   }
   db.vertex_normals_.resize(nv);
   db.face_normals_.resize(db.face_vertices_.size());
-  db.update_vertex_normals();
+  db.update_normals();
   return db;
 }
 
@@ -236,7 +236,7 @@ inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
 
 }  // namespace
 
-void MeshDatabase::update_vertex_normals() {
+void MeshDatabase::update_normals() {
   for (Eigen::Vector3d& n : vertex_normals_) n.setZero();
   for (const auto& t : face_vertices_) {
     accumulate_face(t, positions_, &vertex_normals_[t[0]], &vertex_normals_[t[1]],
@@ -294,7 +294,7 @@ void MeshDatabase::move_vertices(std::span<const Eigen::Vector3d> positions) {
 
 void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions) {
   move_vertices(positions);
-  update_vertex_normals();
+  update_normals();
   refit_tree();
 }
 

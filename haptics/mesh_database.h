@@ -86,7 +86,7 @@ class MeshDatabase {
   /// positions, refit the tree (O(n)), recompute all face and vertex normals (O(n)).
   void move_vertices(std::span<const Eigen::Vector3d> positions);
   void refit_tree();
-  void update_vertex_normals();
+  void update_normals();
 
   /// Incremented whenever vertices move: caches of geometry (the segment proxy's) compare it.
   [[nodiscard]] uint64_t revision() const { return revision_; }

@@ -255,7 +255,8 @@ void SegmentProxy::track(std::span<const HapticObject> objects) {
 // the last solve, so the next pass starts from the new nearest points.
 void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
                          const Eigen::Vector3d& b_W, Eigen::Vector3d* a, Eigen::Vector3d* b) {
-  for (int outer = 0; outer < 2; ++outer) {
+  constexpr int kSolves = 2;  // the first and the re-linearised one
+  for (int outer = 0; outer < kSolves; ++outer) {
     solve_placement(a_W, b_W, a, b);
     bool moved = false;
     for (int i = 0; i < constraint_count_; ++i) {

@@ -176,13 +176,13 @@ void BM_MeshDatabaseRefit(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(db.face_count());
 }
 
-// All vertex normals after a deformation of every vertex (a local deformation updates only the
-// normals around the moved vertices instead).
+// All face and vertex normals after a deformation of every vertex (a local deformation updates only
+// the normals around the moved vertices instead).
 void BM_MeshDatabaseNormals(benchmark::State& state) {
   const int64_t n = state.range(0);
   MeshDatabase db = MeshDatabase::build(table_4_1_object(n));
   for (auto _ : state) {
-    db.update_vertex_normals();
+    db.update_normals();
     benchmark::ClobberMemory();
   }
   state.counters["triangles"] = static_cast<double>(db.face_count());
