@@ -5,18 +5,24 @@
 # any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each stage prints the minutes taken so far, so that a slow CI run shows where its time went.
+# The sanitizer presets keep line tables only (-g1): full debug info made the ASan build a third
+# slower, and reports still name file and line.
+stage() { printf '== [%d:%02d] %s\n' $((SECONDS / 60)) $((SECONDS % 60)) "$1"; }
 bash packaging/install-deps.sh
 jobs="$(nproc)"
 
-echo "== Release build and tests"
+stage "Release build"
 cmake --preset release -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON
 cmake --build --preset release --parallel "$jobs"
+stage "Release tests"
 ctest --preset release --parallel "$jobs"
 
 if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
-  echo "== ASan + UBSan build and tests"
+  stage "ASan + UBSan build"
   cmake --preset asan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON
   cmake --build --preset asan --parallel "$jobs"
+  stage "ASan + UBSan tests"
   # Leak checking is off: Mesa, X11 and fontconfig keep process-lifetime allocations that
   # LeakSanitizer reports in the GUI test; memory errors and undefined behaviour still abort.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -24,12 +30,14 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
 fi
 
 if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
-  echo "== ThreadSanitizer build of the runtime tests (loops, snapshots, watchdog, devices)"
+  stage "ThreadSanitizer build of the runtime tests (loops, snapshots, watchdog, devices)"
   cmake --preset tsan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON
   cmake --build --preset tsan --parallel "$jobs" --target hardware_tests sim_tests fake_hd
+  stage "ThreadSanitizer tests"
   # Any race report makes the binary exit non-zero (TSan's exitcode 66).
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/hardware_tests \
     --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*:Phantom*'
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/sim_tests \
     --gtest_filter='Session*:*SessionWatchdog*:TrocarTool*'
 fi
+stage "all passed"

@@ -2,12 +2,21 @@
 /// \file
 /// Helpers shared by the test suites: where files are, temporary folders, running binaries.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
 #include "haptics/triangle_mesh.h"
 
 namespace lap::test {
+
+/// Long property tests run their full length in optimised builds; sanitizer builds, 10–50 times
+/// slower, check the same properties on this fraction of the iterations so that CI stays short.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr int64_t kSanitizerDivisor = 20;
+#else
+inline constexpr int64_t kSanitizerDivisor = 1;
+#endif
 
 /// The project's source tree.
 [[nodiscard]] std::filesystem::path source_dir();

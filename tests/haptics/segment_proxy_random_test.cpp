@@ -28,11 +28,7 @@
 namespace lap::haptics {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr int64_t kScale = 20;
-#else
-constexpr int64_t kScale = 1;
-#endif
+constexpr int64_t kScale = test::kSanitizerDivisor;
 
 struct Counts {
   int64_t ticks = 0;

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <random>
 
+#include "tests/test_support.h"
+
 namespace lap::models {
 namespace {
 
@@ -63,7 +65,7 @@ TEST(Catheter, PulledWithOneNewtonStretchesLessThanOnePercent) {
 }
 
 // No input: the energy (kinetic + stretch + bending) never grows, over 10^6 steps, from a bent
-// and moving start, at the haptic and at the modelling rate.
+// and moving start, at the haptic and at the modelling rate (sanitizer builds: a twentieth).
 TEST(Catheter, EnergyNeverGrowsWithoutInput) {
   CatheterSettings settings;
   settings.particles = 16;
@@ -81,7 +83,7 @@ TEST(Catheter, EnergyNeverGrowsWithoutInput) {
     double last = e0;
     int64_t rises = 0;
     double worst_rise = 0.0;
-    const int64_t steps = dt < 0.002 ? 1000000 : 200000;
+    const int64_t steps = (dt < 0.002 ? 1000000 : 200000) / test::kSanitizerDivisor;
     for (int64_t k = 0; k < steps; ++k) {
       ASSERT_TRUE(step_catheter(model, &s, dt));
       const double e = catheter_energy(model, s);
@@ -92,7 +94,9 @@ TEST(Catheter, EnergyNeverGrowsWithoutInput) {
       last = e;
     }
     EXPECT_EQ(rises, 0) << "dt " << dt << ": worst rise " << worst_rise << " of E0";
-    EXPECT_LT(last, 1e-6 * e0);  // and it has come to rest
+    if (test::kSanitizerDivisor == 1) {
+      EXPECT_LT(last, 1e-6 * e0);  // and it has come to rest (a shortened run has not yet)
+    }
     std::printf(
         "[ catheter ] %lld steps at dt = %g: energy %.3g J -> %.3g J, %lld rises, %lld steps "
         "split by the energy guard\n",

@@ -100,6 +100,7 @@ TEST(ToolOnOrgans, NoForceOnceTheToolIsClearOfEveryOrgan) {
   ASSERT_TRUE(device.start(&error)) << error;
   Eigen::Vector3d axis = (scene.bounds().center() - trocar.port_W).normalized();
   const double dt = 0.001;
+  const int64_t kStride = 5 * test::kSanitizerDivisor;
   int64_t clear_since = -1;  // first of the current run of clear samples
   int64_t checked = 0;
   int64_t pressing = 0;
@@ -112,7 +113,8 @@ TEST(ToolOnOrgans, NoForceOnceTheToolIsClearOfEveryOrgan) {
     const haptics::GripperOutput out = gripper.step(objects, k.pose, dt);
     ASSERT_FALSE(out.fault);
     if (out.force_W.norm() > 0.0) ++pressing;
-    if (tick < 1000 || tick % 5 != 0) continue;  // (it is pushing in before)
+    // Exhaustive clearance on every 5th tick (every 100th in sanitizer builds, 20× slower).
+    if (tick < 1000 || tick % kStride != 0) continue;  // (it is pushing in before)
     std::array<Eigen::Vector3d, 3> a;
     std::array<Eigen::Vector3d, 3> b;
     gripper.segments(k.pose, &a, &b);
@@ -130,14 +132,14 @@ TEST(ToolOnOrgans, NoForceOnceTheToolIsClearOfEveryOrgan) {
     }
     if (clear_since < 0) clear_since = tick;
     most_clear = std::max(most_clear, clearance);
-    if (tick - clear_since >= 10) {
+    if (tick - clear_since >= std::max<int64_t>(10, kStride)) {
       ++checked;
       EXPECT_EQ(out.force_W.norm(), 0.0)
           << "tick " << tick << ": the tool is " << clearance << " m clear of every organ";
     }
   }
   EXPECT_GT(pressing, 500) << "the tool must meet the organs on its way";
-  EXPECT_GT(checked, 50) << "the tool must leave them again";
+  EXPECT_GT(checked, 250 / kStride) << "the tool must leave them again";
   std::printf("%lld ticks pressing, %lld clear ticks checked (up to %.4f m clear)\n",
               static_cast<long long>(pressing), static_cast<long long>(checked), most_clear);
 }
