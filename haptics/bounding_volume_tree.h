@@ -31,6 +31,13 @@ struct BvhNode {
   int32_t count;
 };
 
+/// The points within r of the segment p0 -> p1.
+struct Capsule {
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p1 = Eigen::Vector3d::Zero();
+  double r = 0.0;
+};
+
 /// The tree. Primitives are referred to by their position in tree order.
 class BoundingVolumeTree {
  public:
@@ -200,6 +207,41 @@ class BoundingVolumeTree {
       const int32_t i = stack[--top];
       const BvhNode& node = nodes_[i];
       if (!segment_touches_grown(node, p0, inv, r)) continue;
+      if (node.count > 0) {
+        for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = i + 1;
+      }
+    }
+  }
+
+  /// The same for the union of up to kMaxCapsules capsules in one traversal (a tapered capsule
+  /// cut into pieces): each primitive is visited once, where separate queries would walk the
+  /// shared upper levels of the tree once per piece and visit shared primitives repeatedly.
+  static constexpr int kMaxCapsules = 4;
+  template <typename Visit>
+  void for_each_near_capsules(std::span<const Capsule> capsules, const Visit& visit) const {
+    if (nodes_.empty() || capsules.empty()) return;
+    const size_t count = std::min(capsules.size(), static_cast<size_t>(kMaxCapsules));
+    std::array<Eigen::Vector3d, kMaxCapsules> inv;
+    for (size_t c = 0; c < count; ++c) {
+      const Eigen::Vector3d d = capsules[c].p1 - capsules[c].p0;
+      for (int a = 0; a < 3; ++a) {
+        inv[c][a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
+      }
+    }
+    std::array<int32_t, kMaxDepth + 4> stack{};
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const int32_t i = stack[--top];
+      const BvhNode& node = nodes_[i];
+      bool touches = false;
+      for (size_t c = 0; c < count && !touches; ++c) {
+        touches = segment_touches_grown(node, capsules[c].p0, inv[c], capsules[c].r);
+      }
+      if (!touches) continue;
       if (node.count > 0) {
         for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
       } else {

@@ -99,13 +99,11 @@ PrimitiveRef PointProxy::local_search(const MeshDatabase& m, PrimitiveRef start,
   for (; r < kMaxSearchRounds; ++r) {
     Candidate best = cur;
     switch (cur.prim.kind) {
-      case PrimitiveKind::kFace: {
-        const auto& fe = m.face_edges(cur.prim.index);
-        const auto& fv = m.face_vertices(cur.prim.index);
-        for (int k = 0; k < 3; ++k) consider(m, {PrimitiveKind::kEdge, fe[k]}, p, best);
-        for (int k = 0; k < 3; ++k) consider(m, {PrimitiveKind::kVertex, fv[k]}, p, best);
+      case PrimitiveKind::kFace:
+        // A canonical face holds its nearest point in its interior (§4.3: the HIP projects into
+        // the polygon), and its edges and vertices are parts of it, so none is nearer: the
+        // search ends here without evaluating them.
         break;
-      }
       case PrimitiveKind::kEdge: {
         const auto& ev = m.edge_vertices(cur.prim.index);
         const auto& ef = m.edge_faces(cur.prim.index);

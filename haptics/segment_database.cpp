@@ -274,18 +274,24 @@ int32_t SegmentDatabase::faces_near_point(const Eigen::Vector3d& p, double r,
   return n;
 }
 
-int32_t SegmentDatabase::edges_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                            double r, std::span<int32_t> out) const {
+int32_t SegmentDatabase::edges_near_capsules(std::span<const Capsule> capsules,
+                                             std::span<int32_t> out) const {
   const MeshDatabase& mesh = *mesh_;
+  const size_t count =
+      std::min(capsules.size(), static_cast<size_t>(BoundingVolumeTree::kMaxCapsules));
   int32_t n = 0;
-  const double r2 = r * r;
-  edge_tree_.for_each_near_segment(a, b, r, [&](int32_t k) {
+  edge_tree_.for_each_near_capsules(capsules, [&](int32_t k) {
     if (n < 0) return;
     const int32_t e = tree_edges_[k];
     const auto& ev = mesh.edge_vertices(e);
-    const SegmentPair cp =
-        closest_segment_segment(a, b, mesh.position(ev[0]), mesh.position(ev[1]));
-    if ((cp.p - cp.q).squaredNorm() > r2) return;
+    const Eigen::Vector3d& c = mesh.position(ev[0]);
+    const Eigen::Vector3d& d = mesh.position(ev[1]);
+    bool near = false;
+    for (size_t i = 0; i < count && !near; ++i) {
+      const SegmentPair cp = closest_segment_segment(capsules[i].p0, capsules[i].p1, c, d);
+      near = (cp.p - cp.q).squaredNorm() <= capsules[i].r * capsules[i].r;
+    }
+    if (!near) return;
     if (n == static_cast<int32_t>(out.size())) {
       n = -1;
       return;

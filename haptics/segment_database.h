@@ -87,12 +87,13 @@ class SegmentDatabase {
                                                const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
                                                const Eigen::Vector3d& b1) const;
 
-  /// The faces within distance r of p (exact), and the contactable edges within r of the
-  /// segment a -> b, written to `out`: the count, or -1 when more than out.size() qualify.
-  /// For the segment proxy's sweep cache; no allocation.
+  /// The faces within distance r of p (exact), written to `out`: the count, or -1 when more
+  /// than out.size() qualify. For the segment proxy's sweep cache; no allocation.
   int32_t faces_near_point(const Eigen::Vector3d& p, double r, std::span<int32_t> out) const;
-  int32_t edges_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r,
-                             std::span<int32_t> out) const;
+  /// The contactable edges within reach of any of the capsules (at most
+  /// BoundingVolumeTree::kMaxCapsules; exact), each once, by one traversal of the edge tree;
+  /// the count, or -1 when more than out.size() qualify.
+  int32_t edges_near_capsules(std::span<const Capsule> capsules, std::span<int32_t> out) const;
 
   /// Recomputes the edge tree's boxes after the mesh moved (topology and convexity kept).
   void refit_edge_tree();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/closest_point.h"
 #include "haptics/probe_placement_qp.h"
 #include "haptics/segment_segment.h"
 #include "haptics/segment_triangle.h"
@@ -353,9 +354,14 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
         cf.index = scratch[i];
         cf.vertex = m.face_vertices(scratch[i]);
         for (int j = 0; j < 3; ++j) cf.p[j] = m.position(cf.vertex[j]);
+        cf.n = (cf.p[1] - cf.p[0]).cross(cf.p[2] - cf.p[0]);
+        TriangleFeature feature{};
+        cf.clearance = (closest_on_triangle(end == 0 ? A : B, cf.p[0], cf.p[1], cf.p[2], &feature) -
+                        (end == 0 ? A : B))
+                           .norm();
       }
     }
-    const int32_t first_edge = c.edge_count;
+    std::array<Capsule, kBreaks.size() - 1> pieces;
     for (size_t piece = 0; piece + 1 < kBreaks.size(); ++piece) {
       // Pieces measured from the slower end.
       double u0 = kBreaks[piece];
@@ -364,26 +370,23 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
         u0 = 1.0 - kBreaks[piece + 1];
         u1 = 1.0 - kBreaks[piece];
       }
-      const double r = std::max((1.0 - u0) * ra + u0 * rb, (1.0 - u1) * ra + u1 * rb);
-      const int32_t n = sd.edges_near_segment(lerp(A, B, u0), lerp(A, B, u1), r,
-                                              {scratch.data(), scratch.size()});
-      if (n < 0) return false;
-      for (int32_t i = 0; i < n; ++i) {
-        bool seen = false;
-        for (int32_t j = first_edge; j < c.edge_count && !seen; ++j) {
-          seen = c.edges[j].index == scratch[i];
-        }
-        if (seen) continue;
-        if (c.edge_count == kCacheEdges) return false;
-        const MeshDatabase& m = sd.mesh();
-        CachedEdge& ce = c.edges[c.edge_count++];
-        ce.object = k;
-        ce.index = scratch[i];
-        ce.c = m.position(m.edge_vertices(scratch[i])[0]);
-        ce.d = m.position(m.edge_vertices(scratch[i])[1]);
-        ce.closed = m.edge_faces(scratch[i])[1] >= 0;
-        ce.outward = m.edge_normal(scratch[i]);
-      }
+      pieces[piece] = {lerp(A, B, u0), lerp(A, B, u1),
+                       std::max((1.0 - u0) * ra + u0 * rb, (1.0 - u1) * ra + u1 * rb)};
+    }
+    const int32_t room = kCacheEdges - c.edge_count;
+    const int32_t n = sd.edges_near_capsules(pieces, {scratch.data(), static_cast<size_t>(room)});
+    if (n < 0) return false;
+    const MeshDatabase& m = sd.mesh();
+    for (int32_t i = 0; i < n; ++i) {
+      CachedEdge& ce = c.edges[c.edge_count++];
+      ce.object = k;
+      ce.index = scratch[i];
+      ce.c = m.position(m.edge_vertices(scratch[i])[0]);
+      ce.d = m.position(m.edge_vertices(scratch[i])[1]);
+      ce.closed = m.edge_faces(scratch[i])[1] >= 0;
+      ce.outward = m.edge_normal(scratch[i]);
+      const SegmentPair cp = closest_segment_segment(A, B, ce.c, ce.d);
+      ce.clearance = (cp.p - cp.q).norm();
     }
     c.poses[k] = o.pose_WO.matrix().topRows<3>();
     c.revisions[k] = sd.mesh().revision();
@@ -462,7 +465,18 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
           cache_covers(objects, a0, b0, af, bf);
     }
     if (covered) {
-      stats_.cached_tests += cache_.face_count[0] + cache_.face_count[1] + cache_.edge_count;
+      // How far any point of the probe gets from its cached position during the motion (the
+      // end points move linearly, so the farthest is at a start or an end, and every point of
+      // the probe is a convex combination of the end points); a small slack keeps the skip
+      // clear of the crossing tests' own rounding.
+      constexpr double kSlack = 1e-8;
+      const double reach_a =
+          std::sqrt(std::max((a0 - cache_.a).squaredNorm(), (af - cache_.a).squaredNorm())) +
+          kSlack;
+      const double reach_b =
+          std::sqrt(std::max((b0 - cache_.b).squaredNorm(), (bf - cache_.b).squaredNorm())) +
+          kSlack;
+      const double reach = std::max(reach_a, reach_b);
       std::array<Eigen::Vector3d, kCacheObjects> A0;
       std::array<Eigen::Vector3d, kCacheObjects> B0;
       std::array<Eigen::Vector3d, kCacheObjects> A1;
@@ -477,15 +491,19 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
       for (int end = 0; end < 2; ++end) {
         for (int32_t i = 0; i < cache_.face_count[end]; ++i) {
           const CachedFace& c = cache_.faces[end][i];
+          if (c.clearance > (end == 0 ? reach_a : reach_b)) continue;
+          ++stats_.cached_tests;
           const Eigen::Vector3d& p0 = end == 0 ? A0[c.object] : B0[c.object];
           const Eigen::Vector3d& p1 = end == 0 ? A1[c.object] : B1[c.object];
-          const double t = front_crossing_time(p0, p1, c.p[0], c.vertex[0], c.p[1], c.vertex[1],
-                                               c.p[2], c.vertex[2]);
+          const double t = front_crossing_time(p0, p1, c.n, c.p[0], c.vertex[0], c.p[1],
+                                               c.vertex[1], c.p[2], c.vertex[2]);
           if (t >= 0.0 && t < best) face_hit(c.object, c.index, end, p0, p1, t);
         }
       }
       for (int32_t i = 0; i < cache_.edge_count; ++i) {
         const CachedEdge& c = cache_.edges[i];
+        if (c.clearance > reach) continue;
+        ++stats_.cached_tests;
         const int32_t k = c.object;
         const MovingSegmentHit h = moving_segment_enters_edge(A0[k], B0[k], A1[k], B1[k], c.c, c.d,
                                                               c.closed ? &c.outward : nullptr);

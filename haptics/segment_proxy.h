@@ -104,8 +104,8 @@ struct SegmentProxyStats {
   int64_t placement_limit_hits = 0;  ///< steps that ran out of placements (probe stopped safe)
   int64_t constraint_overflows = 0;  ///< contacts not added because the list was full
   int64_t cached_sweeps = 0;         ///< swept checks answered from the sweep cache
-  /// Primitives tested in the cache (faces per end + edges), including the first 0.2 mm of long
-  /// motions that then went on to the trees.
+  /// Cached primitives tested exactly (those within reach of the motion: faces per end + edges),
+  /// including the first 0.2 mm of long motions that then went on to the trees.
   int64_t cached_tests = 0;
   int64_t cache_rebuilds = 0;  ///< sweep cache refilled from the trees
   int64_t tree_sweeps = 0;     ///< swept checks that went through the trees
@@ -176,16 +176,23 @@ class SegmentProxy {
   static constexpr double kCacheMaxMotion = 2e-4;  ///< [m] per pass; faster motions use the trees
   // Each cached primitive carries its own geometry (copied at refill, checked by the mesh
   // revision), so the cached sweep reads only this proxy's memory however big the mesh.
+  //
+  // Each also keeps its distance from the probe at the refill (`clearance`): a motion that keeps
+  // every point of the probe within D of where it was then cannot reach a primitive farther than
+  // D, so the sweep skips it with one comparison (most of the cache, most ticks).
   struct CachedFace {
     int32_t object = -1;
     int32_t index = -1;
+    double clearance = 0.0;  ///< from the cached end point [m]
     std::array<int32_t, 3> vertex{};
     std::array<Eigen::Vector3d, 3> p{};
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();  ///< (p1 - p0) × (p2 - p0)
   };
   struct CachedEdge {
     int32_t object = -1;
     int32_t index = -1;
-    bool closed = false;  ///< has an inside (two faces): only entering crossings count
+    bool closed = false;     ///< has an inside (two faces): only entering crossings count
+    double clearance = 0.0;  ///< from the cached probe [m]
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     Eigen::Vector3d outward = Eigen::Vector3d::Zero();

@@ -74,15 +74,23 @@ inline SegmentCrossing segment_crosses_triangle(const Eigen::Vector3d& p0,
 /// A.7 for the segment proxy's end points: the parameter at which p0 -> p1 crosses triangle
 /// (a, b, c) from its front (-1: none). A start exactly on the plane counts, so an end point
 /// resting on the surface cannot slip in; a path leaving through the back is not a contact.
+/// `n` is the triangle's unnormalised normal (b - a) × (c - a), which a caller testing the same
+/// triangle often may keep.
 inline double front_crossing_time(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                  const Eigen::Vector3d& a, int32_t ia, const Eigen::Vector3d& b,
-                                  int32_t ib, const Eigen::Vector3d& c, int32_t ic) {
-  const Eigen::Vector3d n = (b - a).cross(c - a);
+                                  const Eigen::Vector3d& n, const Eigen::Vector3d& a, int32_t ia,
+                                  const Eigen::Vector3d& b, int32_t ib, const Eigen::Vector3d& c,
+                                  int32_t ic) {
   const double s0 = n.dot(p0 - a);
   const double s1 = n.dot(p1 - a);
   if (!(s0 >= 0.0 && s1 < 0.0)) return -1.0;
   if (line_through_triangle(p0, p1 - p0, a, ia, b, ib, c, ic) == LinePass::kOutside) return -1.0;
   return s0 / (s0 - s1);
+}
+
+inline double front_crossing_time(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                  const Eigen::Vector3d& a, int32_t ia, const Eigen::Vector3d& b,
+                                  int32_t ib, const Eigen::Vector3d& c, int32_t ic) {
+  return front_crossing_time(p0, p1, (b - a).cross(c - a), a, ia, b, ib, c, ic);
 }
 
 }  // namespace lap::haptics

@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "haptics/brute_force_reference.h"
+#include "haptics/closest_point.h"
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_generators.h"
 #include "haptics/segment_segment.h"
@@ -116,6 +118,71 @@ TEST(SegmentDatabase, CubeEdgesPcpsAndFlatFaces) {
       }
     }
   }
+}
+
+// The sweep cache's queries against exhaustive search over every face and contactable edge of
+// a concave stand-in organ: faces near a point, and edges near a tapered capsule in pieces (one
+// tree traversal for all pieces, each edge reported once).
+TEST(SegmentDatabase, NearQueriesMatchExhaustiveSearch) {
+  const TriangleMesh liver = make_stand_in_liver();
+  const MeshDatabase mesh = MeshDatabase::build(liver);
+  const SegmentDatabase sd = SegmentDatabase::build(mesh);
+  const Eigen::AlignedBox3d box = liver.bounds();
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  auto random_point = [&] {
+    return Eigen::Vector3d(box.min() +
+                           box.sizes().cwiseProduct(Eigen::Vector3d(uni(rng), uni(rng), uni(rng))));
+  };
+  const double scale = box.sizes().maxCoeff();
+  int64_t faces_found = 0;
+  int64_t edges_found = 0;
+  std::vector<int32_t> out(4096);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d p = random_point();
+    const double r = scale * 0.1 * uni(rng);
+    std::vector<int32_t> expected;
+    for (int32_t f = 0; f < mesh.face_count(); ++f) {
+      const auto& v = mesh.face_vertices(f);
+      TriangleFeature feature{};
+      const Eigen::Vector3d q = closest_on_triangle(p, mesh.position(v[0]), mesh.position(v[1]),
+                                                    mesh.position(v[2]), &feature);
+      if ((q - p).squaredNorm() <= r * r) expected.push_back(f);
+    }
+    int32_t n = sd.faces_near_point(p, r, out);
+    ASSERT_GE(n, 0);
+    std::vector<int32_t> got(out.begin(), out.begin() + n);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << "trial " << trial;
+    faces_found += n;
+
+    std::array<Capsule, 3> pieces;
+    for (Capsule& c : pieces) c = {random_point(), random_point(), scale * 0.05 * uni(rng)};
+    expected.clear();
+    for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+      if (!sd.contactable(e)) continue;
+      const auto& ev = mesh.edge_vertices(e);
+      for (const Capsule& c : pieces) {
+        const SegmentPair cp =
+            closest_segment_segment(c.p0, c.p1, mesh.position(ev[0]), mesh.position(ev[1]));
+        if ((cp.p - cp.q).squaredNorm() <= c.r * c.r) {
+          expected.push_back(e);
+          break;
+        }
+      }
+    }
+    n = sd.edges_near_capsules(pieces, out);
+    ASSERT_GE(n, 0);
+    got.assign(out.begin(), out.begin() + n);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << "trial " << trial;  // sorted and equal: each edge once
+    edges_found += n;
+    if (!expected.empty()) {
+      EXPECT_EQ(sd.edges_near_capsules(pieces, {out.data(), expected.size() - 1}), -1);
+    }
+  }
+  EXPECT_GT(faces_found, 1000);  // the trials do meet the surface
+  EXPECT_GT(edges_found, 1000);
 }
 
 // Probe lying flat on a cube face (Figure 5-13c, eq. 5-1 and 5-2).
