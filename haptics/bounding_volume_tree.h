@@ -219,11 +219,21 @@ class BoundingVolumeTree {
   /// The same for the union of up to kMaxCapsules capsules in one traversal (a tapered capsule
   /// cut into pieces): each primitive is visited once, where separate queries would walk the
   /// shared upper levels of the tree once per piece and visit shared primitives repeatedly.
+  /// `hull` must contain every piece: a node it misses is rejected with one test instead of one
+  /// per piece (most nodes visited are such rejections).
   static constexpr int kMaxCapsules = 4;
   template <typename Visit>
-  void for_each_near_capsules(std::span<const Capsule> capsules, const Visit& visit) const {
+  void for_each_near_capsules(const Capsule& hull, std::span<const Capsule> capsules,
+                              const Visit& visit) const {
     if (nodes_.empty() || capsules.empty()) return;
     const size_t count = std::min(capsules.size(), static_cast<size_t>(kMaxCapsules));
+    Eigen::Vector3d hull_inv;
+    {
+      const Eigen::Vector3d d = hull.p1 - hull.p0;
+      for (int a = 0; a < 3; ++a) {
+        hull_inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
+      }
+    }
     std::array<Eigen::Vector3d, kMaxCapsules> inv;
     for (size_t c = 0; c < count; ++c) {
       const Eigen::Vector3d d = capsules[c].p1 - capsules[c].p0;
@@ -237,7 +247,8 @@ class BoundingVolumeTree {
     while (top > 0) {
       const int32_t i = stack[--top];
       const BvhNode& node = nodes_[i];
-      bool touches = false;
+      if (!segment_touches_grown(node, hull.p0, hull_inv, hull.r)) continue;
+      bool touches = count == 1;
       for (size_t c = 0; c < count && !touches; ++c) {
         touches = segment_touches_grown(node, capsules[c].p0, inv[c], capsules[c].r);
       }

@@ -274,13 +274,13 @@ int32_t SegmentDatabase::faces_near_point(const Eigen::Vector3d& p, double r,
   return n;
 }
 
-int32_t SegmentDatabase::edges_near_capsules(std::span<const Capsule> capsules,
+int32_t SegmentDatabase::edges_near_capsules(const Capsule& hull, std::span<const Capsule> capsules,
                                              std::span<int32_t> out) const {
   const MeshDatabase& mesh = *mesh_;
   const size_t count =
       std::min(capsules.size(), static_cast<size_t>(BoundingVolumeTree::kMaxCapsules));
   int32_t n = 0;
-  edge_tree_.for_each_near_capsules(capsules, [&](int32_t k) {
+  edge_tree_.for_each_near_capsules(hull, capsules, [&](int32_t k) {
     if (n < 0) return;
     const int32_t e = tree_edges_[k];
     const auto& ev = mesh.edge_vertices(e);

@@ -41,18 +41,20 @@ Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e, const E
   const auto& ef = mesh.edge_faces(e);
   const Eigen::Vector3d axis = mesh.position(ev[1]) - mesh.position(ev[0]);
   // The edge normal is the normalised sum of its faces' normals (MeshDatabase::edge_normal),
-  // computed here from the two normals the cone test needs anyway.
+  // computed here from the two normals the cone test needs anyway; orienting m needs only the
+  // sum's direction, so it is normalised only when it is the answer.
   const Eigen::Vector3d& n1 = mesh.face_normal(ef[0]);
   const bool boundary = ef[1] < 0;
-  const Eigen::Vector3d n2 = boundary ? n1 : mesh.face_normal(ef[1]);
+  const Eigen::Vector3d& n2 = boundary ? n1 : mesh.face_normal(ef[1]);
   const Eigen::Vector3d sum = n1 + n2;
-  const double sum_norm = sum.norm();
-  Eigen::Vector3d edge_n = sum_norm > 0.0 ? Eigen::Vector3d(sum / sum_norm) : n1;
   Eigen::Vector3d m = w.cross(axis);
-  const double norm = m.norm();
-  if (!(norm > 1e-9 * w.norm() * axis.norm())) return edge_n;
-  m /= norm;
-  const double orient = boundary ? m.dot(side) : m.dot(edge_n);
+  const double norm2 = m.squaredNorm();
+  if (!(norm2 > 1e-18 * w.squaredNorm() * axis.squaredNorm())) {
+    const double sum_norm = sum.norm();
+    return sum_norm > 0.0 ? Eigen::Vector3d(sum / sum_norm) : n1;
+  }
+  m /= std::sqrt(norm2);
+  const double orient = boundary ? m.dot(side) : m.dot(sum);
   if (orient < 0.0) m = -m;
   if (!boundary) clamp_to_normal_cone(axis, n1, n2, &m);
   return m;
@@ -374,7 +376,8 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
                        std::max((1.0 - u0) * ra + u0 * rb, (1.0 - u1) * ra + u1 * rb)};
     }
     const int32_t room = kCacheEdges - c.edge_count;
-    const int32_t n = sd.edges_near_capsules(pieces, {scratch.data(), static_cast<size_t>(room)});
+    const int32_t n = sd.edges_near_capsules({A, B, std::max(ra, rb)}, pieces,
+                                             {scratch.data(), static_cast<size_t>(room)});
     if (n < 0) return false;
     const MeshDatabase& m = sd.mesh();
     for (int32_t i = 0; i < n; ++i) {
@@ -397,6 +400,8 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
   c.radius_b = rb;
   c.object_count = static_cast<int32_t>(objects.size());
   c.valid = true;
+  const bool empty = c.face_count[0] + c.face_count[1] + c.edge_count == 0;
+  cache_growth_ = empty ? std::min(2.0 * cache_growth_, kCacheMaxGrowth) : kCacheGrowth;
   return true;
 }
 
@@ -460,8 +465,8 @@ bool SegmentProxy::sweep(std::span<const HapticObject> objects, bool first_pass,
     bool covered = cache_covers(objects, a0, b0, af, bf);
     if (!covered) {
       covered =
-          fill_cache(objects, a0, b0, std::max(kCacheGrowth * (af - a0).norm(), kCacheMinRadius),
-                     std::max(kCacheGrowth * (bf - b0).norm(), kCacheMinRadius)) &&
+          fill_cache(objects, a0, b0, std::max(cache_growth_ * (af - a0).norm(), kCacheMinRadius),
+                     std::max(cache_growth_ * (bf - b0).norm(), kCacheMinRadius)) &&
           cache_covers(objects, a0, b0, af, bf);
     }
     if (covered) {

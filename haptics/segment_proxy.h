@@ -172,6 +172,9 @@ class SegmentProxy {
   static constexpr int kCacheFaces = 32;  ///< per end point
   static constexpr int kCacheEdges = 64;
   static constexpr double kCacheGrowth = 4.0;  ///< radius / end-point motion of the refilling pass
+  /// Largest growth for a cache that keeps coming up empty (a segment in free space: a bigger
+  /// empty cache is free to test and is refilled less often).
+  static constexpr double kCacheMaxGrowth = 64.0;
   static constexpr double kCacheMinRadius = 5e-5;  ///< [m]
   static constexpr double kCacheMaxMotion = 2e-4;  ///< [m] per pass; faster motions use the trees
   // Each cached primitive carries its own geometry (copied at refill, checked by the mesh
@@ -214,6 +217,7 @@ class SegmentProxy {
 
   SegmentProxySettings settings_;
   SweepCache cache_;
+  double cache_growth_ = kCacheGrowth;
   std::array<SegmentConstraint, kMaxConstraints> constraints_{};
   int32_t constraint_count_ = 0;
   std::array<SegmentContact, kMaxConstraints> contacts_{};

@@ -156,8 +156,19 @@ TEST(SegmentDatabase, NearQueriesMatchExhaustiveSearch) {
     EXPECT_EQ(got, expected) << "trial " << trial;
     faces_found += n;
 
+    // A tapered capsule in three pieces, as the sweep cache asks: radius ra at p, rb at q.
+    const Eigen::Vector3d q = random_point();
+    const double ra = scale * 0.05 * uni(rng);
+    const double rb = scale * 0.05 * uni(rng);
+    const Capsule hull{p, q, std::max(ra, rb)};
     std::array<Capsule, 3> pieces;
-    for (Capsule& c : pieces) c = {random_point(), random_point(), scale * 0.05 * uni(rng)};
+    const std::array<double, 4> breaks = {0.0, 0.1, 0.4, 1.0};
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      const double u0 = breaks[i];
+      const double u1 = breaks[i + 1];
+      pieces[i] = {p + u0 * (q - p), p + u1 * (q - p),
+                   std::max((1 - u0) * ra + u0 * rb, (1 - u1) * ra + u1 * rb)};
+    }
     expected.clear();
     for (int32_t e = 0; e < mesh.edge_count(); ++e) {
       if (!sd.contactable(e)) continue;
@@ -171,14 +182,14 @@ TEST(SegmentDatabase, NearQueriesMatchExhaustiveSearch) {
         }
       }
     }
-    n = sd.edges_near_capsules(pieces, out);
+    n = sd.edges_near_capsules(hull, pieces, out);
     ASSERT_GE(n, 0);
     got.assign(out.begin(), out.begin() + n);
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, expected) << "trial " << trial;  // sorted and equal: each edge once
     edges_found += n;
     if (!expected.empty()) {
-      EXPECT_EQ(sd.edges_near_capsules(pieces, {out.data(), expected.size() - 1}), -1);
+      EXPECT_EQ(sd.edges_near_capsules(hull, pieces, {out.data(), expected.size() - 1}), -1);
     }
   }
   EXPECT_GT(faces_found, 1000);  // the trials do meet the surface
