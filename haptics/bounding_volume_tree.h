@@ -196,51 +196,23 @@ class BoundingVolumeTree {
   template <typename Visit>
   void for_each_near_segment(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double r,
                              const Visit& visit) const {
-    if (nodes_.empty()) return;
-    const Eigen::Vector3d d = p1 - p0;
-    Eigen::Vector3d inv;
-    for (int a = 0; a < 3; ++a) inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
-    std::array<int32_t, kMaxDepth + 4> stack{};
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const int32_t i = stack[--top];
-      const BvhNode& node = nodes_[i];
-      if (!segment_touches_grown(node, p0, inv, r)) continue;
-      if (node.count > 0) {
-        for (int32_t k = node.first; k < node.first + node.count; ++k) visit(k);
-      } else {
-        stack[top++] = node.first;
-        stack[top++] = i + 1;
-      }
-    }
+    for_each_near_capsules({p0, p1, r}, {}, visit);
   }
 
-  /// The same for the union of up to kMaxCapsules capsules in one traversal (a tapered capsule
-  /// cut into pieces): each primitive is visited once, where separate queries would walk the
-  /// shared upper levels of the tree once per piece and visit shared primitives repeatedly.
+  /// The same for the union of up to kMaxCapsules capsules (pieces) in one traversal, a tapered
+  /// capsule cut into pieces: each primitive is visited once, where separate queries would walk
+  /// the shared upper levels of the tree once per piece and visit shared primitives repeatedly.
   /// `hull` must contain every piece: a node it misses is rejected with one test instead of one
-  /// per piece (most nodes visited are such rejections).
+  /// per piece (most nodes visited are such rejections). No pieces: the hull itself.
   static constexpr int kMaxCapsules = 4;
   template <typename Visit>
-  void for_each_near_capsules(const Capsule& hull, std::span<const Capsule> capsules,
+  void for_each_near_capsules(const Capsule& hull, std::span<const Capsule> pieces,
                               const Visit& visit) const {
-    if (nodes_.empty() || capsules.empty()) return;
-    const size_t count = std::min(capsules.size(), static_cast<size_t>(kMaxCapsules));
-    Eigen::Vector3d hull_inv;
-    {
-      const Eigen::Vector3d d = hull.p1 - hull.p0;
-      for (int a = 0; a < 3; ++a) {
-        hull_inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
-      }
-    }
+    if (nodes_.empty()) return;
+    const size_t count = std::min(pieces.size(), static_cast<size_t>(kMaxCapsules));
+    const Eigen::Vector3d hull_inv = inverse_direction(hull);
     std::array<Eigen::Vector3d, kMaxCapsules> inv;
-    for (size_t c = 0; c < count; ++c) {
-      const Eigen::Vector3d d = capsules[c].p1 - capsules[c].p0;
-      for (int a = 0; a < 3; ++a) {
-        inv[c][a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
-      }
-    }
+    for (size_t c = 0; c < count; ++c) inv[c] = inverse_direction(pieces[c]);
     std::array<int32_t, kMaxDepth + 4> stack{};
     int top = 0;
     stack[top++] = 0;
@@ -248,9 +220,9 @@ class BoundingVolumeTree {
       const int32_t i = stack[--top];
       const BvhNode& node = nodes_[i];
       if (!segment_touches_grown(node, hull.p0, hull_inv, hull.r)) continue;
-      bool touches = count == 1;
+      bool touches = count == 0;
       for (size_t c = 0; c < count && !touches; ++c) {
-        touches = segment_touches_grown(node, capsules[c].p0, inv[c], capsules[c].r);
+        touches = segment_touches_grown(node, pieces[c].p0, inv[c], pieces[c].r);
       }
       if (!touches) continue;
       if (node.count > 0) {
@@ -290,6 +262,14 @@ class BoundingVolumeTree {
       if (t0 > t1) return false;
     }
     return true;
+  }
+  // 1 / (p1 - p0) per axis, an axis the segment does not move along as a huge number of its
+  // sign (the slab test then keeps or rejects the whole segment on that axis).
+  static Eigen::Vector3d inverse_direction(const Capsule& c) {
+    const Eigen::Vector3d d = c.p1 - c.p0;
+    Eigen::Vector3d inv;
+    for (int a = 0; a < 3; ++a) inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
+    return inv;
   }
   static bool segment_touches_grown(const BvhNode& n, const Eigen::Vector3d& p0,
                                     const Eigen::Vector3d& inv, double r) {

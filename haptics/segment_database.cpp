@@ -277,8 +277,12 @@ int32_t SegmentDatabase::faces_near_point(const Eigen::Vector3d& p, double r,
 int32_t SegmentDatabase::edges_near_capsules(const Capsule& hull, std::span<const Capsule> capsules,
                                              std::span<int32_t> out) const {
   const MeshDatabase& mesh = *mesh_;
-  const size_t count =
-      std::min(capsules.size(), static_cast<size_t>(BoundingVolumeTree::kMaxCapsules));
+  // No pieces: the hull itself is the query.
+  const std::span<const Capsule> pieces =
+      capsules.empty()
+          ? std::span<const Capsule>(&hull, 1)
+          : capsules.first(
+                std::min(capsules.size(), static_cast<size_t>(BoundingVolumeTree::kMaxCapsules)));
   int32_t n = 0;
   edge_tree_.for_each_near_capsules(hull, capsules, [&](int32_t k) {
     if (n < 0) return;
@@ -287,9 +291,10 @@ int32_t SegmentDatabase::edges_near_capsules(const Capsule& hull, std::span<cons
     const Eigen::Vector3d& c = mesh.position(ev[0]);
     const Eigen::Vector3d& d = mesh.position(ev[1]);
     bool near = false;
-    for (size_t i = 0; i < count && !near; ++i) {
-      const SegmentPair cp = closest_segment_segment(capsules[i].p0, capsules[i].p1, c, d);
-      near = (cp.p - cp.q).squaredNorm() <= capsules[i].r * capsules[i].r;
+    for (const Capsule& piece : pieces) {
+      const SegmentPair cp = closest_segment_segment(piece.p0, piece.p1, c, d);
+      near = (cp.p - cp.q).squaredNorm() <= piece.r * piece.r;
+      if (near) break;
     }
     if (!near) return;
     if (n == static_cast<int32_t>(out.size())) {

@@ -91,8 +91,8 @@ class SegmentDatabase {
   /// than out.size() qualify. For the segment proxy's sweep cache; no allocation.
   int32_t faces_near_point(const Eigen::Vector3d& p, double r, std::span<int32_t> out) const;
   /// The contactable edges within reach of any of the capsules (at most
-  /// BoundingVolumeTree::kMaxCapsules, all inside `hull`; exact), each once, by one traversal of
-  /// the edge tree; the count, or -1 when more than out.size() qualify.
+  /// BoundingVolumeTree::kMaxCapsules, all inside `hull`; none: the hull itself; exact), each
+  /// once, by one traversal of the edge tree; the count, or -1 when more than out.size() qualify.
   int32_t edges_near_capsules(const Capsule& hull, std::span<const Capsule> capsules,
                               std::span<int32_t> out) const;
 

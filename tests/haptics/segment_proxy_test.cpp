@@ -191,6 +191,21 @@ TEST(SegmentDatabase, NearQueriesMatchExhaustiveSearch) {
     if (!expected.empty()) {
       EXPECT_EQ(sd.edges_near_capsules(hull, pieces, {out.data(), expected.size() - 1}), -1);
     }
+    // No pieces: the hull itself.
+    expected.clear();
+    for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+      const auto& ev = mesh.edge_vertices(e);
+      const SegmentPair cp =
+          closest_segment_segment(p, q, mesh.position(ev[0]), mesh.position(ev[1]));
+      if (sd.contactable(e) && (cp.p - cp.q).squaredNorm() <= hull.r * hull.r) {
+        expected.push_back(e);
+      }
+    }
+    n = sd.edges_near_capsules(hull, {}, out);
+    ASSERT_GE(n, 0);
+    got.assign(out.begin(), out.begin() + n);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << "trial " << trial;
   }
   EXPECT_GT(faces_found, 1000);  // the trials do meet the surface
   EXPECT_GT(edges_found, 1000);
