@@ -344,12 +344,13 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
     const Eigen::Isometry3d inv = o.pose_WO.inverse();
     const Eigen::Vector3d A = inv * a;
     const Eigen::Vector3d B = inv * b;
+    const MeshDatabase& m = sd.mesh();
     for (int end = 0; end < 2; ++end) {
+      const Eigen::Vector3d& p = end == 0 ? A : B;
       const int32_t room = kCacheFaces - c.face_count[end];
-      const int32_t n = sd.faces_near_point(end == 0 ? A : B, end == 0 ? ra : rb,
-                                            {scratch.data(), static_cast<size_t>(room)});
+      const int32_t n =
+          sd.faces_near_point(p, end == 0 ? ra : rb, {scratch.data(), static_cast<size_t>(room)});
       if (n < 0) return false;
-      const MeshDatabase& m = sd.mesh();
       for (int32_t i = 0; i < n; ++i) {
         CachedFace& cf = c.faces[end][c.face_count[end]++];
         cf.object = k;
@@ -358,9 +359,7 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
         for (int j = 0; j < 3; ++j) cf.p[j] = m.position(cf.vertex[j]);
         cf.n = (cf.p[1] - cf.p[0]).cross(cf.p[2] - cf.p[0]);
         TriangleFeature feature{};
-        cf.clearance = (closest_on_triangle(end == 0 ? A : B, cf.p[0], cf.p[1], cf.p[2], &feature) -
-                        (end == 0 ? A : B))
-                           .norm();
+        cf.clearance = (closest_on_triangle(p, cf.p[0], cf.p[1], cf.p[2], &feature) - p).norm();
       }
     }
     std::array<Capsule, kBreaks.size() - 1> pieces;
@@ -379,20 +378,20 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
     const int32_t n = sd.edges_near_capsules({A, B, std::max(ra, rb)}, pieces,
                                              {scratch.data(), static_cast<size_t>(room)});
     if (n < 0) return false;
-    const MeshDatabase& m = sd.mesh();
     for (int32_t i = 0; i < n; ++i) {
       CachedEdge& ce = c.edges[c.edge_count++];
       ce.object = k;
       ce.index = scratch[i];
-      ce.c = m.position(m.edge_vertices(scratch[i])[0]);
-      ce.d = m.position(m.edge_vertices(scratch[i])[1]);
+      const auto& ev = m.edge_vertices(scratch[i]);
+      ce.c = m.position(ev[0]);
+      ce.d = m.position(ev[1]);
       ce.closed = m.edge_faces(scratch[i])[1] >= 0;
       ce.outward = m.edge_normal(scratch[i]);
       const SegmentPair cp = closest_segment_segment(A, B, ce.c, ce.d);
       ce.clearance = (cp.p - cp.q).norm();
     }
     c.poses[k] = o.pose_WO.matrix().topRows<3>();
-    c.revisions[k] = sd.mesh().revision();
+    c.revisions[k] = m.revision();
   }
   c.a = a;
   c.b = b;
