@@ -259,6 +259,33 @@ ModalShellState::ModalShellState(const ModalShellModel& model)
       displacement(static_cast<size_t>(model.node_count()), Eigen::Vector3d::Zero()),
       is_forced(static_cast<size_t>(model.node_count()), 0) {
   forced_nodes.reserve(static_cast<size_t>(model.node_count()));
+  anchors.reserve(kMaxAnchors);
+  const Eigen::Index m = model.mode_count();
+  anchored_system = Eigen::MatrixXd::Zero(m, m);
+  anchored_solver = Eigen::LLT<Eigen::MatrixXd>(m);
+  anchored_rhs = Eigen::VectorXd::Zero(m);
+}
+
+bool add_node_anchor(ModalShellState* state, const NodeAnchor& anchor) noexcept {
+  if (state->anchors.size() >= static_cast<size_t>(ModalShellState::kMaxAnchors) ||
+      anchor.node < 0 || static_cast<size_t>(anchor.node) >= state->displacement.size()) {
+    return false;
+  }
+  state->anchors.push_back(anchor);  // reserved: never reallocates
+  return true;
+}
+
+void clear_node_anchors(ModalShellState* state) noexcept { state->anchors.clear(); }
+
+Eigen::Vector3d anchor_force(const ModalShellModel& model, const ModalShellState& state,
+                             const NodeAnchor& anchor) noexcept {
+  const Eigen::MatrixXd& phi = model.translation_modes();
+  const auto rows =
+      phi.block<3, Eigen::Dynamic>(3 * static_cast<Eigen::Index>(anchor.node), 0, 3, phi.cols());
+  Eigen::Vector3d u_dot;
+  u_dot.noalias() = rows * state.q_dot;
+  return anchor.stiffness_n_per_m * (anchor.target_u - state.displacement[anchor.node]) -
+         anchor.damping_n_s_per_m * u_dot;
 }
 
 void apply_node_force(ModalShellState* state, int32_t node, const Eigen::Vector3d& force_W) {
@@ -324,6 +351,46 @@ bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, doub
     return false;
   }
   const double zeta = model.settings().damping_ratio;
+  if (!state->anchors.empty()) {
+    // Backward Euler on the coupled modes: (I + dt D + dt² K) q̇' = q̇ + dt (f − K q), q' = q + dt
+    // q̇', with K = Ω² + Σ k Φ_aᵀ Φ_a, D = 2ζΩ + Σ c Φ_aᵀ Φ_a and f = Φᵀ f_ext + Σ k Φ_aᵀ u_target.
+    Eigen::MatrixXd& a = state->anchored_system;
+    Eigen::VectorXd& b = state->anchored_rhs;
+    a.setZero();
+    b = state->modal_force;
+    for (const NodeAnchor& an : state->anchors) {
+      finite = finite && an.target_u.allFinite() && std::isfinite(an.stiffness_n_per_m) &&
+               std::isfinite(an.damping_n_s_per_m);
+      const auto rows =
+          phi.block<3, Eigen::Dynamic>(3 * static_cast<Eigen::Index>(an.node), 0, 3, phi.cols());
+      a.noalias() +=
+          (dt * an.damping_n_s_per_m + dt * dt * an.stiffness_n_per_m) * (rows.transpose() * rows);
+      // u = Φ q is up to date from the last step, so Φ_aᵀ k (u_target − u_a) needs no product.
+      const Eigen::Vector3d pull =
+          an.stiffness_n_per_m * (an.target_u - state->displacement[an.node]);
+      b.noalias() += rows.transpose() * pull;
+    }
+    const Eigen::VectorXd& w = model.omega();
+    for (Eigen::Index k = 0; k < w.size(); ++k) {
+      a(k, k) += 1.0 + dt * 2.0 * zeta * w(k) + dt * dt * w(k) * w(k);
+      b(k) -= w(k) * w(k) * state->q(k);  // the anchors' K q is in `pull` already
+    }
+    b = state->q_dot + dt * b;
+    state->anchored_solver.compute(a);
+    if (!finite || state->anchored_solver.info() != Eigen::Success) {
+      state->q.setZero();
+      state->q_dot.setZero();
+      for (auto& u : state->displacement) u.setZero();
+      return false;
+    }
+    state->anchored_solver.solveInPlace(b);
+    state->q_dot = b;
+    state->q += dt * state->q_dot;
+    Eigen::Map<Eigen::VectorXd> u(state->displacement.data()->data(),
+                                  3 * static_cast<Eigen::Index>(model.node_count()));
+    u.noalias() = model.translation_modes() * state->q;
+    return true;
+  }
   for (int32_t k = 0; k < model.mode_count(); ++k) {
     // x = q − f/ω² oscillates freely about the static answer: advance it exactly.
     const double w = model.omega()(k);

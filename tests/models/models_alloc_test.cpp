@@ -11,6 +11,7 @@
 #include "models/catheter_contacts.h"
 #include "models/catheter_grasp.h"
 #include "models/catheter_model.h"
+#include "models/duct_grasp.h"
 #include "models/local_deformation.h"
 #include "models/modal_shell.h"
 #include "models/rigid_body.h"
@@ -55,6 +56,12 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
   const RigidBodyModel body = RigidBodyModel::solid_box(0.2, {0.05, 0.05, 0.05});
   RigidBodyState body_state;
   std::vector<DeformationContact> contacts(3);
+  // Jaws closing and opening across the duct's middle (grasping tissue: the anchored step).
+  DuctGraspState duct_grasp;
+  JawFrame duct_jaws;
+  duct_jaws.hinge_W = Eigen::Vector3d(0.015, 0.0, 0.5 * duct.length_m);
+  duct_jaws.rotation_WJ << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  int64_t duct_grasps = 0;
 
   int64_t allocations = 0;
   {
@@ -76,6 +83,15 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
         db.set_positions(local_state.positions, local_state.changed, &scratch);
       }
       apply_node_force(&duct_state, 5 * duct.around + 3, Eigen::Vector3d(0.0, -0.01, 0.0));
+      duct_jaws.opening_rad = 0.5 + 0.4 * std::sin(0.03 * step);
+      clear_node_anchors(&duct_state);
+      duct_grasps += update_duct_grasp({}, duct_jaws, Eigen::Isometry3d::Identity(),
+                                       shell.mesh.nodes, duct_model, &duct_state, &duct_grasp)
+                             .grasped_now
+                         ? 1
+                         : 0;
+      (void)duct_coupling({}, duct_jaws, Eigen::Isometry3d::Identity(), shell.mesh.nodes,
+                          duct_grasp);
       EXPECT_TRUE(step_modal_shell(duct_model, &duct_state, 0.005));
 
       cath.external_force[40] = Eigen::Vector3d(0.0, 0.01 * std::sin(0.01 * step), 0.0);
@@ -95,6 +111,7 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
   }
   EXPECT_EQ(allocations, 0);
   EXPECT_GT(cath.guard_refinements, 0);  // the guard's path was exercised too
+  EXPECT_GT(duct_grasps, 2);             // and the duct's anchored step
 }
 
 }  // namespace
