@@ -123,7 +123,8 @@ DeformationContact rest_contact(const LocalDeformationModel& model,
 
 LocalDeformationState::LocalDeformationState(const LocalDeformationModel& model)
     : positions(static_cast<size_t>(model.vertex_count())),
-      flags(static_cast<size_t>(model.vertex_count()), 0) {
+      flags(static_cast<size_t>(model.vertex_count()), 0),
+      conforming(static_cast<size_t>(model.vertex_count()), Eigen::Vector3d::Zero()) {
   for (int32_t v = 0; v < model.vertex_count(); ++v) positions[v] = model.rest_position(v);
   // Both lists hold at most every vertex once: reserved here, never reallocated by deform().
   displaced.reserve(static_cast<size_t>(model.vertex_count()));
@@ -153,13 +154,20 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
       ok = false;
       continue;
     }
-    const Eigen::Vector3d p = model.settings().surface_share * c.penetration_O;
+    const Eigen::Vector3d p =
+        c.conform ? c.penetration_O
+                  : Eigen::Vector3d(model.settings().surface_share * c.penetration_O);
     // Any vertex of the contact face is within h of Pt: its list covers the radius.
     const int32_t start = model.face_vertices(c.face)[0];
     for (int32_t v : model.neighbours(start)) {
       const double w = model.weight((model.rest_position(v) - c.point_O).norm());
       if (w <= 0.0) continue;
-      state->positions[v] += w * p;
+      if (c.conform) {
+        const Eigen::Vector3d d = w * p;
+        if (d.squaredNorm() > state->conforming[v].squaredNorm()) state->conforming[v] = d;
+      } else {
+        state->positions[v] += w * p;
+      }
       if ((flags[v] & kDisplaced) == 0) {
         flags[v] |= kDisplaced;
         state->displaced.push_back(v);
@@ -169,6 +177,10 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
         state->changed.push_back(v);
       }
     }
+  }
+  for (int32_t v : state->displaced) {
+    state->positions[v] += state->conforming[v];
+    state->conforming[v].setZero();
   }
   // A bound against a runaway contact, not physics.
   state->clamped = 0;

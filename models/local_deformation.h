@@ -48,6 +48,14 @@ struct DeformationContact {
   Eigen::Vector3d point_O = Eigen::Vector3d::Zero();        ///< Pt, on the rest surface [m]
   Eigen::Vector3d penetration_O = Eigen::Vector3d::Zero();  ///< P, how far the tool is in [m]
   int32_t face = -1;  ///< the rest-shape face Pt lies on (its vertices start the search)
+  /// The surface conforms to this contact: it takes the full penetration (not surface_share of
+  /// it), and conforming contacts combine by the largest displacement at each vertex instead of
+  /// adding up. For a body resting in the tissue — the catheter (§7.6.3), whose contacts are
+  /// found against the rest shape so the dent cannot feed back on them — whose particles lie a
+  /// few millimetres apart within one radius R: summed, their dents would sink the surface many
+  /// times deeper than the catheter lies; combined by the largest, the groove meets the
+  /// catheter.
+  bool conform = false;
 };
 
 class LocalDeformationModel {
@@ -83,11 +91,12 @@ class LocalDeformationModel {
 };
 
 struct LocalDeformationState {
-  std::vector<Eigen::Vector3d> positions;  ///< n_v x 3 [m], deformed
-  std::vector<int32_t> displaced;          ///< vertices away from rest now
-  std::vector<int32_t> changed;            ///< vertices whose position the last call changed
-  std::vector<uint8_t> flags;              ///< n_v: bit 0 displaced, bit 1 changed (scratch)
-  int32_t clamped = 0;                     ///< vertices held at max_displacement_m, last call
+  std::vector<Eigen::Vector3d> positions;   ///< n_v x 3 [m], deformed
+  std::vector<int32_t> displaced;           ///< vertices away from rest now
+  std::vector<int32_t> changed;             ///< vertices whose position the last call changed
+  std::vector<uint8_t> flags;               ///< n_v: bit 0 displaced, bit 1 changed (scratch)
+  std::vector<Eigen::Vector3d> conforming;  ///< n_v: the largest conforming displacement (scratch)
+  int32_t clamped = 0;                      ///< vertices held at max_displacement_m, last call
   /// Sized and at rest for a model (setup; allocates).
   explicit LocalDeformationState(const LocalDeformationModel& model);
 };
