@@ -27,6 +27,7 @@ SurfaceTracking::SurfaceTracking(const haptics::MeshDatabase& surface,
                                  const Eigen::Isometry3d& pose_WO, const CatheterState& catheter) {
   const Eigen::Isometry3d inv = pose_WO.inverse();
   nearest.resize(catheter.positions.size());
+  side.assign(catheter.positions.size(), 1);
   for (size_t i = 0; i < catheter.positions.size(); ++i) {
     const Eigen::Vector3d p = inv * catheter.positions[i];
     double best = std::numeric_limits<double>::infinity();
@@ -39,6 +40,7 @@ SurfaceTracking::SurfaceTracking(const haptics::MeshDatabase& surface,
       if (d < best) {
         best = d;
         nearest[i] = {haptics::PrimitiveKind::kFace, f};
+        side[i] = surface.face_normal(f).dot(p - q) >= 0.0 ? 1 : -1;
       }
     }
   }
@@ -110,10 +112,15 @@ int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
     if (on_boundary(surface, prim)) {
       const Eigen::Vector3d d = p - q;
       const double len = d.norm();
-      if (len > 0.0 && std::abs(surface.normal(prim).dot(d)) < 0.7 * len) continue;
+      if (len > 0.0 && std::abs(surface.normal(prim).dot(d)) < 0.7 * len) {
+        // Rounding the rim is the one way from one side to the other.
+        tracking->side[i] = surface.normal(prim).dot(d) >= 0.0 ? 1 : -1;
+        continue;
+      }
     }
     Eigen::Vector3d n = surface.normal(prim);
     if (s.from_inside) n = -n;
+    if (s.keep_side && tracking->side[i] < 0) n = -n;
     const double distance = n.dot(p - q);  // signed, along the side the particle may be on
     if (distance >= s.clearance_m) continue;
     // The plane the particle must stay beyond: through q + clearance n, in the world frame.

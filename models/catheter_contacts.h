@@ -31,11 +31,15 @@ struct SurfaceContactSettings {
   double damping_n_s_per_m = 0.005;
   /// The surface is touched from its back (the inside of a tube whose normals point out).
   bool from_inside = false;
+  /// Each particle is kept on the side of the surface it is on (an open tube touched from within
+  /// and from without): the side is found at setup and changes only past an open rim.
+  bool keep_side = false;
 };
 
 /// Per particle, the nearest primitive found last time (object frame of the surface).
 struct SurfaceTracking {
   std::vector<haptics::PrimitiveRef> nearest;
+  std::vector<int8_t> side;  ///< +1 in front of the surface, −1 behind (keep_side)
   /// Exhaustive search for every particle (setup; O(particles × faces)).
   SurfaceTracking(const haptics::MeshDatabase& surface, const Eigen::Isometry3d& pose_WO,
                   const CatheterState& catheter);

@@ -80,17 +80,20 @@ LocalDeformationModel LocalDeformationModel::build(const haptics::MeshDatabase& 
   return m;
 }
 
-DeformationContact rest_contact(const LocalDeformationModel& model,
-                                const haptics::MeshDatabase& deformed,
-                                haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
-                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
+namespace {
+
+template <typename Position>
+DeformationContact rest_contact_at(const LocalDeformationModel& model,
+                                   const haptics::MeshDatabase& topology, Position position,
+                                   haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
+                                   const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
   DeformationContact c;
   c.penetration_O = force_O / stiffness_n_per_m;
   switch (primitive.kind) {
     case haptics::PrimitiveKind::kFace: {
-      const auto& fv = deformed.face_vertices(primitive.index);
-      const Eigen::Vector3d bary = haptics::barycentric(
-          point_O, deformed.position(fv[0]), deformed.position(fv[1]), deformed.position(fv[2]));
+      const auto& fv = topology.face_vertices(primitive.index);
+      const Eigen::Vector3d bary =
+          haptics::barycentric(point_O, position(fv[0]), position(fv[1]), position(fv[2]));
       const double v = bary.y();
       const double w = bary.z();
       c.face = primitive.index;
@@ -99,18 +102,18 @@ DeformationContact rest_contact(const LocalDeformationModel& model,
       break;
     }
     case haptics::PrimitiveKind::kEdge: {
-      const auto& ev = deformed.edge_vertices(primitive.index);
-      const Eigen::Vector3d& a = deformed.position(ev[0]);
-      const Eigen::Vector3d ab = deformed.position(ev[1]) - a;
+      const auto& ev = topology.edge_vertices(primitive.index);
+      const Eigen::Vector3d a = position(ev[0]);
+      const Eigen::Vector3d ab = position(ev[1]) - a;
       const double len2 = ab.squaredNorm();
       const double t = len2 > 0.0 ? std::clamp((point_O - a).dot(ab) / len2, 0.0, 1.0) : 0.5;
-      c.face = deformed.edge_faces(primitive.index)[0];
+      c.face = topology.edge_faces(primitive.index)[0];
       c.point_O = (1.0 - t) * model.rest_position(ev[0]) + t * model.rest_position(ev[1]);
       break;
     }
     case haptics::PrimitiveKind::kVertex: {
       int32_t face = -1;
-      deformed.for_each_vertex_face(primitive.index, [&](int32_t f) { face = f; });
+      topology.for_each_vertex_face(primitive.index, [&](int32_t f) { face = f; });
       c.face = face;
       c.point_O = model.rest_position(primitive.index);
       break;
@@ -119,6 +122,30 @@ DeformationContact rest_contact(const LocalDeformationModel& model,
       break;  // face stays -1: deform() refuses it
   }
   return c;
+}
+
+}  // namespace
+
+DeformationContact rest_contact(const LocalDeformationModel& model,
+                                const haptics::MeshDatabase& deformed,
+                                haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
+                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
+  return rest_contact_at(
+      model, deformed, [&](int32_t v) -> const Eigen::Vector3d& { return deformed.position(v); },
+      primitive, point_O, force_O, stiffness_n_per_m);
+}
+
+DeformationContact rest_contact(const LocalDeformationModel& model,
+                                const haptics::MeshDatabase& topology,
+                                std::span<const Eigen::Vector3d> deformed_positions,
+                                haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
+                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
+  return rest_contact_at(
+      model, topology,
+      [&](int32_t v) -> const Eigen::Vector3d& {
+        return deformed_positions[static_cast<size_t>(v)];
+      },
+      primitive, point_O, force_O, stiffness_n_per_m);
 }
 
 LocalDeformationState::LocalDeformationState(const LocalDeformationModel& model)

@@ -143,9 +143,19 @@ TEST(CatheterContacts, CatheterRestsInTheGrooveItPressesIntoAnOrgan) {
       -carried.y(), weight);
 }
 
-// A short catheter inside the default duct, pushed sideways: it stays inside, held by the inner
-// wall; the wall takes the push (equal and opposite) and dents outwards.
-TEST(CatheterContacts, CatheterPushedInsideTheDuctIsHeldByItsWall) {
+// A short catheter pushed sideways against the default duct's wall, from inside (starting on the
+// axis) or from outside (starting beside it, across it), with the side fixed by `from_inside` or
+// tracked per particle (`keep_side`, for a catheter that may be on either side).
+struct DuctPush {
+  double min_radius = 1.0;  ///< of the centre line from the duct's axis, over the whole run
+  double max_radius = 0.0;
+  double on_wall_x = 0.0;  ///< the wall's share of the push at the end
+  double applied_x = 0.0;
+  double dent_x = 0.0;  ///< the pushed node's displacement
+  double final_radius = 0.0;
+};
+
+DuctPush push_against_duct(bool outside, bool keep_side) {
   const DuctSettings duct;
   const DuctShell shell = make_duct_shell(duct);
   const ModalShellModel duct_model =
@@ -165,16 +175,27 @@ TEST(CatheterContacts, CatheterPushedInsideTheDuctIsHeldByItsWall) {
   // modelling step; contacts are checked per step, not swept.
   cs.drag_n_s_per_m = 0.05;
   const CatheterModel model = CatheterModel::build(cs);
-  CatheterState cath(model, Eigen::Vector3d(0.0, 0.0, 0.003), Eigen::Vector3d::UnitZ());
+  // Inside: along the axis. Outside: across the duct (along y), 5.3 mm off its axis on −x (just
+  // beyond the clearance: the held catheter bends little), pushed +x.
+  CatheterState cath =
+      outside
+          ? CatheterState(model, Eigen::Vector3d(-0.0053, -0.012, 0.015), Eigen::Vector3d::UnitY())
+          : CatheterState(model, Eigen::Vector3d(0.0, 0.0, 0.003), Eigen::Vector3d::UnitZ());
+  if (outside) {
+    // Held at both ends, as a hand and the trocar would: pushed free, it slides off the round,
+    // frictionless duct to one side.
+    cath.fixed.front() = cath.fixed.back() = 1;
+  }
   SurfaceContactSettings settings;
   settings.clearance_m = model.radius_m() + 0.5 * duct.wall_thickness_m;
-  settings.from_inside = true;
+  settings.from_inside = !keep_side;
+  settings.keep_side = keep_side;
   settings.stiffness_n_per_m = 200.0;
   SurfaceTracking tracking(wall, Eigen::Isometry3d::Identity(), cath);
   std::vector<SurfaceReaction> reactions(static_cast<size_t>(model.particle_count()));
   const double push = 0.002;  // N per particle, along +x
   Eigen::Vector3d on_wall = Eigen::Vector3d::Zero();
-  double worst_radius = 0.0;
+  DuctPush out;
   for (int k = 0; k < 2000; ++k) {
     clear_contacts(&cath);
     const int32_t n = update_surface_contacts(wall, Eigen::Isometry3d::Identity(), settings,
@@ -182,7 +203,7 @@ TEST(CatheterContacts, CatheterPushedInsideTheDuctIsHeldByItsWall) {
     // The push builds up over a second (a hand, not a blow: no particle may jump the wall).
     const double ramp = std::min(1.0, k / 200.0);
     for (auto& f : cath.external_force) f = Eigen::Vector3d(ramp * push, 0.0, 0.0);
-    ASSERT_TRUE(step_catheter(model, &cath, 0.005));
+    EXPECT_TRUE(step_catheter(model, &cath, 0.005));
     settle_reactions(cath, {reactions.data(), static_cast<size_t>(n)});
     on_wall.setZero();
     for (int32_t i = 0; i < n; ++i) {
@@ -190,28 +211,62 @@ TEST(CatheterContacts, CatheterPushedInsideTheDuctIsHeldByItsWall) {
                           reactions[i].force_on_surface_W, &duct_state);
       on_wall += reactions[i].force_on_surface_W;
     }
-    ASSERT_TRUE(step_modal_shell(duct_model, &duct_state, 0.005));
+    EXPECT_TRUE(step_modal_shell(duct_model, &duct_state, 0.005));
     for (size_t i = 0; i < positions.size(); ++i) {
       positions[i] = shell.mesh.nodes[i] + duct_state.displacement[i];
     }
     wall.set_positions(positions, all, &scratch);
-    for (const auto& p : cath.positions) worst_radius = std::max(worst_radius, p.head<2>().norm());
+    for (const auto& p : cath.positions) {
+      // Only the part of the catheter over the duct's length can touch it.
+      if (p.z() < 0.0 || p.z() > duct.length_m) continue;
+      const double r = outside ? std::hypot(p.x(), p.y() - 0.0) : p.head<2>().norm();
+      if (outside && std::abs(p.y()) > 0.002) continue;  // the crossing, beside the axis
+      out.min_radius = std::min(out.min_radius, r);
+      out.max_radius = std::max(out.max_radius, r);
+    }
   }
-  const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
-  // Inside: the centre line never reaches the wall's mid-surface.
-  EXPECT_LT(worst_radius, mid_radius);
-  // At rest against the wall, one radius and half a wall in (less the contact spring's give
-  // and the wall's dent).
-  const double applied = push * model.particle_count();
-  EXPECT_NEAR(on_wall.x(), applied, 0.01 * applied);
-  // The wall dents outwards where it is pushed (node at angle 0, mid-length).
-  const int32_t pushed = duct.along / 2 * duct.around;
-  EXPECT_GT(duct_state.displacement[pushed].x(), 0.0);
+  out.on_wall_x = on_wall.x();
+  out.applied_x = push * model.particle_count();
+  const int32_t pushed = duct.along / 2 * duct.around + (outside ? duct.around / 2 : 0);
+  out.dent_x = duct_state.displacement[pushed].x();
+  out.final_radius = cath.positions[6].head<2>().norm();
+  return out;
+}
+
+// Inside the duct, pushed sideways: it stays inside, held by the inner wall; the wall takes the
+// push (equal and opposite) and dents outwards. The same with the side tracked per particle.
+TEST(CatheterContacts, CatheterPushedInsideTheDuctIsHeldByItsWall) {
+  const double mid_radius =
+      0.5 * (DuctSettings{}.outer_diameter_m - DuctSettings{}.wall_thickness_m);
+  for (const bool keep_side : {false, true}) {
+    const DuctPush r = push_against_duct(false, keep_side);
+    // Inside: the centre line never reaches the wall's mid-surface.
+    EXPECT_LT(r.max_radius, mid_radius);
+    EXPECT_NEAR(r.on_wall_x, r.applied_x, 0.01 * r.applied_x);
+    EXPECT_GT(r.dent_x, 0.0);  // outwards where pushed (node at angle 0, mid-length)
+    std::printf(
+        "[ contacts ] catheter pushed with %.3g N inside the duct (%s): wall takes %.4g N, "
+        "centre line at %.3f mm of the %.3f mm mid-surface radius, wall dent %.4f mm\n",
+        r.applied_x, keep_side ? "side tracked" : "from inside", r.on_wall_x, 1e3 * r.final_radius,
+        1e3 * mid_radius, 1e3 * r.dent_x);
+  }
+}
+
+// Outside the duct, lying across it and pushed against it: with the side tracked it stays
+// outside, the wall takes the push and dents inwards.
+TEST(CatheterContacts, CatheterPushedAgainstTheDuctFromOutsideStaysOutside) {
+  const double mid_radius =
+      0.5 * (DuctSettings{}.outer_diameter_m - DuctSettings{}.wall_thickness_m);
+  const DuctPush r = push_against_duct(true, true);
+  EXPECT_GT(r.min_radius, mid_radius);
+  // The held ends take most of the push (the catheter is stiff over 24 mm); the wall the rest.
+  EXPECT_GT(r.on_wall_x, 0.05 * r.applied_x);
+  EXPECT_LT(r.on_wall_x, r.applied_x);
+  EXPECT_GT(r.dent_x, 0.0);  // the near wall (angle π, facing −x) pushed towards +x: inwards
   std::printf(
-      "[ contacts ] catheter pushed with %.3g N inside the duct: wall takes %.4g N, "
-      "centre line at %.3f mm of the %.3f mm mid-surface radius, wall dent %.4f mm\n",
-      applied, on_wall.x(), 1e3 * cath.positions[6].head<2>().norm(), 1e3 * mid_radius,
-      1e3 * duct_state.displacement[pushed].x());
+      "[ contacts ] catheter pushed with %.3g N against the duct from outside: wall takes "
+      "%.4g N, centre line never nearer the axis than %.3f mm (mid-surface %.3f mm)\n",
+      r.applied_x, r.on_wall_x, 1e3 * r.min_radius, 1e3 * mid_radius);
 }
 
 }  // namespace
