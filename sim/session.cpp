@@ -80,21 +80,6 @@ std::unique_ptr<Session> Session::create(
   s->haptic_stats_ = LoopStats(s->dt_);
   s->model_stats_ = LoopStats(s->model_dt_);
 
-  for (const Organ& organ : scene.organs) {
-    s->dbs_.push_back(
-        std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(organ.mesh)));
-    s->sds_.push_back(std::make_unique<haptics::SegmentDatabase>(
-        haptics::SegmentDatabase::build(*s->dbs_.back())));
-    s->surfaces_.push_back(build_organ_surface(organ, *s->dbs_.back()));
-  }
-  for (size_t i = 0; i < scene.organs.size(); ++i) {
-    haptics::HapticObject o;
-    o.mesh = s->dbs_[i].get();
-    o.segments = s->sds_[i].get();
-    s->surfaces_[i].apply(scene.organs[i].material, &o);
-    s->objects_.push_back(o);
-  }
-
   // The tools: left and right, each at its trocar.
   const Scenario& sc = scene.scenario;
   for (int side = 0; side < 2; ++side) {
@@ -126,6 +111,50 @@ std::unique_ptr<Session> Session::create(
     }
   }
 
+  // The tissue world (§6.5, §7.7): the catheter (§7.7(3)), its proximal end held where it
+  // enters, pointing at the task's target and ending 2 cm short of its centre; the organs' and
+  // the duct's models.
+  TissueWorldSettings ws;
+  if (sc.catheter) {
+    ws.catheter.length_m = sc.catheter->length_m;
+    ws.catheter.outer_diameter_m = sc.catheter->diameter_m;
+    ws.catheter.particles = sc.catheter->particles;
+    ws.catheter.bending_stiffness_n_m2 = sc.catheter->bending_stiffness_n_m2;
+    ws.catheter.linear_density_kg_per_m = sc.catheter->mass_kg / sc.catheter->length_m;
+  }
+  const Eigen::Vector3d target = scene.task_target_point();
+  const Eigen::Vector3d entry = 0.5 * (s->tools_[0].trocar.port_W + s->tools_[1].trocar.port_W);
+  Eigen::Vector3d dir = target - entry;
+  dir = dir.norm() > 1e-9 ? Eigen::Vector3d(dir.normalized())
+                          : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
+  ws.catheter_direction_W = dir;
+  ws.catheter_start_W = target - (ws.catheter.length_m + 0.02) * dir;
+  try {
+    s->world_ = TissueWorld::build(scene, ws, &s->warnings_);
+  } catch (const std::exception& e) {
+    return fail(sc.file.string() + ": " + e.what());
+  }
+
+  // The proxies' databases: the surfaces the tissue world deforms (the duct: its shell).
+  for (size_t i = 0; i < scene.organs.size(); ++i) {
+    const auto organ = static_cast<int32_t>(i);
+    s->dbs_.push_back(std::make_unique<haptics::MeshDatabase>(
+        haptics::MeshDatabase::build(s->world_->surface(organ))));
+    s->sds_.push_back(std::make_unique<haptics::SegmentDatabase>(
+        haptics::SegmentDatabase::build(*s->dbs_.back())));
+    s->surfaces_.push_back(build_organ_surface(scene.organs[i], *s->dbs_.back()));
+    s->deformed_.emplace_back(s->world_->surface(organ).positions);
+    s->scratch_.push_back(std::make_unique<haptics::MeshUpdateScratch>(*s->dbs_.back()));
+  }
+  for (size_t i = 0; i < scene.organs.size(); ++i) {
+    haptics::HapticObject o;
+    o.mesh = s->dbs_[i].get();
+    o.segments = s->sds_[i].get();
+    o.two_sided = s->world_->two_sided(static_cast<int32_t>(i));
+    s->surfaces_[i].apply(scene.organs[i].material, &o);
+    s->objects_.push_back(o);
+  }
+
   // A tissue stiffer than a device renders stably is worth saying before the session starts.
   for (size_t i = 0; i < scene.organs.size(); ++i) {
     for (const Tool& tool : s->tools_) {
@@ -140,32 +169,9 @@ std::unique_ptr<Session> Session::create(
     }
   }
 
-  // The catheter (§7.7(3)): its proximal end held where it enters, pointing at the task's
-  // target and ending 2 cm short of its centre.
-  models::CatheterSettings cs;
-  if (sc.catheter) {
-    cs.length_m = sc.catheter->length_m;
-    cs.outer_diameter_m = sc.catheter->diameter_m;
-    cs.particles = sc.catheter->particles;
-    cs.bending_stiffness_n_m2 = sc.catheter->bending_stiffness_n_m2;
-    cs.linear_density_kg_per_m = sc.catheter->mass_kg / sc.catheter->length_m;
-  }
-  try {
-    s->catheter_model_ = std::make_unique<models::CatheterModel>(models::CatheterModel::build(cs));
-  } catch (const std::exception& e) {
-    return fail(sc.file.string() + ": catheter: " + e.what());
-  }
-  const Eigen::Vector3d target = scene.task_target_point();
-  const Eigen::Vector3d entry = 0.5 * (s->tools_[0].trocar.port_W + s->tools_[1].trocar.port_W);
-  Eigen::Vector3d dir = target - entry;
-  dir = dir.norm() > 1e-9 ? Eigen::Vector3d(dir.normalized())
-                          : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
-  s->catheter_ = std::make_unique<models::CatheterState>(*s->catheter_model_,
-                                                         target - (cs.length_m + 0.02) * dir, dir);
-  s->catheter_->fixed[0] = 1;
-
   ModelSnapshot m0;
-  m0.catheter = s->catheter_->positions;
+  m0.catheter = s->world_->catheter().positions;
+  m0.organs = s->world_->make_deformations();
   s->model_to_haptic_.reset(m0);
   s->model_to_graphics_.reset(m0);
 
@@ -226,6 +232,16 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   if (lateness_s > settings_.overrun_periods * dt_) trip(tick, -1, WatchdogReason::kOverrun);
 
   const ModelSnapshot& model = model_to_haptic_.latest();
+  if (model.steps != applied_model_steps_) {
+    // The surfaces the modelling loop deformed since: the proxies feel them from this tick on
+    // (the update costs in proportion to what moved, not to the mesh).
+    applied_model_steps_ = model.steps;
+    for (size_t o = 0; o < dbs_.size() && o < model.organs.size(); ++o) {
+      const std::span<const int32_t> changed = deformed_[o].apply(model.organs[o]);
+      if (!changed.empty())
+        dbs_[o]->set_positions(deformed_[o].positions(), changed, scratch_[o].get());
+    }
+  }
   HapticSnapshot& snap = to_model_.write_slot();
   snap.tick = tick;
   std::array<hardware::DeviceCommand, 2> wanted{};
@@ -258,14 +274,25 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     const haptics::GripperOutput out = tool.gripper.step(objects_, k.pose, dt_);
     Eigen::Vector3d force = out.force_W;
     double squeeze = out.squeeze_n;
+    const TissueWorldSettings& ws = world_->settings();
     const models::GraspState& grasp = model.grasps[i];
     if (grasp.grasping()) {
       // The virtual coupling to the grasped catheter at the haptic rate, against the particles
       // where the modelling loop last put them (catheter_grasp.h); the squeeze from the jaws'
       // closure on it.
       const models::JawFrame jaws = jaw_frame(k.pose);
-      force += models::coupling_force(grasp_settings_, jaws, model.catheter, grasp);
-      squeeze = std::max(squeeze, grasp_squeeze(grasp_settings_, jaws, *catheter_model_, grasp));
+      force += models::coupling_force(ws.catheter_grasp, jaws, model.catheter, grasp);
+      squeeze = std::max(squeeze,
+                         grasp_squeeze(ws.catheter_grasp, jaws, world_->catheter_model(), grasp));
+    }
+    const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
+    if (duct_grasp.grasping() && world_->duct_organ() >= 0) {
+      // The same for grasped tissue, against the duct's wall as this loop's database has it.
+      const models::DuctCoupling c = models::duct_coupling(
+          ws.duct_grasp, jaw_frame(k.pose), Eigen::Isometry3d::Identity(),
+          deformed_[static_cast<size_t>(world_->duct_organ())].positions(), duct_grasp);
+      force += c.force_on_tool_W;
+      squeeze = std::max(squeeze, c.squeeze_n);
     }
     if (out.fault || !force.allFinite()) {
       trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
@@ -276,6 +303,18 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     ts.pose = k.pose;
     ts.contacts = out.segments[0].contact_count + out.segments[1].contact_count +
                   out.segments[2].contact_count;
+    // The tools' contacts for the tissue models: where each segment presses on which organ.
+    ts.organ_contact_count = 0;
+    for (int seg = 0; seg < 3; ++seg) {
+      for (const haptics::SegmentContact& c : tool.gripper.proxy(seg).contacts()) {
+        if (ts.organ_contact_count >= ToolModelInput::kMaxContacts) break;
+        ToolContact& tc = ts.organ_contacts[static_cast<size_t>(ts.organ_contact_count++)];
+        tc.organ = c.object;
+        tc.primitive = c.primitive;
+        tc.point_W = c.point_W;
+        tc.force_on_organ_W = -c.force_W;
+      }
+    }
   }
   // Limits, the watchdog's zero, and the resume ramp; then write.
   const bool paused = paused_.load(std::memory_order_relaxed);
@@ -321,19 +360,28 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
 void Session::model_tick(int64_t tick) noexcept {
   const HapticSnapshot& h = to_model_.latest();
   for (size_t i = 0; i < 2; ++i) {
-    if (h.tick < 0) break;
-    (void)models::update_grasp(grasp_settings_, jaw_frame(h.tools[i].pose), *catheter_model_,
-                               catheter_.get(), &grasps_[i]);
+    ToolModelInput& in = model_input_[i];
+    in.valid = h.tick >= 0;
+    if (!in.valid) continue;
+    const ToolSnapshot& t = h.tools[i];
+    in.jaws = jaw_frame(t.pose);
+    in.contact_count = t.organ_contact_count;
+    in.contacts = t.organ_contacts;
   }
-  (void)models::step_catheter(*catheter_model_, catheter_.get(), model_dt_);
+  world_->step(model_input_, model_dt_);
   ++model_steps_;
-  for (const Eigen::Vector3d& p : catheter_->positions) hash_vector(&model_hash_, p);
+  for (const Eigen::Vector3d& p : world_->catheter().positions) hash_vector(&model_hash_, p);
   for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
     ModelSnapshot& m = buf->write_slot();
     m.tick = tick;
     m.steps = model_steps_;
-    m.catheter = catheter_->positions;  // same size: no allocation
-    m.grasps = grasps_;
+    m.catheter = world_->catheter().positions;  // same size: no allocation
+    m.grasps = world_->catheter_grasps();
+    m.duct_grasps = world_->duct_grasps();
+    m.squeeze = world_->squeeze();
+    m.catheter_contacts = world_->catheter_contacts();
+    m.deepest_dent_m = world_->deepest_dent_m();
+    world_->write_deformations(&m.organs);  // sized at set-up: no allocation
     buf->publish();
   }
 }

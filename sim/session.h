@@ -8,7 +8,10 @@
 ///   three-segment gripper proxies against the organs, the virtual coupling to a grasped
 ///   catheter, the wrench back through the fulcrum, limits, write both devices. No allocation,
 ///   lock or exception after start-up.
-/// - Modelling loop (default 200 Hz): grasping and the mass-spring catheter (§7.7(3)).
+/// - Modelling loop (default 200 Hz): the tissue world (tissue_world.h): grasping the catheter
+///   and the duct, the mass-spring catheter (§7.7(3)) and its contacts, organs dented by the tools
+///   and the catheter (§6.5), the duct's modes (§7.7(2)); it publishes the deformed surfaces, which
+///   the haptic loop's databases take up (the proxies feel them) and the graphics draw.
 /// - Graphics: whoever shows the session reads snapshots (graphics_snapshot()).
 /// The loops exchange whole snapshots through triple buffers: nobody waits for anybody.
 ///
@@ -36,9 +39,11 @@
 #include "hardware/triple_buffer.h"
 #include "models/catheter_grasp.h"
 #include "models/catheter_model.h"
+#include "sim/deformed_surface.h"
 #include "sim/loop_stats.h"
 #include "sim/organ_surface.h"
 #include "sim/scene.h"
+#include "sim/tissue_world.h"
 #include "sim/trocar_tool.h"
 
 namespace lap::sim {
@@ -67,6 +72,9 @@ struct WatchdogEvent {
 struct ToolSnapshot {
   haptics::GripperPose pose;  ///< the tool as the device put it
   int32_t contacts = 0;       ///< over its three segments
+  /// Its contacts with the organs (the first kMaxContacts), for the tissue models.
+  int32_t organ_contact_count = 0;
+  std::array<ToolContact, ToolModelInput::kMaxContacts> organ_contacts{};
 };
 
 struct HapticSnapshot {
@@ -84,6 +92,11 @@ struct ModelSnapshot {
   int64_t steps = 0;                      ///< modelling steps so far
   std::vector<Eigen::Vector3d> catheter;  ///< particle positions [m]
   std::array<models::GraspState, 2> grasps{};
+  std::array<models::DuctGraspState, 2> duct_grasps{};
+  std::array<double, 2> squeeze{};         ///< of each tool's jaws on what they hold [N]
+  int32_t catheter_contacts = 0;           ///< particles touching an organ or the duct
+  double deepest_dent_m = 0.0;             ///< largest displacement of a surface vertex
+  std::vector<SurfaceDeformation> organs;  ///< each organ's deformed vertices (world frame)
 };
 
 struct SessionMetrics {
@@ -141,6 +154,12 @@ class Session {
   [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
     return tools_[static_cast<size_t>(tool)].gripper.geometry();
   }
+  /// The organs' surfaces at rest as the session renders and feels them (the duct: its shell);
+  /// ModelSnapshot::organs deforms them.
+  [[nodiscard]] int32_t organ_count() const { return world_->organ_count(); }
+  [[nodiscard]] const haptics::TriangleMesh& organ_surface(int32_t organ) const {
+    return world_->surface(organ);
+  }
 
  private:
   Session() = default;
@@ -175,10 +194,12 @@ class Session {
   std::array<Tool, 2> tools_;
 
   // Models (the modelling thread's own).
-  std::unique_ptr<models::CatheterModel> catheter_model_;
-  std::unique_ptr<models::CatheterState> catheter_;
-  models::GraspSettings grasp_settings_;
-  std::array<models::GraspState, 2> grasps_{};
+  std::unique_ptr<TissueWorld> world_;
+  std::array<ToolModelInput, 2> model_input_{};
+  // The haptic thread's copies of the deformed surfaces, and what its databases last took up.
+  std::vector<DeformedSurface> deformed_;
+  std::vector<std::unique_ptr<haptics::MeshUpdateScratch>> scratch_;
+  int64_t applied_model_steps_ = 0;
 
   // Exchange (each buffer: one writer, one reader).
   hardware::TripleBuffer<HapticSnapshot> to_model_;

@@ -1,0 +1,41 @@
+#pragma once
+/// \file
+/// A deformed organ surface as the modelling loop publishes it (ARCHITECTURE.md: it "publishes
+/// surface positions") and as a reader — the haptic loop's database, the graphics' points —
+/// applies it. A deformation lists only the vertices away from rest, with their positions, in
+/// arrays sized once for every vertex (so a triple buffer's slots never reallocate); a reader
+/// puts back to rest what the previous one moved and learns exactly which vertices changed,
+/// whichever snapshots it skipped.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace lap::sim {
+
+struct SurfaceDeformation {
+  int32_t count = 0;                      ///< vertices away from rest: the first `count` entries
+  std::vector<int32_t> vertex;            ///< sized to the vertex count
+  std::vector<Eigen::Vector3d> position;  ///< world frame [m], sized to the vertex count
+  explicit SurfaceDeformation(size_t vertices = 0) : vertex(vertices), position(vertices) {}
+};
+
+class DeformedSurface {
+ public:
+  explicit DeformedSurface(std::vector<Eigen::Vector3d> rest);
+  /// Applies a published deformation (no allocation). Returns the vertices whose position
+  /// changed, valid until the next call; a deformation naming a vertex out of range is ignored
+  /// for that vertex.
+  std::span<const int32_t> apply(const SurfaceDeformation& d) noexcept;
+  [[nodiscard]] std::span<const Eigen::Vector3d> positions() const { return positions_; }
+
+ private:
+  std::vector<Eigen::Vector3d> rest_;
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<int32_t> displaced_;
+  std::vector<int32_t> changed_;
+  std::vector<uint8_t> flags_;  // bit 0: in changed_, bit 1: in displaced_ (this call)
+};
+
+}  // namespace lap::sim
