@@ -1,0 +1,217 @@
+// The modelling loop's world on the default scene (issue 6): the duct's shell fitted to the
+// scenario's duct, published deformations applied exactly by a reader that skips snapshots, a
+// tool's push denting an organ by its share of the penetration, the duct pushed and grasped, and
+// a fast session whose organs deform under the scripted tools.
+
+#include "sim/tissue_world.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "haptics/mesh_generators.h"
+#include "hardware/scripted_device.h"
+#include "sim/device_factory.h"
+#include "sim/duct_fit.h"
+#include "sim/session.h"
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+const Scene& default_scene() {
+  static const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+  EXPECT_TRUE(r.ok());
+  return r.scene;
+}
+
+TEST(DuctFit, FitsTheStandInDuct) {
+  const DuctFit f = fit_duct(haptics::make_stand_in_cystic_duct(), 0.0008);
+  EXPECT_NEAR(f.duct.outer_diameter_m, 0.009, 0.02 * 0.009);  // generated: 4.5 mm radius
+  EXPECT_NEAR(f.duct.length_m, 0.035, 1e-6);
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.85, -0.3, -0.45).normalized();
+  EXPECT_NEAR(std::abs(f.pose_WD.linear().col(2).dot(axis)), 1.0, 1e-9);
+  EXPECT_GT(f.pose_WD.linear().col(1).y(), 0.0);  // the membrane (local −y) faces down
+  EXPECT_NEAR(f.pose_WD.linear().determinant(), 1.0, 1e-12);
+  EXPECT_THROW((void)fit_duct(haptics::make_stand_in_cystic_duct(), 0.01), std::invalid_argument);
+}
+
+TEST(DeformedSurface, AReaderThatSkipsSnapshotsStillEndsExact) {
+  std::vector<Eigen::Vector3d> rest(200);
+  for (size_t v = 0; v < rest.size(); ++v) rest[v] = Eigen::Vector3d(0.001 * v, 0.0, 0.0);
+  DeformedSurface reader(rest);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> vertex(0, 199);
+  std::vector<Eigen::Vector3d> before = rest;
+  for (int round = 0; round < 200; ++round) {
+    SurfaceDeformation d(rest.size());
+    std::vector<Eigen::Vector3d> expected = rest;
+    d.count = round % 30;
+    for (int32_t k = 0; k < d.count; ++k) {
+      const int32_t v = vertex(rng);
+      d.vertex[static_cast<size_t>(k)] = v;
+      d.position[static_cast<size_t>(k)] =
+          rest[static_cast<size_t>(v)] + Eigen::Vector3d(0, 1e-3 * k, 0);
+      // A vertex listed twice keeps its first position.
+      bool first = true;
+      for (int32_t j = 0; j < k; ++j) first = first && d.vertex[static_cast<size_t>(j)] != v;
+      if (first) expected[static_cast<size_t>(v)] = d.position[static_cast<size_t>(k)];
+    }
+    if (round % 7 == 0 && d.count > 0) d.vertex[0] = 1000;  // out of range: ignored
+    if (round % 7 == 0 && d.count > 0)
+      expected = [&] {
+        std::vector<Eigen::Vector3d> e = rest;
+        std::set<int32_t> seen;
+        for (int32_t k = 1; k < d.count; ++k) {
+          const int32_t v = d.vertex[static_cast<size_t>(k)];
+          if (seen.insert(v).second) e[static_cast<size_t>(v)] = d.position[static_cast<size_t>(k)];
+        }
+        return e;
+      }();
+    const std::span<const int32_t> changed = reader.apply(d);
+    const std::set<int32_t> listed(changed.begin(), changed.end());
+    EXPECT_EQ(listed.size(), changed.size()) << "a vertex listed twice";
+    for (size_t v = 0; v < rest.size(); ++v) {
+      ASSERT_EQ(reader.positions()[v], expected[v]) << "round " << round << " vertex " << v;
+      if (expected[v] != before[v]) {
+        EXPECT_TRUE(listed.count(static_cast<int32_t>(v))) << "moved but not listed: " << v;
+      }
+    }
+    before = expected;
+  }
+}
+
+TissueWorldSettings world_settings(const std::filesystem::path& cache) {
+  TissueWorldSettings s;
+  s.catheter_start_W = Eigen::Vector3d(0.0, 0.2, 0.2);  // far from every organ
+  s.catheter_direction_W = Eigen::Vector3d::UnitY();
+  s.mode_cache_dir = cache;
+  return s;
+}
+
+int32_t organ_named(const Scene& scene, const std::string& name) {
+  for (size_t i = 0; i < scene.organs.size(); ++i) {
+    if (scene.organs[i].name == name) return static_cast<int32_t>(i);
+  }
+  return -1;
+}
+
+TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
+  const Scene& scene = default_scene();
+  const test::TempDir cache;
+  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr);
+  const int32_t liver = organ_named(scene, "liver");
+  ASSERT_GE(liver, 0);
+  const haptics::TriangleMesh& surface = world->surface(liver);
+  const haptics::MeshDatabase db = haptics::MeshDatabase::build(surface);
+  // A 0.6 N push on the middle of face 100, along its inward normal.
+  std::array<ToolModelInput, 2> tools{};
+  tools[0].valid = true;
+  tools[0].jaws.opening_rad = 0.8;
+  tools[0].contact_count = 1;
+  ToolContact& c = tools[0].contacts[0];
+  c.organ = liver;
+  c.primitive = {haptics::PrimitiveKind::kFace, 100};
+  const auto& fv = db.face_vertices(100);
+  c.point_W = (db.position(fv[0]) + db.position(fv[1]) + db.position(fv[2])) / 3.0;
+  c.force_on_organ_W = -0.6 * db.face_normal(100);
+  for (int k = 0; k < 5; ++k) world->step(tools, 0.005);
+  std::vector<SurfaceDeformation> d = world->make_deformations();
+  world->write_deformations(&d);
+  const SurfaceDeformation& dl = d[static_cast<size_t>(liver)];
+  ASSERT_GT(dl.count, 0);
+  // The deepest vertex moved share × F / k along the push (the contact's own point: weight ~1).
+  const double k = scene.organs[static_cast<size_t>(liver)].material.stiffness_n_per_m;
+  const double expected = world->settings().local.surface_share * 0.6 / k;
+  EXPECT_LE(world->deepest_dent_m(), expected * (1 + 1e-12));
+  EXPECT_GT(world->deepest_dent_m(), 0.8 * expected);
+  // Nothing beyond R moved; no other organ moved.
+  for (int32_t i = 0; i < dl.count; ++i) {
+    const int32_t v = dl.vertex[static_cast<size_t>(i)];
+    EXPECT_LT((surface.positions[static_cast<size_t>(v)] - c.point_W).norm(),
+              world->settings().local.radius_m + 1e-12);
+  }
+  for (size_t o = 0; o < d.size(); ++o) {
+    if (static_cast<int32_t>(o) != liver) {
+      EXPECT_EQ(d[o].count, 0) << scene.organs[o].name;
+    }
+  }
+  // Released: back to rest.
+  tools[0].contact_count = 0;
+  world->step(tools, 0.005);
+  world->write_deformations(&d);
+  EXPECT_EQ(d[static_cast<size_t>(liver)].count, 0);
+}
+
+TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
+  const Scene& scene = default_scene();
+  const test::TempDir cache;
+  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr);
+  const int32_t duct = world->duct_organ();
+  ASSERT_EQ(duct, organ_named(scene, "cystic_duct"));
+  EXPECT_TRUE(world->two_sided(duct));
+  // The shell lies on the scenario's duct: every node within half a wall of its outer surface,
+  // inside it.
+  const DuctFit fit = fit_duct(scene.organs[static_cast<size_t>(duct)].mesh, 0.0008);
+  const haptics::TriangleMesh& shell = world->surface(duct);
+  for (const Eigen::Vector3d& p : shell.positions) {
+    const Eigen::Vector3d d = fit.pose_WD.inverse() * p;
+    EXPECT_NEAR(d.head<2>().norm(), 0.5 * fit.duct.outer_diameter_m - 0.0004, 1e-9);
+  }
+  // Jaws across the duct's middle from above, closing: the duct is grasped, squeezed, and moves.
+  std::array<ToolModelInput, 2> tools{};
+  tools[0].valid = true;
+  const Eigen::Vector3d mid_D(0.0, 0.0, 0.5 * fit.duct.length_m);
+  tools[0].jaws.hinge_W = fit.pose_WD * (mid_D + Eigen::Vector3d(0.0, 0.015, 0.0));
+  Eigen::Matrix3d r_DJ;
+  r_DJ.col(0) = Eigen::Vector3d::UnitX();  // opening across the duct
+  r_DJ.col(1) = Eigen::Vector3d::UnitY();  // shaft up
+  r_DJ.col(2) = r_DJ.col(0).cross(r_DJ.col(1));
+  tools[0].jaws.rotation_WJ = fit.pose_WD.linear() * r_DJ;
+  double squeeze_at_grasp = -1.0;
+  for (int k = 0; k <= 70; ++k) {
+    tools[0].jaws.opening_rad = std::max(0.05, 0.8 - 0.01 * k);
+    world->step(tools, 0.005);
+    if (world->duct_grasps()[0].grasping() && squeeze_at_grasp < 0.0) {
+      squeeze_at_grasp = world->squeeze()[0];
+    }
+  }
+  ASSERT_TRUE(world->duct_grasps()[0].grasping());
+  EXPECT_GT(world->squeeze()[0], squeeze_at_grasp + 1e-3);
+  EXPECT_GT(world->deepest_dent_m(), 1e-5);
+  std::vector<SurfaceDeformation> d = world->make_deformations();
+  world->write_deformations(&d);
+  EXPECT_GT(d[static_cast<size_t>(duct)].count, 0);
+}
+
+TEST(TissueWorld, AFastSessionDeformsTheOrgansItsToolsPress) {
+  const Scene& scene = default_scene();
+  hardware::ScriptedTrajectory t;
+  const Eigen::Vector3d a = default_handle_position(scene, 0, 0.05);
+  const Eigen::Vector3d b = default_handle_position(scene, 0, 0.22);
+  t.keyframes.push_back({0.0, a, Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back({1.0, b, Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back({1.5, b, Eigen::Quaterniond::Identity(), 0.8, 0});
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices{
+      std::make_unique<hardware::ScriptedDevice>(t, "left"),
+      std::make_unique<hardware::ScriptedDevice>(t, "right")};
+  RuntimeSettings rs;
+  rs.fast = true;
+  rs.duration_s = 2.0;
+  std::string error;
+  auto session = Session::create(scene, std::move(devices), rs, &error);
+  ASSERT_NE(session, nullptr) << error;
+  (void)session->run();
+  const ModelSnapshot& m = session->graphics_model();
+  int32_t moved = 0;
+  for (const SurfaceDeformation& d : m.organs) moved += d.count;
+  EXPECT_GT(moved, 0);
+  EXPECT_GT(m.deepest_dent_m, 1e-4);
+  std::printf(
+      "[ tissue ] fast session, a tool pressed in: %d vertices displaced, deepest %.3f mm\n", moved,
+      1e3 * m.deepest_dent_m);
+}
+
+}  // namespace
+}  // namespace lap::sim
