@@ -36,6 +36,11 @@ class LiveSession {
   /// UI thread (the graphics loop is the snapshots' one reader).
   const sim::HapticSnapshot& haptic() { return session_->graphics_haptic(); }
   const sim::ModelSnapshot& model() { return session_->graphics_model(); }
+  /// The organs' surfaces at rest as the session has them (ModelSnapshot::organs deforms them).
+  [[nodiscard]] int32_t organ_count() const { return session_->organ_count(); }
+  [[nodiscard]] const haptics::TriangleMesh& organ_surface(int32_t organ) const {
+    return session_->organ_surface(organ);
+  }
   /// The tools' shaft and jaw lengths, as the session renders them.
   [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
     return session_->tool_geometry(tool);

@@ -122,10 +122,6 @@ void MainWindow::show_scene(const sim::Scene& scene) {
   session_.stop();
   vtkRenderer* ren = view_->renderer();
   ren->RemoveAllViewProps();
-  for (const sim::Organ& o : scene.organs) {
-    const double rgb[3] = {o.color.x(), o.color.y(), o.color.z()};
-    ren->AddActor(make_mesh_actor(o.mesh, rgb));
-  }
   // A headlight, like the laparoscope's own light source.
   ren->RemoveAllLights();
   vtkNew<vtkLight> light;
@@ -143,10 +139,21 @@ void MainWindow::show_scene(const sim::Scene& scene) {
   view_->set_home_camera(pose);
   // The loops: two simulated tools through their trocars, the catheter.
   std::string error;
+  std::vector<Eigen::Vector3d> colours;
+  for (const sim::Organ& o : scene.organs) colours.push_back(o.color);
   if (session_.start(scene, &error)) {
+    // The organs as the session has them (the duct: its shell), deformed as the loops go.
+    std::vector<const haptics::TriangleMesh*> surfaces;
+    for (int32_t i = 0; i < session_.organ_count(); ++i)
+      surfaces.push_back(&session_.organ_surface(i));
+    actors_.add_organs(ren, surfaces, colours);
     actors_.add_to(ren, {session_.tool_geometry(0), session_.tool_geometry(1)},
                    static_cast<int>(session_.model().catheter.size()));
   } else {
+    for (const sim::Organ& o : scene.organs) {
+      const double rgb[3] = {o.color.x(), o.color.y(), o.color.z()};
+      ren->AddActor(make_mesh_actor(o.mesh, rgb));
+    }
     loops_label_->setText(QString("loops not started: %1").arg(QString::fromStdString(error)));
   }
   last_haptic_tick_ = -1;

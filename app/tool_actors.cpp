@@ -5,6 +5,8 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 
+#include "app/mesh_actor.h"
+
 namespace lap::app {
 namespace {
 
@@ -55,7 +57,34 @@ void SessionActors::add_to(vtkRenderer* renderer,
   renderer->AddActor(catheter_actor_);
 }
 
+void SessionActors::add_organs(vtkRenderer* renderer,
+                               const std::vector<const haptics::TriangleMesh*>& surfaces,
+                               const std::vector<Eigen::Vector3d>& colours) {
+  organ_points_.clear();
+  organ_surfaces_.clear();
+  organ_steps_ = 0;
+  for (size_t i = 0; i < surfaces.size() && i < colours.size(); ++i) {
+    const double rgb[3] = {colours[i].x(), colours[i].y(), colours[i].z()};
+    vtkSmartPointer<vtkActor> actor = make_mesh_actor(*surfaces[i], rgb);
+    renderer->AddActor(actor);
+    organ_points_.emplace_back(
+        vtkPolyData::SafeDownCast(actor->GetMapper()->GetInput())->GetPoints());
+    organ_surfaces_.emplace_back(surfaces[i]->positions);
+  }
+}
+
 void SessionActors::update(const sim::HapticSnapshot& haptic, const sim::ModelSnapshot& model) {
+  if (model.steps != organ_steps_) {
+    organ_steps_ = model.steps;
+    for (size_t o = 0; o < organ_points_.size() && o < model.organs.size(); ++o) {
+      const std::span<const int32_t> changed = organ_surfaces_[o].apply(model.organs[o]);
+      for (const int32_t v : changed) {
+        const Eigen::Vector3d& p = organ_surfaces_[o].positions()[static_cast<size_t>(v)];
+        organ_points_[o]->SetPoint(v, p.x(), p.y(), p.z());
+      }
+      if (!changed.empty()) organ_points_[o]->Modified();
+    }
+  }
   if (haptic.tick >= 0) {
     for (size_t i = 0; i < 2; ++i) {
       std::array<Eigen::Vector3d, 3> a;

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
 /// What the graphics loop draws of the running session: each tool as its three segments (shaft
-/// and jaws, Figure 7-15) and the catheter as its centre line, as thick lines updated in place
-/// from the newest snapshots.
+/// and jaws, Figure 7-15), the catheter as its centre line, as thick lines, and the organs'
+/// surfaces as the modelling loop deforms them (§6.5: the deformed surface is the one drawn),
+/// all updated in place from the newest snapshots.
 
 #include <vtkActor.h>
 #include <vtkPoints.h>
@@ -10,8 +11,10 @@
 #include <vtkSmartPointer.h>
 
 #include <array>
+#include <vector>
 
 #include "haptics/laparoscopic_gripper.h"
+#include "sim/deformed_surface.h"
 #include "sim/session.h"
 
 namespace lap::app {
@@ -21,6 +24,10 @@ class SessionActors {
   /// Adds the actors to `renderer`; `catheter_points` is the catheter's particle count.
   void add_to(vtkRenderer* renderer, const std::array<haptics::GripperGeometry, 2>& tools,
               int catheter_points);
+  /// Adds one actor per organ surface (the session's, at rest: the duct is its shell), each
+  /// deformed in place by update().
+  void add_organs(vtkRenderer* renderer, const std::vector<const haptics::TriangleMesh*>& surfaces,
+                  const std::vector<Eigen::Vector3d>& colours);
   /// Moves them to the snapshots' state.
   void update(const sim::HapticSnapshot& haptic, const sim::ModelSnapshot& model);
 
@@ -28,6 +35,9 @@ class SessionActors {
   std::array<haptics::LaparoscopicGripper, 2> grippers_;
   std::array<vtkSmartPointer<vtkPoints>, 2> tool_points_;
   std::array<vtkSmartPointer<vtkActor>, 2> tool_actors_;
+  std::vector<vtkSmartPointer<vtkPoints>> organ_points_;
+  std::vector<sim::DeformedSurface> organ_surfaces_;
+  int64_t organ_steps_ = 0;  ///< the model step the organ actors show
   vtkSmartPointer<vtkPoints> catheter_points_;
   vtkSmartPointer<vtkActor> catheter_actor_;
 };
