@@ -103,7 +103,7 @@ DeformationContact rest_contact_at(const LocalDeformationModel& model,
     }
     case haptics::PrimitiveKind::kEdge: {
       const auto& ev = topology.edge_vertices(primitive.index);
-      const Eigen::Vector3d a = position(ev[0]);
+      const Eigen::Vector3d& a = position(ev[0]);
       const Eigen::Vector3d ab = position(ev[1]) - a;
       const double len2 = ab.squaredNorm();
       const double t = len2 > 0.0 ? std::clamp((point_O - a).dot(ab) / len2, 0.0, 1.0) : 0.5;

@@ -68,7 +68,7 @@ std::unique_ptr<TissueWorld> TissueWorld::build(const Scene& scene,
           m.local = std::make_unique<models::LocalDeformationModel>(
               models::LocalDeformationModel::build(*m.rest, settings.local));
           m.local_state = std::make_unique<models::LocalDeformationState>(*m.local);
-          m.dents.resize(particles + 2 * ToolModelInput::kMaxContacts);
+          m.dents.resize(particles + static_cast<size_t>(2 * ToolModelInput::kMaxContacts));
         }
       }
     } catch (const std::exception& e) {
@@ -154,11 +154,18 @@ void TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double dt) no
         }
       }
       (void)models::step_modal_shell(*duct_model_, duct_state_.get(), dt);
+      // The wall the catheter meets is refitted only when it moved: a duct at rest (most of a
+      // session) costs nothing here.
+      double moved = 0.0;
       for (size_t v = 0; v < duct_positions_W_.size(); ++v) {
-        duct_positions_W_[v] = duct_pose_WD_ * (duct_rest_D_[v] + duct_state_->displacement[v]);
+        const Eigen::Vector3d p = duct_pose_WD_ * (duct_rest_D_[v] + duct_state_->displacement[v]);
+        moved = std::max(moved, (p - duct_positions_W_[v]).squaredNorm());
+        duct_positions_W_[v] = p;
         deepest_dent_ = std::max(deepest_dent_, duct_state_->displacement[v].norm());
       }
-      duct_wall_->set_positions(duct_positions_W_, duct_all_nodes_, duct_scratch_.get());
+      if (moved > 0.0) {
+        duct_wall_->set_positions(duct_positions_W_, duct_all_nodes_, duct_scratch_.get());
+      }
     }
   }
 }

@@ -1,6 +1,8 @@
-// BM_ModelStep (issue 6): one modelling step of the default duct (modal shell), a 64-particle
-// catheter, and the OpenHELP liver, stomach and duodenum under local deformation, each organ with
-// a moving contact and its database updated for the proxies. Target: median <= 200 us.
+// BM_ModelStep (issue 6): one step of the session's modelling loop (sim::TissueWorld) over the
+// OpenHELP liver, stomach and duodenum under local deformation and the stand-in duct as the modal
+// shell, with the 64-particle catheter lying on the liver (its contacts), grasped by one tool's
+// jaws, the other tool pressing into each organ; then the haptic side's databases taking up the
+// published deformations, as the proxies need them. Target: median <= 200 us.
 
 #include <benchmark/benchmark.h>
 
@@ -9,65 +11,97 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
+#include "haptics/mesh_generators.h"
 #include "models/catheter_model.h"
 #include "models/local_deformation.h"
 #include "models/modal_shell.h"
+#include "sim/tissue_world.h"
 #include "tests/bench/bench_support.h"
 
 namespace lap::bench {
 namespace {
 
 void BM_ModelStep(benchmark::State& state) {
-  std::vector<std::unique_ptr<haptics::MeshDatabase>> organs;
-  for (const haptics::TriangleMesh& mesh : openhelp_organs()) {
-    organs.push_back(std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(mesh)));
+  // The scene: the three OpenHELP organs under local deformation and the stand-in duct as the
+  // modal shell, exactly as the session's modelling loop builds them (sim::TissueWorld).
+  sim::Scene scene;
+  for (haptics::TriangleMesh& mesh : openhelp_organs()) {
+    sim::Organ o;
+    o.name = "openhelp_" + std::to_string(scene.organs.size());
+    o.mesh = std::move(mesh);
+    o.model = models::ModelKind::kLocal;
+    o.material.stiffness_n_per_m = 300.0;
+    o.material.damping_n_s_per_m = 0.5;
+    scene.organs.push_back(std::move(o));
   }
-  if (organs.empty()) {
+  if (scene.organs.size() < 3) {
     state.SkipWithError("the OpenHELP meshes are not in ../shared/meshes");
     return;
   }
-  std::vector<models::LocalDeformationModel> local;
-  std::vector<models::LocalDeformationState> local_state;
-  std::vector<haptics::MeshUpdateScratch> scratch;
-  for (const auto& db : organs) {
-    local.push_back(models::LocalDeformationModel::build(*db, {}));
-    local_state.emplace_back(local.back());
-    scratch.emplace_back(*db);
+  const Eigen::AlignedBox3d liver = [&] {
+    Eigen::AlignedBox3d b;
+    for (const Eigen::Vector3d& p : scene.organs[0].mesh.positions) b.extend(p);
+    return b;
+  }();
+  sim::Organ duct;
+  duct.name = "duct";
+  duct.mesh = haptics::make_stand_in_cystic_duct();
+  duct.model = models::ModelKind::kModalShell;
+  duct.material.stiffness_n_per_m = 150.0;
+  scene.organs.push_back(std::move(duct));
+  sim::TissueWorldSettings ws;  // the default 64-particle catheter, with gravity
+  ws.catheter.gravity_m_per_s2 = Eigen::Vector3d(0.0, -9.81, 0.0);
+  // Laid across the liver's top, 1 mm into it: its particles there are in contact.
+  ws.catheter_start_W =
+      Eigen::Vector3d(liver.min().x(), liver.max().y() - 0.001, liver.center().z());
+  ws.catheter_direction_W = Eigen::Vector3d::UnitX();
+  std::unique_ptr<sim::TissueWorld> world = sim::TissueWorld::build(scene, ws, nullptr);
+  // The haptic loop's side: its databases taking up each published deformation.
+  std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs;
+  std::vector<sim::DeformedSurface> readers;
+  std::vector<std::unique_ptr<haptics::MeshUpdateScratch>> scratch;
+  for (int32_t i = 0; i < world->organ_count(); ++i) {
+    dbs.push_back(
+        std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(world->surface(i))));
+    readers.emplace_back(world->surface(i).positions);
+    scratch.push_back(std::make_unique<haptics::MeshUpdateScratch>(*dbs.back()));
   }
-  const models::DuctSettings duct;
-  const models::DuctShell shell = models::make_duct_shell(duct);
-  const models::ModalShellModel duct_model = models::ModalShellModel::build(
-      shell.mesh, shell.held_dof, models::default_duct_modal_settings(duct));
-  models::ModalShellState duct_state(duct_model);
-  models::CatheterSettings cs;
-  cs.gravity_m_per_s2 = Eigen::Vector3d(0.0, -9.81, 0.0);
-  const models::CatheterModel catheter = models::CatheterModel::build(cs);
-  models::CatheterState cath(catheter, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
-  cath.fixed[0] = cath.fixed[1] = 1;  // held by a grasper
+  std::vector<sim::SurfaceDeformation> published = world->make_deformations();
 
+  // Tool 0 presses 0.5-1.5 N into each OpenHELP organ at a point sliding across its faces; tool 1's
+  // jaws close on the catheter's particle 40 and hold it.
+  std::array<sim::ToolModelInput, 2> tools{};
+  tools[0].valid = true;
+  tools[0].jaws.hinge_W = Eigen::Vector3d(1.0, 1.0, 1.0);  // far away: no grasp
+  tools[1].valid = true;
+  const Eigen::Vector3d held = world->catheter().positions[40];
+  tools[1].jaws.hinge_W = held + Eigen::Vector3d(0.0, 0.01, 0.0);  // jaws pointing down at it
+  tools[1].jaws.rotation_WJ.col(0) = Eigen::Vector3d::UnitX();
+  tools[1].jaws.rotation_WJ.col(1) = Eigen::Vector3d::UnitY();
+  tools[1].jaws.rotation_WJ.col(2) = Eigen::Vector3d::UnitZ();
+  tools[1].jaws.opening_rad = 0.1;
   const double dt = 0.005;  // 200 Hz
   int64_t tick = 0;
-  std::vector<int32_t> contact_face(organs.size());
-  for (size_t k = 0; k < organs.size(); ++k) contact_face[k] = organs[k]->face_count() / 3;
   auto step = [&]() {
     const double s = static_cast<double>(tick++);
-    for (size_t k = 0; k < organs.size(); ++k) {
-      // A tool pressing 3-5 mm into each organ, sliding across faces.
-      const int32_t f =
-          (contact_face[k] + static_cast<int32_t>(tick / 20)) % organs[k]->face_count();
-      const auto& fv = organs[k]->face_vertices(f);
-      models::DeformationContact c;
-      c.face = f;
-      c.point_O = local[k].rest_position(fv[0]);
-      c.penetration_O = -(0.004 + 0.001 * std::sin(0.05 * s)) * organs[k]->face_normal(f);
-      models::deform(local[k], {&c, 1}, &local_state[k]);
-      organs[k]->set_positions(local_state[k].positions, local_state[k].changed, &scratch[k]);
+    tools[0].contact_count = 0;
+    for (int32_t k = 0; k < 3; ++k) {
+      const haptics::MeshDatabase& db = *dbs[static_cast<size_t>(k)];
+      const int32_t f = (db.face_count() / 3 + static_cast<int32_t>(tick / 20)) % db.face_count();
+      const auto& fv = db.face_vertices(f);
+      sim::ToolContact& c = tools[0].contacts[static_cast<size_t>(tools[0].contact_count++)];
+      c.organ = k;
+      c.primitive = {haptics::PrimitiveKind::kFace, f};
+      c.point_W = (db.position(fv[0]) + db.position(fv[1]) + db.position(fv[2])) / 3.0;
+      c.force_on_organ_W = -(1.0 + 0.5 * std::sin(0.05 * s)) * db.face_normal(f);
     }
-    models::apply_node_force(&duct_state, duct.along / 2 * duct.around + duct.around / 4,
-                             Eigen::Vector3d(0.0, -0.01 * (1.0 + std::sin(0.03 * s)), 0.0));
-    models::step_modal_shell(duct_model, &duct_state, dt);
-    cath.external_force[40] = Eigen::Vector3d(0.0, 0.002 * std::sin(0.02 * s), 0.0);
-    models::step_catheter(catheter, &cath, dt);
+    world->step(tools, dt);
+    world->write_deformations(&published);
+    for (size_t o = 0; o < dbs.size(); ++o) {
+      const std::span<const int32_t> changed = readers[o].apply(published[o]);
+      if (!changed.empty())
+        dbs[o]->set_positions(readers[o].positions(), changed, scratch[o].get());
+    }
   };
   for (int i = 0; i < 200; ++i) step();
   StepTimer timer;
@@ -78,12 +112,13 @@ void BM_ModelStep(benchmark::State& state) {
   }
   timer.report(state);
   int64_t triangles = 0;
-  for (const auto& db : organs) triangles += db->face_count();
+  for (int32_t k = 0; k < 3; ++k) triangles += dbs[static_cast<size_t>(k)]->face_count();
   state.counters["organ_triangles"] = static_cast<double>(triangles);
-  state.counters["duct_nodes"] = static_cast<double>(duct_model.node_count());
-  state.counters["duct_modes"] = duct_model.mode_count();
-  state.counters["catheter_particles"] = catheter.particle_count();
-  state.counters["guard_splits"] = static_cast<double>(cath.guard_refinements);
+  state.counters["duct_triangles"] = static_cast<double>(dbs.back()->face_count());
+  state.counters["catheter_particles"] = world->catheter_model().particle_count();
+  state.counters["catheter_contacts"] = world->catheter_contacts();
+  state.counters["catheter_grasped"] = world->catheter_grasps()[1].count;
+  state.counters["guard_splits"] = static_cast<double>(world->catheter().guard_refinements);
 }
 BENCHMARK(BM_ModelStep)->Iterations(2000);
 
