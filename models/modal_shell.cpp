@@ -262,7 +262,6 @@ ModalShellState::ModalShellState(const ModalShellModel& model)
   anchors.reserve(kMaxAnchors);
   const Eigen::Index m = model.mode_count();
   anchored_system = Eigen::MatrixXd::Zero(m, m);
-  anchored_solver = Eigen::LLT<Eigen::MatrixXd>(m);
   anchored_rhs = Eigen::VectorXd::Zero(m);
 }
 
@@ -376,14 +375,15 @@ bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, doub
       b(k) -= w(k) * w(k) * state->q(k);  // the anchors' K q is in `pull` already
     }
     b = state->q_dot + dt * b;
-    state->anchored_solver.compute(a);
-    if (!finite || state->anchored_solver.info() != Eigen::Success) {
+    // Factored in place, in the pre-sized matrix: no allocation.
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> solver(a);
+    if (!finite || solver.info() != Eigen::Success) {
       state->q.setZero();
       state->q_dot.setZero();
       for (auto& u : state->displacement) u.setZero();
       return false;
     }
-    state->anchored_solver.solveInPlace(b);
+    solver.solveInPlace(b);
     state->q_dot = b;
     state->q += dt * state->q_dot;
     Eigen::Map<Eigen::VectorXd> u(state->displacement.data()->data(),

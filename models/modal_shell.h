@@ -128,9 +128,8 @@ struct ModalShellState {
   std::vector<int32_t> forced_nodes;          ///< nodes with a force this step (workspace)
   std::vector<uint8_t> is_forced;             ///< n flags for forced_nodes
   std::vector<NodeAnchor> anchors;            ///< this step's anchors (capacity kMaxAnchors)
-  // Workspace of the anchored step (m x m system, its factor): sized once, never reallocated.
+  // Workspace of the anchored step (m x m system, factored in place): sized once.
   Eigen::MatrixXd anchored_system;
-  Eigen::LLT<Eigen::MatrixXd> anchored_solver;
   Eigen::VectorXd anchored_rhs;
   explicit ModalShellState(const ModalShellModel& model);
 };
