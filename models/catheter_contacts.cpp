@@ -56,33 +56,21 @@ void settle_reactions(const CatheterState& c, std::span<SurfaceReaction> reactio
   }
 }
 
-int32_t catheter_dents(const haptics::MeshDatabase& rest, const Eigen::Isometry3d& pose_WO,
-                       double stiffness_n_per_m, std::span<const SurfaceReaction> reactions,
+int32_t catheter_dents(const LocalDeformationModel& model, const haptics::MeshDatabase& rest,
+                       const Eigen::Isometry3d& pose_WO, double stiffness_n_per_m,
+                       std::span<const SurfaceReaction> reactions,
                        std::span<DeformationContact> out) noexcept {
   if (!(stiffness_n_per_m > 0.0)) return 0;
   int32_t n = 0;
   for (const SurfaceReaction& r : reactions) {
     if (n >= static_cast<int32_t>(out.size())) break;
-    int32_t face = -1;
-    switch (r.primitive.kind) {
-      case haptics::PrimitiveKind::kFace:
-        face = r.primitive.index;
-        break;
-      case haptics::PrimitiveKind::kEdge:
-        face = rest.edge_faces(r.primitive.index)[0];
-        break;
-      case haptics::PrimitiveKind::kVertex:
-        rest.for_each_vertex_face(r.primitive.index, [&](int32_t f) { face = f; });
-        break;
-      case haptics::PrimitiveKind::kNone:
-        break;
-    }
-    if (face < 0) continue;
-    DeformationContact& c = out[n++];
-    c.face = face;
-    c.point_O = r.point_O;
-    c.penetration_O = pose_WO.linear().transpose() * r.force_on_surface_W / stiffness_n_per_m;
+    // The reaction is on the rest surface already: rest_contact's mapping is the identity here.
+    DeformationContact c =
+        rest_contact(model, rest, r.primitive, r.point_O,
+                     pose_WO.linear().transpose() * r.force_on_surface_W, stiffness_n_per_m);
+    if (c.face < 0) continue;
     c.conform = true;
+    out[n++] = c;
   }
   return n;
 }

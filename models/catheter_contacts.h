@@ -67,14 +67,15 @@ int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
 /// every contact see the same force.
 void settle_reactions(const CatheterState& catheter, std::span<SurfaceReaction> reactions) noexcept;
 
-/// The dents the catheter makes in a locally deformed organ (§6.5, §7.6.3). The contacts must
-/// have been tracked against the organ's rest surface (`rest`: a database that is never
-/// deformed), not the dented one: a catheter that saw its own dent would lose the contact and the
-/// dent with it, every other step. Each settled reaction becomes a conforming contact
+/// The dents the catheter makes in a locally deformed organ (`model`; §6.5, §7.6.3). The
+/// contacts must have been tracked against the organ's rest surface (`rest`: a database that is
+/// never deformed), not the dented one: a catheter that saw its own dent would lose the contact
+/// and the dent with it, every other step. Each settled reaction becomes a conforming contact
 /// (local_deformation.h) pressed reaction / stiffness deep, so the drawn groove meets the
 /// catheter and the organ's spring carries it. Writes at most out.size(); returns how many.
-int32_t catheter_dents(const haptics::MeshDatabase& rest, const Eigen::Isometry3d& pose_WO,
-                       double stiffness_n_per_m, std::span<const SurfaceReaction> reactions,
+int32_t catheter_dents(const LocalDeformationModel& model, const haptics::MeshDatabase& rest,
+                       const Eigen::Isometry3d& pose_WO, double stiffness_n_per_m,
+                       std::span<const SurfaceReaction> reactions,
                        std::span<DeformationContact> out) noexcept;
 
 /// Clears every particle's contact plane (before the surfaces set them again).

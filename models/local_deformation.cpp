@@ -129,7 +129,7 @@ DeformationContact rest_contact_at(const LocalDeformationModel& model,
 DeformationContact rest_contact(const LocalDeformationModel& model,
                                 const haptics::MeshDatabase& deformed,
                                 haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
-                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
+                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) noexcept {
   return rest_contact_at(
       model, deformed, [&](int32_t v) -> const Eigen::Vector3d& { return deformed.position(v); },
       primitive, point_O, force_O, stiffness_n_per_m);
@@ -139,7 +139,7 @@ DeformationContact rest_contact(const LocalDeformationModel& model,
                                 const haptics::MeshDatabase& topology,
                                 std::span<const Eigen::Vector3d> deformed_positions,
                                 haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
-                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
+                                const Eigen::Vector3d& force_O, double stiffness_n_per_m) noexcept {
   return rest_contact_at(
       model, topology,
       [&](int32_t v) -> const Eigen::Vector3d& {

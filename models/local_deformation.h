@@ -110,15 +110,18 @@ struct LocalDeformationState {
                                               haptics::PrimitiveRef primitive,
                                               const Eigen::Vector3d& point_O,
                                               const Eigen::Vector3d& force_O,
-                                              double stiffness_n_per_m);
+                                              double stiffness_n_per_m) noexcept;
 
 /// The same with the deformed positions given as an array (vertex order) and `topology` any
 /// database of the organ (rest or deformed: only its faces and edges are read) — for the
 /// modelling loop, which keeps positions but not a deformed database.
-[[nodiscard]] DeformationContact rest_contact(
-    const LocalDeformationModel& model, const haptics::MeshDatabase& topology,
-    std::span<const Eigen::Vector3d> deformed_positions, haptics::PrimitiveRef primitive,
-    const Eigen::Vector3d& point_O, const Eigen::Vector3d& force_O, double stiffness_n_per_m);
+[[nodiscard]] DeformationContact rest_contact(const LocalDeformationModel& model,
+                                              const haptics::MeshDatabase& topology,
+                                              std::span<const Eigen::Vector3d> deformed_positions,
+                                              haptics::PrimitiveRef primitive,
+                                              const Eigen::Vector3d& point_O,
+                                              const Eigen::Vector3d& force_O,
+                                              double stiffness_n_per_m) noexcept;
 
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
 /// rest). Afterwards `changed` lists every vertex whose position changed since the previous call

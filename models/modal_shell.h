@@ -12,7 +12,6 @@
 /// Model (immutable: matrices, modes) apart from state (modal coordinates). The step allocates
 /// nothing and never throws.
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cstdint>

@@ -37,4 +37,10 @@ std::span<const int32_t> DeformedSurface::apply(const SurfaceDeformation& d) noe
   return changed_;
 }
 
+void DeformedSurface::apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
+                               haptics::MeshUpdateScratch* scratch) noexcept {
+  const std::span<const int32_t> changed = apply(d);
+  if (!changed.empty()) db->set_positions(positions_, changed, scratch);
+}
+
 }  // namespace lap::sim

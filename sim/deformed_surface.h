@@ -12,6 +12,8 @@
 #include <span>
 #include <vector>
 
+#include "haptics/mesh_database.h"
+
 namespace lap::sim {
 
 struct SurfaceDeformation {
@@ -28,6 +30,10 @@ class DeformedSurface {
   /// changed, valid until the next call; a deformation naming a vertex out of range is ignored
   /// for that vertex.
   std::span<const int32_t> apply(const SurfaceDeformation& d) noexcept;
+  /// apply(), then the database takes up what changed (local refit, no allocation): what the
+  /// haptic loop does with each new snapshot.
+  void apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
+                haptics::MeshUpdateScratch* scratch) noexcept;
   [[nodiscard]] std::span<const Eigen::Vector3d> positions() const { return positions_; }
 
  private:

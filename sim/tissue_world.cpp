@@ -119,7 +119,7 @@ void TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double dt) no
     models::settle_reactions(cath, reactions);
     if (m.kind == Kind::kLocal) {
       // 4. Dents: the catheter's (conforming), then the tools' (their share of the push).
-      int32_t n = models::catheter_dents(*m.rest, Eigen::Isometry3d::Identity(),
+      int32_t n = models::catheter_dents(*m.local, *m.rest, Eigen::Isometry3d::Identity(),
                                          m.stiffness_n_per_m, reactions, m.dents);
       for (const ToolModelInput& tool : tools) {
         for (int32_t c = 0; c < tool.contact_count && tool.valid; ++c) {

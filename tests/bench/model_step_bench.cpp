@@ -98,9 +98,7 @@ void BM_ModelStep(benchmark::State& state) {
     world->step(tools, dt);
     world->write_deformations(&published);
     for (size_t o = 0; o < dbs.size(); ++o) {
-      const std::span<const int32_t> changed = readers[o].apply(published[o]);
-      if (!changed.empty())
-        dbs[o]->set_positions(readers[o].positions(), changed, scratch[o].get());
+      readers[o].apply_to(published[o], dbs[o].get(), scratch[o].get());
     }
   };
   for (int i = 0; i < 200; ++i) step();

@@ -90,7 +90,7 @@ TEST(CatheterContacts, CatheterRestsInTheGrooveItPressesIntoAnOrgan) {
     ASSERT_TRUE(step_catheter(model, &cath, 0.005));
     settle_reactions(cath, {reactions.data(), static_cast<size_t>(n)});
     const int32_t d =
-        catheter_dents(rest, Eigen::Isometry3d::Identity(), settings.stiffness_n_per_m,
+        catheter_dents(local, rest, Eigen::Isometry3d::Identity(), settings.stiffness_n_per_m,
                        {reactions.data(), static_cast<size_t>(n)}, dents);
     ASSERT_TRUE(deform(local, {dents.data(), static_cast<size_t>(d)}, &dented));
     organ.set_positions(dented.positions, dented.changed, &scratch);
