@@ -93,7 +93,7 @@ class BoundingVolumeTree {
   }
 
   /// The parent of every node (-1 for the root) and the leaf of every primitive (tree order):
-  /// what refit_leaves() walks. Setup (allocates).
+  /// what a caller of refit_nodes() walks. Setup (allocates).
   void topology(std::vector<int32_t>* parent, std::vector<int32_t>* leaf_of) const {
     parent->assign(nodes_.size(), -1);
     int32_t primitives = 0;
@@ -111,35 +111,27 @@ class BoundingVolumeTree {
     }
   }
 
-  /// Refits only the given leaves and their ancestors (a local deformation, §6.5): each leaf's box
-  /// is recomputed, then its ancestors' unions up to the first that does not change (those above
-  /// it cannot change either). Equal to refit() whenever the other leaves' primitives did not
-  /// move. No allocation.
+  /// Refits the given nodes only (a local deformation, §6.5): `nodes` must hold every leaf whose
+  /// primitives moved and all their ancestors, in decreasing index order — children come after
+  /// their parent in the layout, so each node is recomputed once, after its children. Equal to
+  /// refit() whenever the other leaves' primitives did not move. No allocation.
   template <typename Extend>
-  void refit_leaves(std::span<const int32_t> leaves, std::span<const int32_t> parent,
-                    const Extend& extend) {
-    for (const int32_t leaf : leaves) {
-      BvhNode& node = nodes_[static_cast<size_t>(leaf)];
-      double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
-      double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-      for (int32_t k = node.first; k < node.first + node.count; ++k) extend(k, lo, hi);
-      const BvhNode before = node;
-      set_box(node, Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]),
-                                        Eigen::Vector3d(hi[0], hi[1], hi[2])));
-      if (node.lo == before.lo && node.hi == before.hi) continue;
-      for (int32_t i = parent[leaf]; i >= 0; i = parent[i]) {
-        BvhNode& up = nodes_[static_cast<size_t>(i)];
+  void refit_nodes(std::span<const int32_t> nodes, const Extend& extend) {
+    for (const int32_t i : nodes) {
+      BvhNode& node = nodes_[static_cast<size_t>(i)];
+      if (node.count > 0) {
+        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+        double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        for (int32_t k = node.first; k < node.first + node.count; ++k) extend(k, lo, hi);
+        set_box(node, Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]),
+                                          Eigen::Vector3d(hi[0], hi[1], hi[2])));
+      } else {
         const BvhNode& a = nodes_[static_cast<size_t>(i) + 1];
-        const BvhNode& b = nodes_[up.first];
-        std::array<float, 3> lo_f{};
-        std::array<float, 3> hi_f{};
+        const BvhNode& b = nodes_[static_cast<size_t>(node.first)];
         for (int c = 0; c < 3; ++c) {
-          lo_f[c] = std::min(a.lo[c], b.lo[c]);
-          hi_f[c] = std::max(a.hi[c], b.hi[c]);
+          node.lo[c] = std::min(a.lo[c], b.lo[c]);
+          node.hi[c] = std::max(a.hi[c], b.hi[c]);
         }
-        if (lo_f == up.lo && hi_f == up.hi) break;
-        up.lo = lo_f;
-        up.hi = hi_f;
       }
     }
   }

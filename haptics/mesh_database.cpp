@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <span>
 #include <stdexcept>
@@ -207,10 +208,12 @@ Eigen::Vector3d MeshDatabase::normal(PrimitiveRef p) const {
 
 namespace {
 
-// Adds face t's normal to its three vertices, weighted by the angle at each (§4.2). The three
-// angles share |e1 x e2| (twice the area) and sum to pi, so two atan2 calls suffice.
-inline void accumulate_face(const std::array<int32_t, 3>& t, const std::vector<Eigen::Vector3d>& p,
-                            Eigen::Vector3d* out0, Eigen::Vector3d* out1, Eigen::Vector3d* out2) {
+// Adds face t's normal to its three vertices, weighted by the angle at each (§4.2), and returns
+// the face's unit normal (+y for a degenerate face, as compute_face_normal()). The three angles
+// share |e1 x e2| (twice the area) and sum to pi, so two atan2 calls suffice.
+inline Eigen::Vector3d accumulate_face(const std::array<int32_t, 3>& t,
+                                       const std::vector<Eigen::Vector3d>& p, Eigen::Vector3d* out0,
+                                       Eigen::Vector3d* out1, Eigen::Vector3d* out2) {
   const Eigen::Vector3d& a = p[t[0]];
   const Eigen::Vector3d& b = p[t[1]];
   const Eigen::Vector3d& c = p[t[2]];
@@ -219,14 +222,15 @@ inline void accumulate_face(const std::array<int32_t, 3>& t, const std::vector<E
   const Eigen::Vector3d bc = c - b;
   const Eigen::Vector3d n = ab.cross(ac);
   const double twice_area = n.norm();
-  if (!(twice_area > 0.0)) return;
-  const Eigen::Vector3d unit = n / twice_area;
+  if (!(twice_area > 0.0)) return Eigen::Vector3d::UnitY();
+  Eigen::Vector3d unit = n / twice_area;
   const double angle_a = corner_angle(twice_area, ab.dot(ac));
   const double angle_b = corner_angle(twice_area, -ab.dot(bc));
   const double angle_c = 3.14159265358979323846 - angle_a - angle_b;
   if (out0 != nullptr) *out0 += angle_a * unit;
   if (out1 != nullptr) *out1 += angle_b * unit;
   if (out2 != nullptr) *out2 += angle_c * unit;
+  return unit;
 }
 
 inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
@@ -239,8 +243,8 @@ inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
 void MeshDatabase::update_normals() {
   for (Eigen::Vector3d& n : vertex_normals_) n.setZero();
   for (const auto& t : face_vertices_) {
-    accumulate_face(t, positions_, &vertex_normals_[t[0]], &vertex_normals_[t[1]],
-                    &vertex_normals_[t[2]]);
+    (void)accumulate_face(t, positions_, &vertex_normals_[t[0]], &vertex_normals_[t[1]],
+                          &vertex_normals_[t[2]]);
   }
   for (Eigen::Vector3d& n : vertex_normals_) n = unit_or_up(n);
   for (int32_t f = 0; f < face_count(); ++f) face_normals_[f] = compute_face_normal(f);
@@ -251,8 +255,8 @@ void MeshDatabase::update_vertex_normal(int32_t v) {
   for_each_vertex_face(v, [&](int32_t f) {
     const auto& t = face_vertices_[f];
     const int k = corner_of(f, v);
-    accumulate_face(t, positions_, k == 0 ? &sum : nullptr, k == 1 ? &sum : nullptr,
-                    k == 2 ? &sum : nullptr);
+    (void)accumulate_face(t, positions_, k == 0 ? &sum : nullptr, k == 1 ? &sum : nullptr,
+                          k == 2 ? &sum : nullptr);
   });
   vertex_normals_[v] = unit_or_up(sum);
 }
@@ -316,13 +320,13 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
 
 MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
     : face_stamp(static_cast<size_t>(db.face_count()), 0),
-      face_slot(static_cast<size_t>(db.face_count()), -1),
       vertex_stamp(static_cast<size_t>(db.vertex_count()), 0),
+      moved_stamp(static_cast<size_t>(db.vertex_count()), 0),
       node_stamp(db.tree().nodes().size(), 0),
-      contribution(static_cast<size_t>(db.face_count())) {
+      normal_sum(static_cast<size_t>(db.vertex_count()), Eigen::Vector3d::Zero()) {
   dirty_faces.reserve(static_cast<size_t>(db.face_count()));
   dirty_vertices.reserve(static_cast<size_t>(db.vertex_count()));
-  dirty_leaves.reserve(db.tree().nodes().size());
+  dirty_nodes.reserve(db.tree().nodes().size());
   db.tree().topology(&parent, &leaf_of);
 }
 
@@ -332,63 +336,60 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   for (int32_t v : moved) positions_[v] = positions[v];
   ++revision_;
   if (++s->epoch == 0) {  // wrapped: old stamps could collide
-    std::fill(s->face_stamp.begin(), s->face_stamp.end(), 0U);
-    std::fill(s->vertex_stamp.begin(), s->vertex_stamp.end(), 0U);
-    std::fill(s->node_stamp.begin(), s->node_stamp.end(), 0U);
+    for (auto* stamps : {&s->face_stamp, &s->vertex_stamp, &s->moved_stamp, &s->node_stamp}) {
+      std::fill(stamps->begin(), stamps->end(), 0U);
+    }
     s->epoch = 1;
   }
   const uint32_t epoch = s->epoch;
-  // The faces around moved vertices: their shape changed. Each one's angle-weighted normal
-  // contributions are computed once.
+  // The faces around moved vertices changed shape; their corners' normal sums start afresh.
   s->dirty_faces.clear();
+  s->dirty_vertices.clear();
   for (int32_t v : moved) {
+    s->moved_stamp[v] = epoch;
     for_each_vertex_face(v, [&](int32_t f) {
       if (s->face_stamp[f] == epoch) return;
       s->face_stamp[f] = epoch;
-      s->face_slot[f] = static_cast<int32_t>(s->dirty_faces.size());
       s->dirty_faces.push_back(f);
-    });
-  }
-  for (size_t slot = 0; slot < s->dirty_faces.size(); ++slot) {
-    auto& c = s->contribution[slot];
-    c[0].setZero();
-    c[1].setZero();
-    c[2].setZero();
-    accumulate_face(face_vertices_[s->dirty_faces[slot]], positions_, &c[0], &c[1], &c[2]);
-    face_normals_[s->dirty_faces[slot]] = compute_face_normal(s->dirty_faces[slot]);
-  }
-  // Their vertices' normals: the fan's contributions, the clean faces' computed on the spot
-  // (only at the rim of the region). Summed in fan order, as update_vertex_normal() does.
-  s->dirty_vertices.clear();
-  for (int32_t f : s->dirty_faces) {
-    for (int32_t w : face_vertices_[f]) {
-      if (s->vertex_stamp[w] == epoch) continue;
-      s->vertex_stamp[w] = epoch;
-      s->dirty_vertices.push_back(w);
-    }
-  }
-  for (int32_t w : s->dirty_vertices) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for_each_vertex_face(w, [&](int32_t f) {
-      const int k = corner_of(f, w);
-      if (s->face_stamp[f] == epoch) {
-        sum += s->contribution[s->face_slot[f]][k];
-      } else {
-        accumulate_face(face_vertices_[f], positions_, k == 0 ? &sum : nullptr,
-                        k == 1 ? &sum : nullptr, k == 2 ? &sum : nullptr);
+      for (int32_t w : face_vertices_[f]) {
+        if (s->vertex_stamp[w] == epoch) continue;
+        s->vertex_stamp[w] = epoch;
+        s->dirty_vertices.push_back(w);
+        s->normal_sum[w].setZero();
       }
     });
-    vertex_normals_[w] = unit_or_up(sum);
   }
-  // The tree: the leaves holding those faces, then their ancestors.
-  s->dirty_leaves.clear();
+  // Each touched face once: its normal, and its angle-weighted share to each corner (§4.2).
   for (int32_t f : s->dirty_faces) {
-    const int32_t leaf = s->leaf_of[f];
-    if (s->node_stamp[leaf] == epoch) continue;
-    s->node_stamp[leaf] = epoch;
-    s->dirty_leaves.push_back(leaf);
+    const auto& t = face_vertices_[f];
+    face_normals_[f] = accumulate_face(t, positions_, &s->normal_sum[t[0]], &s->normal_sum[t[1]],
+                                       &s->normal_sum[t[2]]);
   }
-  tree_.refit_leaves(s->dirty_leaves, s->parent, [this](int32_t f, double* lo, double* hi) {
+  // A moved vertex's fan is all touched: its sum is complete. A vertex at the rim of the region
+  // also has faces that did not move; their shares are added here.
+  for (int32_t w : s->dirty_vertices) {
+    if (s->moved_stamp[w] != epoch) {
+      for_each_vertex_face(w, [&](int32_t f) {
+        if (s->face_stamp[f] == epoch) return;
+        const int k = corner_of(f, w);
+        Eigen::Vector3d* sum = &s->normal_sum[w];
+        (void)accumulate_face(face_vertices_[f], positions_, k == 0 ? sum : nullptr,
+                              k == 1 ? sum : nullptr, k == 2 ? sum : nullptr);
+      });
+    }
+    vertex_normals_[w] = unit_or_up(s->normal_sum[w]);
+  }
+  // The tree: the leaves holding those faces and their ancestors, each once, children first
+  // (a child's index is larger than its parent's).
+  s->dirty_nodes.clear();
+  for (int32_t f : s->dirty_faces) {
+    for (int32_t i = s->leaf_of[f]; i >= 0 && s->node_stamp[i] != epoch; i = s->parent[i]) {
+      s->node_stamp[i] = epoch;
+      s->dirty_nodes.push_back(i);
+    }
+  }
+  std::sort(s->dirty_nodes.begin(), s->dirty_nodes.end(), std::greater<>());
+  tree_.refit_nodes(s->dirty_nodes, [this](int32_t f, double* lo, double* hi) {
     for (int32_t v : face_vertices_[f]) {
       const Eigen::Vector3d& p = positions_[v];
       for (int a = 0; a < 3; ++a) {

@@ -46,22 +46,23 @@ struct MeshDatabaseSettings {
 class MeshDatabase;
 
 /// Workspace of MeshDatabase::set_positions(positions, moved, scratch) for one database: stamps
-/// that mark what a set of moved vertices touches (each visited once), the touched faces' angle-
-/// weighted normal contributions, and the tree's parent/leaf maps. Sized at setup; kept by the
-/// deforming model's state (not in the database, which the haptic loop reads).
+/// that mark what a set of moved vertices touches (each visited once), the touched vertices'
+/// normal sums, and the tree's parent/leaf maps. Sized at setup; kept by whoever deforms the
+/// database (not in the database, which the haptic loop reads).
 struct MeshUpdateScratch {
   explicit MeshUpdateScratch(const MeshDatabase& db);
   uint32_t epoch = 0;
-  std::vector<uint32_t> face_stamp;     // n_f
-  std::vector<int32_t> face_slot;       // n_f: index into dirty_faces when stamped
-  std::vector<uint32_t> vertex_stamp;   // n_v
-  std::vector<uint32_t> node_stamp;     // tree nodes
-  std::vector<int32_t> dirty_faces;     // reserved n_f
-  std::vector<int32_t> dirty_vertices;  // reserved n_v
-  std::vector<int32_t> dirty_leaves;    // reserved (nodes)
-  std::vector<std::array<Eigen::Vector3d, 3>> contribution;  // per dirty face, per corner
-  std::vector<int32_t> parent;                               // per tree node
-  std::vector<int32_t> leaf_of;                              // per face (tree order)
+  std::vector<uint32_t> face_stamp;         // n_f
+  std::vector<uint32_t> vertex_stamp;       // n_v: a vertex of a touched face
+  std::vector<uint32_t> moved_stamp;        // n_v: a moved vertex (its whole fan is touched)
+  std::vector<uint32_t> node_stamp;         // tree nodes
+  std::vector<int32_t> dirty_faces;         // reserved n_f
+  std::vector<int32_t> dirty_vertices;      // reserved n_v; after set_positions(): the vertices
+                                            // whose normals it recomputed
+  std::vector<int32_t> dirty_nodes;         // reserved (nodes)
+  std::vector<Eigen::Vector3d> normal_sum;  // n_v: angle-weighted sum, touched vertices
+  std::vector<int32_t> parent;              // per tree node
+  std::vector<int32_t> leaf_of;             // per face (tree order)
 };
 
 class MeshDatabase {
@@ -77,9 +78,12 @@ class MeshDatabase {
   /// The same when only `moved` vertices changed (local deformation, §6.5): normals are
   /// recomputed only around them; the tree is refitted. No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved);
-  /// The same, with a workspace that visits each touched face, vertex and tree leaf once: each
-  /// face's angle weights are computed once, and only the touched leaves and their ancestors are
-  /// refitted. Cost proportional to the deformed region, not to the mesh. No allocation.
+  /// The same, with a workspace that visits each touched face, vertex and tree node once: each
+  /// face's normal and angle weights are computed once and added to its corners' sums (only the
+  /// vertices at the rim of the region walk their fans, for the faces that did not move), and
+  /// only the touched leaves and their ancestors are refitted, each once. Cost proportional to
+  /// the deformed region, not to the mesh. The vertex normals agree with the plain update's to
+  /// rounding (summed in another order). No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved,
                      struct MeshUpdateScratch* scratch);
   /// The three parts of set_positions, for callers that schedule them apart: copy the

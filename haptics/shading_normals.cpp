@@ -33,7 +33,7 @@ ShadingNormals ShadingNormals::build(const MeshDatabase& mesh, double crease_ang
       s.shaded_[f] = face_shaded[f] != 0 ? 1 : 0;
     }
   }
-  const double cos_crease = std::cos(crease_angle_rad);
+  s.cos_crease_ = std::cos(crease_angle_rad);
   s.corners_.resize(nf);
   for (int32_t f = 0; f < nf; ++f) {
     const Eigen::Vector3d& nf_f = mesh.face_normal(f);
@@ -42,16 +42,7 @@ ShadingNormals ShadingNormals::build(const MeshDatabase& mesh, double crease_ang
         s.corners_[f][k] = nf_f;
         continue;
       }
-      const int32_t v = mesh.face_vertices(f)[k];
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      mesh.for_each_vertex_face(v, [&](int32_t g) {
-        if (s.shaded_[g] == 0) return;
-        const Eigen::Vector3d& ng = mesh.face_normal(g);
-        if (ng.dot(nf_f) < cos_crease) return;
-        sum += angle_at(mesh, g, corner_of(mesh, g, v)) * ng;
-      });
-      const double len = sum.norm();
-      s.corners_[f][k] = len > 0.0 ? Eigen::Vector3d(sum / len) : nf_f;
+      s.corners_[f][k] = s.blended_corner(mesh, f, mesh.face_vertices(f)[k]);
     }
   }
   s.smooth_vertex_.assign(mesh.vertex_count(), 1);
@@ -85,6 +76,34 @@ ShadingNormals ShadingNormals::build(const MeshDatabase& mesh, double crease_ang
     s.smooth_edge_[e] = same ? 1 : 0;
   }
   return s;
+}
+
+Eigen::Vector3d ShadingNormals::blended_corner(const MeshDatabase& mesh, int32_t f,
+                                               int32_t v) const {
+  const Eigen::Vector3d& nf_f = mesh.face_normal(f);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  mesh.for_each_vertex_face(v, [&](int32_t g) {
+    if (shaded_[g] == 0) return;
+    const Eigen::Vector3d& ng = mesh.face_normal(g);
+    if (ng.dot(nf_f) < cos_crease_) return;
+    sum += angle_at(mesh, g, corner_of(mesh, g, v)) * ng;
+  });
+  const double len = sum.norm();
+  return len > 0.0 ? Eigen::Vector3d(sum / len) : nf_f;
+}
+
+void ShadingNormals::update(const MeshDatabase& mesh, std::span<const int32_t> vertices) {
+  for (const int32_t v : vertices) {
+    if (smooth_vertex_[v] != 0) {
+      const Eigen::Vector3d& n = mesh.vertex_normal(v);
+      mesh.for_each_vertex_face(v, [&](int32_t f) { corners_[f][corner_of(mesh, f, v)] = n; });
+      continue;
+    }
+    mesh.for_each_vertex_face(v, [&](int32_t f) {
+      corners_[f][corner_of(mesh, f, v)] =
+          shaded_[f] == 0 ? mesh.face_normal(f) : blended_corner(mesh, f, v);
+    });
+  }
 }
 
 Eigen::Vector3d ShadingNormals::normal(const MeshDatabase& mesh, PrimitiveRef on,

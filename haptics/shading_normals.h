@@ -33,6 +33,16 @@ class ShadingNormals {
   static ShadingNormals build(const MeshDatabase& mesh, double crease_angle_rad,
                               std::span<const uint8_t> face_shaded = {});
 
+  /// After the mesh deformed (MeshDatabase::set_positions): recomputes the corner normals at
+  /// `vertices` — those whose normal may have changed, i.e. every vertex of a face that moved
+  /// (MeshUpdateScratch::dirty_vertices) — from the deformed faces, by build()'s rule: a vertex
+  /// smooth at rest has every corner take its angle-weighted vertex normal (what build() gives
+  /// there, and the database has just recomputed); at a crease each corner blends again the
+  /// faces within the crease angle of its own (by their deformed normals); an unshaded face
+  /// keeps its flat normal. So a dented organ feels as smooth as it looks (§6.1 over §6.5).
+  /// No allocation.
+  void update(const MeshDatabase& mesh, std::span<const int32_t> vertices);
+
   /// The shaded unit normal (object frame) at point p on primitive `on` (the point proxy's
   /// contacted primitive). Falls back to the primitive's own normal where it is not smooth.
   [[nodiscard]] Eigen::Vector3d normal(const MeshDatabase& mesh, PrimitiveRef on,
@@ -44,10 +54,15 @@ class ShadingNormals {
   [[nodiscard]] bool shaded(int32_t f) const { return shaded_[f] != 0; }
 
  private:
+  // The normal of corner v of face f blended over the faces at v in f's smoothing group.
+  [[nodiscard]] Eigen::Vector3d blended_corner(const MeshDatabase& mesh, int32_t f,
+                                               int32_t v) const;
+
   std::vector<std::array<Eigen::Vector3d, 3>> corners_;  // per face, per corner
   std::vector<uint8_t> shaded_;
   std::vector<uint8_t> smooth_vertex_;  // every corner at the vertex shaded and equal
   std::vector<uint8_t> smooth_edge_;    // both faces shaded, same corner normals at both ends
+  double cos_crease_ = 1.0;
 };
 
 /// Figure 6-3: the penetration vector to use with the force law when shading is on. `depth` is

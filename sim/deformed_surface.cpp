@@ -38,9 +38,12 @@ std::span<const int32_t> DeformedSurface::apply(const SurfaceDeformation& d) noe
 }
 
 void DeformedSurface::apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
-                               haptics::MeshUpdateScratch* scratch) noexcept {
+                               haptics::MeshUpdateScratch* scratch,
+                               haptics::ShadingNormals* shading) noexcept {
   const std::span<const int32_t> changed = apply(d);
-  if (!changed.empty()) db->set_positions(positions_, changed, scratch);
+  if (changed.empty()) return;
+  db->set_positions(positions_, changed, scratch);
+  if (shading != nullptr) shading->update(*db, scratch->dirty_vertices);
 }
 
 }  // namespace lap::sim

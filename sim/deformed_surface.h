@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
+#include "haptics/shading_normals.h"
 
 namespace lap::sim {
 
@@ -30,10 +31,12 @@ class DeformedSurface {
   /// changed, valid until the next call; a deformation naming a vertex out of range is ignored
   /// for that vertex.
   std::span<const int32_t> apply(const SurfaceDeformation& d) noexcept;
-  /// apply(), then the database takes up what changed (local refit, no allocation): what the
-  /// haptic loop does with each new snapshot.
+  /// apply(), then the database takes up what changed (local refit, no allocation), and the
+  /// force-shading normals, if any, follow the deformed faces: what the haptic loop does with
+  /// each new snapshot.
   void apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
-                haptics::MeshUpdateScratch* scratch) noexcept;
+                haptics::MeshUpdateScratch* scratch,
+                haptics::ShadingNormals* shading = nullptr) noexcept;
   [[nodiscard]] std::span<const Eigen::Vector3d> positions() const { return positions_; }
 
  private:

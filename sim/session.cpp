@@ -237,7 +237,8 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     // (the update costs in proportion to what moved, not to the mesh).
     applied_model_steps_ = model.steps;
     for (size_t o = 0; o < dbs_.size() && o < model.organs.size(); ++o) {
-      deformed_[o].apply_to(model.organs[o], dbs_[o].get(), scratch_[o].get());
+      deformed_[o].apply_to(model.organs[o], dbs_[o].get(), scratch_[o].get(),
+                            surfaces_[o].shading.get());
     }
   }
   HapticSnapshot& snap = to_model_.write_slot();

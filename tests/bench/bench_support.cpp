@@ -38,7 +38,7 @@ double timer_overhead_ns() {
   return overhead;
 }
 
-void StepTimer::report(benchmark::State& state) {
+void StepTimer::report(benchmark::State& state, const std::string& prefix) {
   if (count_ == 0) return;
   std::vector<double> s(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(count_));
   const double overhead = timer_overhead_ns();
@@ -47,9 +47,9 @@ void StepTimer::report(benchmark::State& state) {
     std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(k), s.end());
     return std::max(0.0, s[k] - overhead);
   };
-  state.counters["median_ns"] = quantile(0.5);
-  state.counters["p99_ns"] = quantile(0.99);
-  state.counters["p999_ns"] = quantile(0.999);
+  state.counters[prefix + "median_ns"] = quantile(0.5);
+  state.counters[prefix + "p99_ns"] = quantile(0.99);
+  state.counters[prefix + "p999_ns"] = quantile(0.999);
   state.counters["timer_overhead_ns"] = overhead;
 }
 

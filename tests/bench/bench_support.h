@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "haptics/mesh_database.h"
@@ -28,8 +29,9 @@ class StepTimer {
       samples_[count_++] = std::chrono::duration<double, std::nano>(t1 - t0_).count();
     }
   }
-  /// Sets median_ns, p99_ns and p999_ns counters (timer overhead subtracted).
-  void report(benchmark::State& state);
+  /// Sets median_ns, p99_ns and p999_ns counters (timer overhead subtracted), their names
+  /// prefixed by `prefix` (for a second timer in the same benchmark).
+  void report(benchmark::State& state, const std::string& prefix = "");
 
  private:
   std::vector<double> samples_;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -141,6 +142,52 @@ TEST(ForceShading, FlatEndsKeepTheirEdge) {
   ASSERT_EQ(out.contact_count, 1);
   EXPECT_NEAR(out.force_W.normalized().y(), 0.0, 1e-9);
   EXPECT_GT(out.force_W.x(), 0.0);
+}
+
+// A dent (§6.5) changes the normals the shading blends: after the update the corner normals are
+// those a build over the dented surface gives (the brute-force reference), across the rim's
+// crease and the edge of a region with shading switched off.
+TEST(ForceShading, ADentedSurfaceIsShadedLikeItsDeformedShape) {
+  MeshDatabase mesh = MeshDatabase::build(make_cylinder(kR, kLength, 2 * kSlices, 12));
+  std::vector<uint8_t> shaded(static_cast<size_t>(mesh.face_count()), 1);
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    const auto& v = mesh.face_vertices(f);
+    const double z = (mesh.position(v[0]) + mesh.position(v[1]) + mesh.position(v[2])).z();
+    if (z < -1e-9) shaded[static_cast<size_t>(f)] = 0;  // the back half: flat polygons
+  }
+  const double crease = 30.0 * kPi / 180.0;
+  ShadingNormals shading = ShadingNormals::build(mesh, crease, shaded);
+  const ShadingNormals at_rest = shading;
+  MeshUpdateScratch scratch(mesh);
+  // Pressed in 1.5 mm at the rim, where the side meets the flat top and the shaded half meets
+  // the flat one; linear profile over 12 mm.
+  const Eigen::Vector3d centre(kR, kLength, 0.0);
+  std::vector<Eigen::Vector3d> positions(static_cast<size_t>(mesh.vertex_count()));
+  std::vector<int32_t> moved;
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Vector3d& p = mesh.position(v);
+    const double d = (p - centre).norm();
+    positions[static_cast<size_t>(v)] = p;
+    if (d >= 0.012) continue;
+    positions[static_cast<size_t>(v)] += (0.012 - d) / 0.012 * Eigen::Vector3d(-0.0015, -0.0005, 0);
+    moved.push_back(v);
+  }
+  ASSERT_GT(moved.size(), 20U);
+  mesh.set_positions(positions, moved, &scratch);
+  shading.update(mesh, scratch.dirty_vertices);
+  const ShadingNormals reference = ShadingNormals::build(mesh, crease, shaded);
+  double worst = 0.0;
+  double stale = 0.0;
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& want = reference.corner_normals(f)[static_cast<size_t>(k)];
+      worst = std::max(worst, (shading.corner_normals(f)[static_cast<size_t>(k)] - want).norm());
+      stale = std::max(stale, (at_rest.corner_normals(f)[static_cast<size_t>(k)] - want).norm());
+    }
+  }
+  std::printf("dented shading: worst corner error %.2e, the rest shape's %.3f\n", worst, stale);
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(stale, 0.05);  // the dent did change them: the test can tell
 }
 
 TEST(ForceShading, RegionSwitchedOffFeelsLikeFlatPolygons) {
