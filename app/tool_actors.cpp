@@ -1,6 +1,7 @@
 #include "app/tool_actors.h"
 
 #include <vtkCellArray.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
@@ -60,29 +61,48 @@ void SessionActors::add_to(vtkRenderer* renderer,
 void SessionActors::add_organs(vtkRenderer* renderer,
                                const std::vector<const haptics::TriangleMesh*>& surfaces,
                                const std::vector<Eigen::Vector3d>& colours) {
-  organ_points_.clear();
-  organ_surfaces_.clear();
+  organs_.clear();
   organ_steps_ = 0;
   for (size_t i = 0; i < surfaces.size() && i < colours.size(); ++i) {
     const double rgb[3] = {colours[i].x(), colours[i].y(), colours[i].z()};
     vtkSmartPointer<vtkActor> actor = make_mesh_actor(*surfaces[i], rgb);
     renderer->AddActor(actor);
-    organ_points_.emplace_back(
-        vtkPolyData::SafeDownCast(actor->GetMapper()->GetInput())->GetPoints());
-    organ_surfaces_.emplace_back(surfaces[i]->positions);
+    OrganActor a{
+        vtkPolyData::SafeDownCast(actor->GetMapper()->GetInput()),
+        vtkSmartPointer<vtkFloatArray>::New(),
+        std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(*surfaces[i])),
+        nullptr, sim::DeformedSurface(surfaces[i]->positions)};
+    a.scratch = std::make_unique<haptics::MeshUpdateScratch>(*a.db);
+    // The database's vertex normals from the start, so a dent's normals match their
+    // surroundings' (a mesh file's own normals may be computed otherwise).
+    a.normals->SetNumberOfComponents(3);
+    a.normals->SetNumberOfTuples(a.db->vertex_count());
+    a.normals->SetName("Normals");
+    for (int32_t v = 0; v < a.db->vertex_count(); ++v) {
+      const Eigen::Vector3d& n = a.db->vertex_normal(v);
+      a.normals->SetTuple3(v, n.x(), n.y(), n.z());
+    }
+    a.poly->GetPointData()->SetNormals(a.normals);
+    organs_.push_back(std::move(a));
   }
 }
 
 void SessionActors::update(const sim::HapticSnapshot& haptic, const sim::ModelSnapshot& model) {
   if (model.steps != organ_steps_) {
     organ_steps_ = model.steps;
-    for (size_t o = 0; o < organ_points_.size() && o < model.organs.size(); ++o) {
-      const std::span<const int32_t> changed = organ_surfaces_[o].apply(model.organs[o]);
-      for (const int32_t v : changed) {
-        const Eigen::Vector3d& p = organ_surfaces_[o].positions()[static_cast<size_t>(v)];
-        organ_points_[o]->SetPoint(v, p.x(), p.y(), p.z());
+    for (size_t o = 0; o < organs_.size() && o < model.organs.size(); ++o) {
+      OrganActor& a = organs_[o];
+      if (!a.surface.apply_to(model.organs[o], a.db.get(), a.scratch.get())) continue;
+      // Every vertex whose normal the update recomputed (the moved ones among them).
+      vtkPoints* points = a.poly->GetPoints();
+      for (const int32_t v : a.scratch->dirty_vertices) {
+        const Eigen::Vector3d& p = a.db->position(v);
+        const Eigen::Vector3d& n = a.db->vertex_normal(v);
+        points->SetPoint(v, p.x(), p.y(), p.z());
+        a.normals->SetTuple3(v, n.x(), n.y(), n.z());
       }
-      if (!changed.empty()) organ_points_[o]->Modified();
+      points->Modified();
+      a.normals->Modified();
     }
   }
   if (haptic.tick >= 0) {
@@ -98,7 +118,7 @@ void SessionActors::update(const sim::HapticSnapshot& haptic, const sim::ModelSn
     }
   }
   const auto n = static_cast<vtkIdType>(model.catheter.size());
-  if (n == catheter_points_->GetNumberOfPoints()) {
+  if (catheter_points_ != nullptr && n == catheter_points_->GetNumberOfPoints()) {
     for (vtkIdType k = 0; k < n; ++k) {
       const Eigen::Vector3d& p = model.catheter[static_cast<size_t>(k)];
       catheter_points_->SetPoint(k, p.x(), p.y(), p.z());

@@ -37,13 +37,14 @@ std::span<const int32_t> DeformedSurface::apply(const SurfaceDeformation& d) noe
   return changed_;
 }
 
-void DeformedSurface::apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
+bool DeformedSurface::apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
                                haptics::MeshUpdateScratch* scratch,
                                haptics::ShadingNormals* shading) noexcept {
   const std::span<const int32_t> changed = apply(d);
-  if (changed.empty()) return;
+  if (changed.empty()) return false;
   db->set_positions(positions_, changed, scratch);
   if (shading != nullptr) shading->update(*db, scratch->dirty_vertices);
+  return true;
 }
 
 }  // namespace lap::sim

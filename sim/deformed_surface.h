@@ -33,8 +33,9 @@ class DeformedSurface {
   std::span<const int32_t> apply(const SurfaceDeformation& d) noexcept;
   /// apply(), then the database takes up what changed (local refit, no allocation), and the
   /// force-shading normals, if any, follow the deformed faces: what the haptic loop does with
-  /// each new snapshot.
-  void apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
+  /// each new snapshot. Returns whether anything changed (then the scratch's dirty_vertices
+  /// are the vertices whose normals were recomputed).
+  bool apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
                 haptics::MeshUpdateScratch* scratch,
                 haptics::ShadingNormals* shading = nullptr) noexcept;
   [[nodiscard]] std::span<const Eigen::Vector3d> positions() const { return positions_; }
