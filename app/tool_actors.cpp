@@ -92,7 +92,8 @@ void SessionActors::update(const sim::HapticSnapshot& haptic, const sim::ModelSn
     organ_steps_ = model.steps;
     for (size_t o = 0; o < organs_.size() && o < model.organs.size(); ++o) {
       OrganActor& a = organs_[o];
-      if (!a.surface.apply_to(model.organs[o], a.db.get(), a.scratch.get())) continue;
+      if (!a.surface.apply_to(model.organs[o], {.db = a.db.get(), .scratch = a.scratch.get()}))
+        continue;
       // Every vertex whose normal the update recomputed (the moved ones among them).
       vtkPoints* points = a.poly->GetPoints();
       for (const int32_t v : a.scratch->dirty_vertices) {

@@ -35,6 +35,38 @@ inline float above(double x) {
 
 }  // namespace
 
+BoundingVolumeTree::PartialRefit::PartialRefit(const BoundingVolumeTree& tree)
+    : stamp(tree.nodes_.size(), 0), parent(tree.nodes_.size(), -1), depth(tree.nodes_.size(), 0) {
+  nodes.reserve(tree.nodes_.size());
+  order.reserve(tree.nodes_.size());
+  int32_t primitives = 0;
+  for (const BvhNode& n : tree.nodes_) primitives += n.count;
+  leaf_of.assign(static_cast<size_t>(primitives), -1);
+  for (size_t i = 0; i < tree.nodes_.size(); ++i) {
+    const BvhNode& n = tree.nodes_[i];
+    if (n.count > 0) {
+      for (int32_t k = n.first; k < n.first + n.count; ++k) {
+        leaf_of[static_cast<size_t>(k)] = static_cast<int32_t>(i);
+      }
+    } else {
+      parent[i + 1] = static_cast<int32_t>(i);
+      parent[static_cast<size_t>(n.first)] = static_cast<int32_t>(i);
+    }
+  }
+  // Parents come before their children in the layout, so one pass sets every depth.
+  for (size_t i = 1; i < tree.nodes_.size(); ++i) {
+    depth[i] = static_cast<uint8_t>(depth[static_cast<size_t>(parent[i])] + 1);
+  }
+}
+
+void BoundingVolumeTree::PartialRefit::begin() {
+  nodes.clear();
+  if (++epoch == 0) {  // wrapped: old stamps could collide
+    std::fill(stamp.begin(), stamp.end(), 0U);
+    epoch = 1;
+  }
+}
+
 void BoundingVolumeTree::set_box(BvhNode& node, const Eigen::AlignedBox3d& box) {
   for (int a = 0; a < 3; ++a) {
     node.lo[a] = below(box.min()[a]);

@@ -92,32 +92,49 @@ class BoundingVolumeTree {
     }
   }
 
-  /// The parent of every node (-1 for the root) and the leaf of every primitive (tree order):
-  /// what a caller of refit_nodes() walks. Setup (allocates).
-  void topology(std::vector<int32_t>* parent, std::vector<int32_t>* leaf_of) const {
-    parent->assign(nodes_.size(), -1);
-    int32_t primitives = 0;
-    for (const BvhNode& n : nodes_) primitives += n.count;
-    leaf_of->assign(static_cast<size_t>(primitives), -1);
-    for (size_t i = 0; i < nodes_.size(); ++i) {
-      const BvhNode& n = nodes_[i];
-      if (n.count > 0) {
-        for (int32_t k = n.first; k < n.first + n.count; ++k)
-          (*leaf_of)[k] = static_cast<int32_t>(i);
-      } else {
-        (*parent)[i + 1] = static_cast<int32_t>(i);
-        (*parent)[n.first] = static_cast<int32_t>(i);
+  /// A local refit (§6.5: a dent moves a few primitives): mark() the primitives that moved,
+  /// then refit_marked() recomputes their leaves and those leaves' ancestors, each once,
+  /// children first. Equal to refit() whenever the unmarked primitives did not move. The
+  /// workspace is sized once for its tree (setup); marking and refitting allocate nothing.
+  struct PartialRefit {
+    explicit PartialRefit(const BoundingVolumeTree& tree);
+    /// Starts a new set of marks.
+    void begin();
+    /// Marks primitive k (tree order): its leaf and every ancestor not yet marked.
+    void mark(int32_t k) {
+      for (int32_t i = leaf_of[static_cast<size_t>(k)];
+           i >= 0 && stamp[static_cast<size_t>(i)] != epoch; i = parent[static_cast<size_t>(i)]) {
+        stamp[static_cast<size_t>(i)] = epoch;
+        nodes.push_back(i);
       }
     }
-  }
+    uint32_t epoch = 0;
+    std::vector<uint32_t> stamp;   // per node: marked in this epoch
+    std::vector<int32_t> nodes;    // marked nodes (reserved: every node)
+    std::vector<int32_t> parent;   // per node, -1 for the root
+    std::vector<int32_t> leaf_of;  // per primitive (tree order)
+    std::vector<uint8_t> depth;    // per node (the root: 0)
+    std::vector<int32_t> order;    // the marked nodes, deepest first (reserved: every node)
+    std::array<int32_t, kMaxDepth + 2> per_depth{};
+  };
 
-  /// Refits the given nodes only (a local deformation, §6.5): `nodes` must hold every leaf whose
-  /// primitives moved and all their ancestors, in decreasing index order — children come after
-  /// their parent in the layout, so each node is recomputed once, after its children. Equal to
-  /// refit() whenever the other leaves' primitives did not move. No allocation.
+  /// Refits the nodes marked in `r` (see PartialRefit); extend as for refit(). No allocation.
   template <typename Extend>
-  void refit_nodes(std::span<const int32_t> nodes, const Extend& extend) {
-    for (const int32_t i : nodes) {
+  void refit_marked(PartialRefit* r, const Extend& extend) {
+    // Deepest first puts every child before its parent: a counting sort by depth, O(marked).
+    r->per_depth.fill(0);
+    for (const int32_t i : r->nodes) ++r->per_depth[r->depth[static_cast<size_t>(i)]];
+    int32_t start = 0;
+    for (int d = kMaxDepth + 1; d >= 0; --d) {
+      const int32_t n = r->per_depth[static_cast<size_t>(d)];
+      r->per_depth[static_cast<size_t>(d)] = start;
+      start += n;
+    }
+    r->order.resize(r->nodes.size());  // within the reserved capacity
+    for (const int32_t i : r->nodes) {
+      r->order[static_cast<size_t>(r->per_depth[r->depth[static_cast<size_t>(i)]]++)] = i;
+    }
+    for (const int32_t i : r->order) {
       BvhNode& node = nodes_[static_cast<size_t>(i)];
       if (node.count > 0) {
         double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};

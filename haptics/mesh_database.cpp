@@ -322,12 +322,10 @@ MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
     : face_stamp(static_cast<size_t>(db.face_count()), 0),
       vertex_stamp(static_cast<size_t>(db.vertex_count()), 0),
       moved_stamp(static_cast<size_t>(db.vertex_count()), 0),
-      node_stamp(db.tree().nodes().size(), 0),
-      normal_sum(static_cast<size_t>(db.vertex_count()), Eigen::Vector3d::Zero()) {
+      normal_sum(static_cast<size_t>(db.vertex_count()), Eigen::Vector3d::Zero()),
+      tree(db.tree()) {
   dirty_faces.reserve(static_cast<size_t>(db.face_count()));
   dirty_vertices.reserve(static_cast<size_t>(db.vertex_count()));
-  dirty_nodes.reserve(db.tree().nodes().size());
-  db.tree().topology(&parent, &leaf_of);
 }
 
 void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
@@ -336,7 +334,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   for (int32_t v : moved) positions_[v] = positions[v];
   ++revision_;
   if (++s->epoch == 0) {  // wrapped: old stamps could collide
-    for (auto* stamps : {&s->face_stamp, &s->vertex_stamp, &s->moved_stamp, &s->node_stamp}) {
+    for (auto* stamps : {&s->face_stamp, &s->vertex_stamp, &s->moved_stamp}) {
       std::fill(stamps->begin(), stamps->end(), 0U);
     }
     s->epoch = 1;
@@ -379,17 +377,10 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
     }
     vertex_normals_[w] = unit_or_up(s->normal_sum[w]);
   }
-  // The tree: the leaves holding those faces and their ancestors, each once, children first
-  // (a child's index is larger than its parent's).
-  s->dirty_nodes.clear();
-  for (int32_t f : s->dirty_faces) {
-    for (int32_t i = s->leaf_of[f]; i >= 0 && s->node_stamp[i] != epoch; i = s->parent[i]) {
-      s->node_stamp[i] = epoch;
-      s->dirty_nodes.push_back(i);
-    }
-  }
-  std::sort(s->dirty_nodes.begin(), s->dirty_nodes.end(), std::greater<>());
-  tree_.refit_nodes(s->dirty_nodes, [this](int32_t f, double* lo, double* hi) {
+  // The tree: the leaves holding those faces and their ancestors, each once.
+  s->tree.begin();
+  for (int32_t f : s->dirty_faces) s->tree.mark(f);
+  tree_.refit_marked(&s->tree, [this](int32_t f, double* lo, double* hi) {
     for (int32_t v : face_vertices_[f]) {
       const Eigen::Vector3d& p = positions_[v];
       for (int a = 0; a < 3; ++a) {

@@ -47,7 +47,7 @@ class MeshDatabase;
 
 /// Workspace of MeshDatabase::set_positions(positions, moved, scratch) for one database: stamps
 /// that mark what a set of moved vertices touches (each visited once), the touched vertices'
-/// normal sums, and the tree's parent/leaf maps. Sized at setup; kept by whoever deforms the
+/// normal sums, and the tree's partial refit. Sized at setup; kept by whoever deforms the
 /// database (not in the database, which the haptic loop reads).
 struct MeshUpdateScratch {
   explicit MeshUpdateScratch(const MeshDatabase& db);
@@ -55,14 +55,11 @@ struct MeshUpdateScratch {
   std::vector<uint32_t> face_stamp;         // n_f
   std::vector<uint32_t> vertex_stamp;       // n_v: a vertex of a touched face
   std::vector<uint32_t> moved_stamp;        // n_v: a moved vertex (its whole fan is touched)
-  std::vector<uint32_t> node_stamp;         // tree nodes
   std::vector<int32_t> dirty_faces;         // reserved n_f
   std::vector<int32_t> dirty_vertices;      // reserved n_v; after set_positions(): the vertices
                                             // whose normals it recomputed
-  std::vector<int32_t> dirty_nodes;         // reserved (nodes)
   std::vector<Eigen::Vector3d> normal_sum;  // n_v: angle-weighted sum, touched vertices
-  std::vector<int32_t> parent;              // per tree node
-  std::vector<int32_t> leaf_of;             // per face (tree order)
+  BoundingVolumeTree::PartialRefit tree;    // the face tree's local refit
 };
 
 class MeshDatabase {

@@ -190,6 +190,35 @@ void SegmentDatabase::refit_edge_tree() {
   });
 }
 
+void SegmentDatabase::refit_edge_tree(std::span<const int32_t> moved_faces,
+                                      SegmentUpdateScratch* s) {
+  const MeshDatabase& mesh = *mesh_;
+  s->tree.begin();
+  for (const int32_t f : moved_faces) {
+    for (const int32_t e : mesh.face_edges(f)) {
+      const int32_t k = s->slot[static_cast<size_t>(e)];
+      if (k >= 0) s->tree.mark(k);
+    }
+  }
+  edge_tree_.refit_marked(&s->tree, [&](int32_t k, double* lo, double* hi) {
+    for (int32_t v : mesh.edge_vertices(tree_edges_[k])) {
+      const Eigen::Vector3d& p = mesh.position(v);
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
+    }
+  });
+}
+
+SegmentUpdateScratch::SegmentUpdateScratch(const SegmentDatabase& db)
+    : slot(static_cast<size_t>(db.mesh().edge_count()), -1), tree(db.edge_tree()) {
+  const std::span<const int32_t> edges = db.tree_edges();
+  for (size_t k = 0; k < edges.size(); ++k) {
+    slot[static_cast<size_t>(edges[k])] = static_cast<int32_t>(k);
+  }
+}
+
 double SegmentDatabase::face_crossing(int32_t f, const Eigen::Vector3d& p0,
                                       const Eigen::Vector3d& p1) const {
   const MeshDatabase& mesh = *mesh_;

@@ -98,8 +98,14 @@ class SegmentDatabase {
 
   /// Recomputes the edge tree's boxes after the mesh moved (topology and convexity kept).
   void refit_edge_tree();
+  /// The same after a local deformation: only the edges of `moved_faces` — every face with a
+  /// moved vertex, so every edge that moved (MeshUpdateScratch::dirty_faces after the mesh's
+  /// set_positions) — and their leaves' ancestors. Equal to refit_edge_tree(). No allocation.
+  void refit_edge_tree(std::span<const int32_t> moved_faces, struct SegmentUpdateScratch* s);
 
   [[nodiscard]] const BoundingVolumeTree& edge_tree() const { return edge_tree_; }
+  /// The mesh edge in each slot of the edge tree (tree order).
+  [[nodiscard]] std::span<const int32_t> tree_edges() const { return tree_edges_; }
   [[nodiscard]] size_t memory_bytes() const;
 
  private:
@@ -115,6 +121,13 @@ class SegmentDatabase {
   std::vector<uint8_t> contactable_;
   std::vector<int32_t> tree_edges_;  // edge index of each edge-tree slot
   BoundingVolumeTree edge_tree_;
+};
+
+/// Workspace of SegmentDatabase::refit_edge_tree(moved_faces, scratch), sized at setup.
+struct SegmentUpdateScratch {
+  explicit SegmentUpdateScratch(const SegmentDatabase& db);
+  std::vector<int32_t> slot;  // per mesh edge: its place in the edge tree, -1 if not contactable
+  BoundingVolumeTree::PartialRefit tree;
 };
 
 }  // namespace lap::haptics

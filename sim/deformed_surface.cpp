@@ -37,13 +37,12 @@ std::span<const int32_t> DeformedSurface::apply(const SurfaceDeformation& d) noe
   return changed_;
 }
 
-bool DeformedSurface::apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
-                               haptics::MeshUpdateScratch* scratch,
-                               haptics::ShadingNormals* shading) noexcept {
+bool DeformedSurface::apply_to(const SurfaceDeformation& d, const Targets& t) noexcept {
   const std::span<const int32_t> changed = apply(d);
   if (changed.empty()) return false;
-  db->set_positions(positions_, changed, scratch);
-  if (shading != nullptr) shading->update(*db, scratch->dirty_vertices);
+  t.db->set_positions(positions_, changed, t.scratch);
+  if (t.segments != nullptr) t.segments->refit_edge_tree(t.scratch->dirty_faces, t.segment_scratch);
+  if (t.shading != nullptr) t.shading->update(*t.db, t.scratch->dirty_vertices);
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
+#include "haptics/segment_database.h"
 #include "haptics/shading_normals.h"
 
 namespace lap::sim {
@@ -31,13 +32,20 @@ class DeformedSurface {
   /// changed, valid until the next call; a deformation naming a vertex out of range is ignored
   /// for that vertex.
   std::span<const int32_t> apply(const SurfaceDeformation& d) noexcept;
-  /// apply(), then the database takes up what changed (local refit, no allocation), and the
-  /// force-shading normals, if any, follow the deformed faces: what the haptic loop does with
-  /// each new snapshot. Returns whether anything changed (then the scratch's dirty_vertices
-  /// are the vertices whose normals were recomputed).
-  bool apply_to(const SurfaceDeformation& d, haptics::MeshDatabase* db,
-                haptics::MeshUpdateScratch* scratch,
-                haptics::ShadingNormals* shading = nullptr) noexcept;
+  /// What a reader keeps in step with the surface: the database (required) and its workspace,
+  /// and optionally the segment database's edge tree (ray-based rendering, §5.2) and the
+  /// force-shading normals (§6.1).
+  struct Targets {
+    haptics::MeshDatabase* db = nullptr;
+    haptics::MeshUpdateScratch* scratch = nullptr;
+    haptics::SegmentDatabase* segments = nullptr;
+    haptics::SegmentUpdateScratch* segment_scratch = nullptr;
+    haptics::ShadingNormals* shading = nullptr;
+  };
+  /// apply(), then the targets take up what changed (local refits, no allocation): what the
+  /// haptic loop does with each new snapshot. Returns whether anything changed (then the
+  /// scratch's dirty_vertices are the vertices whose normals were recomputed).
+  bool apply_to(const SurfaceDeformation& d, const Targets& t) noexcept;
   [[nodiscard]] std::span<const Eigen::Vector3d> positions() const { return positions_; }
 
  private:

@@ -145,6 +145,7 @@ std::unique_ptr<Session> Session::create(
     s->surfaces_.push_back(build_organ_surface(scene.organs[i], *s->dbs_.back()));
     s->deformed_.emplace_back(s->world_->surface(organ).positions);
     s->scratch_.push_back(std::make_unique<haptics::MeshUpdateScratch>(*s->dbs_.back()));
+    s->segment_scratch_.push_back(std::make_unique<haptics::SegmentUpdateScratch>(*s->sds_.back()));
   }
   for (size_t i = 0; i < scene.organs.size(); ++i) {
     haptics::HapticObject o;
@@ -237,8 +238,11 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     // (the update costs in proportion to what moved, not to the mesh).
     applied_model_steps_ = model.steps;
     for (size_t o = 0; o < dbs_.size() && o < model.organs.size(); ++o) {
-      deformed_[o].apply_to(model.organs[o], dbs_[o].get(), scratch_[o].get(),
-                            surfaces_[o].shading.get());
+      deformed_[o].apply_to(model.organs[o], {.db = dbs_[o].get(),
+                                              .scratch = scratch_[o].get(),
+                                              .segments = sds_[o].get(),
+                                              .segment_scratch = segment_scratch_[o].get(),
+                                              .shading = surfaces_[o].shading.get()});
     }
   }
   HapticSnapshot& snap = to_model_.write_slot();

@@ -199,6 +199,7 @@ class Session {
   // The haptic thread's copies of the deformed surfaces, and what its databases last took up.
   std::vector<DeformedSurface> deformed_;
   std::vector<std::unique_ptr<haptics::MeshUpdateScratch>> scratch_;
+  std::vector<std::unique_ptr<haptics::SegmentUpdateScratch>> segment_scratch_;
   int64_t applied_model_steps_ = 0;
 
   // Exchange (each buffer: one writer, one reader).

@@ -9,6 +9,7 @@
 #include "haptics/corner_angle.h"
 #include "haptics/mesh_generators.h"
 #include "haptics/mesh_repair.h"
+#include "haptics/segment_database.h"
 #include "haptics/segment_triangle.h"
 
 namespace lap::haptics {
@@ -206,13 +207,17 @@ TEST(BoundingVolumeTree, RefitAfterDeformationAnswersLikeARebuild) {
 // A local deformation (§6.5) through the workspace touches each face, vertex and tree node once,
 // and must leave what the plain update leaves: positions and face normals bit for bit, vertex
 // normals to rounding (the workspace sums each fan in another order), and tree boxes equal to a
-// full refit's.
-// A closed mesh, and an open one (its rim vertices' fans end at the boundary).
+// full refit's; the segment database's edge tree, refitted from the moved faces alone, equal to
+// its full refit too. A closed mesh, and an open one (its rim vertices' fans end at the boundary).
 TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
   for (const TriangleMesh& m : {make_uv_sphere(0.05, 40, 80), make_bowl(0.05, 20, 80)}) {
     MeshDatabase local = MeshDatabase::build(m);
     MeshDatabase plain = MeshDatabase::build(m);
     MeshUpdateScratch scratch(local);
+    SegmentDatabase local_edges = SegmentDatabase::build(local);
+    SegmentDatabase plain_edges = SegmentDatabase::build(plain);
+    SegmentUpdateScratch edge_scratch(local_edges);
+    ASSERT_GT(local_edges.contactable_edge_count(), 0);
     std::vector<Eigen::Vector3d> positions = m.positions;
     std::mt19937 rng(2);
     std::uniform_int_distribution<int32_t> pick(0, local.vertex_count() - 1);
@@ -229,6 +234,8 @@ TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
       }
       local.set_positions(positions, moved, &scratch);
       plain.set_positions(positions, moved);
+      local_edges.refit_edge_tree(scratch.dirty_faces, &edge_scratch);
+      plain_edges.refit_edge_tree();
       for (int32_t v = 0; v < local.vertex_count(); ++v) {
         ASSERT_LT((local.vertex_normal(v) - plain.vertex_normal(v)).norm(), 1e-14)
             << "round " << round << " v " << v;
@@ -247,6 +254,13 @@ TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
       for (size_t i = 0; i < a.size(); ++i) {
         ASSERT_EQ(a[i].lo, b[i].lo) << "round " << round << " node " << i;
         ASSERT_EQ(a[i].hi, b[i].hi) << "round " << round << " node " << i;
+      }
+      const auto& ea = local_edges.edge_tree().nodes();
+      const auto& eb = plain_edges.edge_tree().nodes();
+      ASSERT_EQ(ea.size(), eb.size());
+      for (size_t i = 0; i < ea.size(); ++i) {
+        ASSERT_EQ(ea[i].lo, eb[i].lo) << "round " << round << " edge node " << i;
+        ASSERT_EQ(ea[i].hi, eb[i].hi) << "round " << round << " edge node " << i;
       }
       EXPECT_EQ(local.revision(), plain.revision());
     }
