@@ -39,6 +39,13 @@ class SegmentDatabase {
   static SegmentDatabase build(const MeshDatabase& mesh, const SegmentDatabaseSettings& s = {});
 
   [[nodiscard]] const MeshDatabase& mesh() const { return *mesh_; }
+  /// A copy of this database for a copy of its mesh: `mesh` must have the same topology and
+  /// positions as the one this was built on (a copy of it). Setup (allocates).
+  [[nodiscard]] SegmentDatabase copy_for(const MeshDatabase& mesh) const {
+    SegmentDatabase c = *this;
+    c.mesh_ = &mesh;
+    return c;
+  }
 
   // --- neighbours (Figure 5-5) ---
   /// The faces across face f's three edges (-1 across a boundary edge).

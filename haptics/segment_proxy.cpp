@@ -315,7 +315,7 @@ bool SegmentProxy::cache_covers(std::span<const HapticObject> objects, const Eig
   for (int32_t k = 0; k < c.object_count; ++k) {
     const HapticObject& o = objects[k];
     if (o.segments == nullptr) continue;
-    if (o.segments->mesh().revision() != c.revisions[k] ||
+    if (&o.segments->mesh() != c.meshes[k] || o.segments->mesh().revision() != c.revisions[k] ||
         o.pose_WO.matrix().topRows<3>() != c.poses[k]) {
       return false;
     }
@@ -392,6 +392,7 @@ bool SegmentProxy::fill_cache(std::span<const HapticObject> objects, const Eigen
     }
     c.poses[k] = o.pose_WO.matrix().topRows<3>();
     c.revisions[k] = m.revision();
+    c.meshes[k] = &m;
   }
   c.a = a;
   c.b = b;

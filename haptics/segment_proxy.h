@@ -209,6 +209,9 @@ class SegmentProxy {
     int32_t object_count = 0;
     std::array<Eigen::Matrix<double, 3, 4>, kCacheObjects> poses{};
     std::array<uint64_t, kCacheObjects> revisions{};
+    // Which database each object's edges came from: with its revision, what identifies the
+    // geometry (the session passes the proxies one of several copies of a deforming organ).
+    std::array<const MeshDatabase*, kCacheObjects> meshes{};
     std::array<std::array<CachedFace, kCacheFaces>, 2> faces{};  // near a, near b
     std::array<int32_t, 2> face_count{};
     std::array<CachedEdge, kCacheEdges> edges{};

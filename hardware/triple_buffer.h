@@ -13,6 +13,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <utility>
 
 namespace lap::hardware {
 
@@ -25,6 +26,16 @@ class TripleBuffer {
   /// Set-up only (no other thread may use the buffer): every slot set to `value`, nothing fresh.
   void reset(const T& value) {
     slots_ = {value, value, value};
+    middle_.store(1, std::memory_order_relaxed);
+    back_ = 0;
+    front_ = 2;
+  }
+
+  /// Set-up only: the three slots given (for values that are not copied: each slot its own
+  /// object, which the writer brings up to date in place), nothing fresh; the reader holds
+  /// values[2] until the first publish().
+  void reset(std::array<T, 3>&& values) {
+    slots_ = std::move(values);
     middle_.store(1, std::memory_order_relaxed);
     back_ = 0;
     front_ = 2;

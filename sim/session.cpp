@@ -135,26 +135,38 @@ std::unique_ptr<Session> Session::create(
     return fail(sc.file.string() + ": " + e.what());
   }
 
-  // The proxies' databases: the surfaces the tissue world deforms (the duct: its shell).
+  // The proxies' databases: the surfaces the tissue world deforms (the duct: its shell), built
+  // once at rest, then copied three times for the modelling thread to keep up to date and hand
+  // to the haptic thread (haptic_surfaces.h).
+  std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs;
+  std::vector<std::unique_ptr<haptics::SegmentDatabase>> sds;
   for (size_t i = 0; i < scene.organs.size(); ++i) {
-    const auto organ = static_cast<int32_t>(i);
-    s->dbs_.push_back(std::make_unique<haptics::MeshDatabase>(
-        haptics::MeshDatabase::build(s->world_->surface(organ))));
-    s->sds_.push_back(std::make_unique<haptics::SegmentDatabase>(
-        haptics::SegmentDatabase::build(*s->dbs_.back())));
-    s->surfaces_.push_back(build_organ_surface(scene.organs[i], *s->dbs_.back()));
-    s->deformed_.emplace_back(s->world_->surface(organ).positions);
-    s->scratch_.push_back(std::make_unique<haptics::MeshUpdateScratch>(*s->dbs_.back()));
-    s->segment_scratch_.push_back(std::make_unique<haptics::SegmentUpdateScratch>(*s->sds_.back()));
+    dbs.push_back(std::make_unique<haptics::MeshDatabase>(
+        haptics::MeshDatabase::build(s->world_->surface(static_cast<int32_t>(i)))));
+    sds.push_back(
+        std::make_unique<haptics::SegmentDatabase>(haptics::SegmentDatabase::build(*dbs.back())));
+    s->surfaces_.push_back(build_organ_surface(scene.organs[i], *dbs.back()));
+  }
+  {
+    std::vector<const haptics::MeshDatabase*> db_ptrs;
+    std::vector<const haptics::SegmentDatabase*> sd_ptrs;
+    std::vector<const haptics::ShadingNormals*> shading_ptrs;
+    for (size_t i = 0; i < dbs.size(); ++i) {
+      db_ptrs.push_back(dbs[i].get());
+      sd_ptrs.push_back(sds[i].get());
+      shading_ptrs.push_back(s->surfaces_[i].shading.get());
+    }
+    std::array<std::unique_ptr<HapticSurfaces>, 3> copies;
+    for (auto& c : copies) c = std::make_unique<HapticSurfaces>(db_ptrs, sd_ptrs, shading_ptrs);
+    s->surfaces_to_haptic_.reset(std::move(copies));
   }
   for (size_t i = 0; i < scene.organs.size(); ++i) {
     haptics::HapticObject o;
-    o.mesh = s->dbs_[i].get();
-    o.segments = s->sds_[i].get();
     o.two_sided = s->world_->two_sided(static_cast<int32_t>(i));
     s->surfaces_[i].apply(scene.organs[i].material, &o);
     s->objects_.push_back(o);
   }
+  s->surfaces_to_haptic_.read()->point(s->objects_);
 
   // A tissue stiffer than a device renders stably is worth saying before the session starts.
   for (size_t i = 0; i < scene.organs.size(); ++i) {
@@ -233,18 +245,9 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   if (lateness_s > settings_.overrun_periods * dt_) trip(tick, -1, WatchdogReason::kOverrun);
 
   const ModelSnapshot& model = model_to_haptic_.latest();
-  if (model.steps != applied_model_steps_) {
-    // The surfaces the modelling loop deformed since: the proxies feel them from this tick on
-    // (the update costs in proportion to what moved, not to the mesh).
-    applied_model_steps_ = model.steps;
-    for (size_t o = 0; o < dbs_.size() && o < model.organs.size(); ++o) {
-      deformed_[o].apply_to(model.organs[o], {.db = dbs_[o].get(),
-                                              .scratch = scratch_[o].get(),
-                                              .segments = sds_[o].get(),
-                                              .segment_scratch = segment_scratch_[o].get(),
-                                              .shading = surfaces_[o].shading.get()});
-    }
-  }
+  // The surfaces as the modelling loop last deformed them, already refitted there: the proxies
+  // feel them from this tick on.
+  if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
   HapticSnapshot& snap = to_model_.write_slot();
   snap.tick = tick;
   std::array<hardware::DeviceCommand, 2> wanted{};
@@ -293,7 +296,7 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
       // The same for grasped tissue, against the duct's wall as this loop's database has it.
       const models::DuctCoupling c = models::duct_coupling(
           ws.duct_grasp, jaw_frame(k.pose), Eigen::Isometry3d::Identity(),
-          deformed_[static_cast<size_t>(world_->duct_organ())].positions(), duct_grasp);
+          surfaces_to_haptic_.read()->positions(world_->duct_organ()), duct_grasp);
       force += c.force_on_tool_W;
       squeeze = std::max(squeeze, c.squeeze_n);
     }
@@ -385,6 +388,12 @@ void Session::model_tick(int64_t tick) noexcept {
     m.catheter_contacts = world_->catheter_contacts();
     m.deepest_dent_m = world_->deepest_dent_m();
     world_->write_deformations(&m.organs);  // sized at set-up: no allocation
+    if (buf == &model_to_haptic_) {
+      // The proxies' next copy of the surfaces takes up the same deformations here, on this
+      // thread, so the haptic step only switches to it.
+      surfaces_to_haptic_.write_slot()->take_up(m.organs, model_steps_);
+      surfaces_to_haptic_.publish();
+    }
     buf->publish();
   }
 }

@@ -40,6 +40,7 @@
 #include "models/catheter_grasp.h"
 #include "models/catheter_model.h"
 #include "sim/deformed_surface.h"
+#include "sim/haptic_surfaces.h"
 #include "sim/loop_stats.h"
 #include "sim/organ_surface.h"
 #include "sim/scene.h"
@@ -55,8 +56,11 @@ struct RuntimeSettings {
   double duration_s = 10.0;    ///< the session ends here, or when every device has finished
   double resume_ramp_s = 0.5;  ///< forces ramp from 0 to full over this after resume()
   double record_s = -1.0;      ///< inputs kept for this long (reserved at start); < 0: the duration
-  double overrun_periods = 2.0;   ///< a tick later than this many periods trips the watchdog
-  int64_t spin_ns = 50000;        ///< the haptic loop spins this long before its deadline
+  double overrun_periods = 2.0;  ///< a tick later than this many periods trips the watchdog
+  /// The haptic loop sleeps until this long before its deadline, then spins: a thread woken
+  /// from a kernel sleep on these machines is now and then 100-300 µs late, which a 200 µs
+  /// spin absorbs (at the cost of a fifth of a core while the loop runs at 1 kHz).
+  int64_t spin_ns = 200000;
   bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
 };
 
@@ -187,20 +191,15 @@ class Session {
   int64_t max_ticks_ = 0;
 
   // Scene for the proxies.
-  std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs_;
-  std::vector<std::unique_ptr<haptics::SegmentDatabase>> sds_;
-  std::vector<OrganSurface> surfaces_;
+  std::vector<OrganSurface> surfaces_;  // each organ's force law, texture, friction, shading
   std::vector<haptics::HapticObject> objects_;
   std::array<Tool, 2> tools_;
 
   // Models (the modelling thread's own).
   std::unique_ptr<TissueWorld> world_;
   std::array<ToolModelInput, 2> model_input_{};
-  // The haptic thread's copies of the deformed surfaces, and what its databases last took up.
-  std::vector<DeformedSurface> deformed_;
-  std::vector<std::unique_ptr<haptics::MeshUpdateScratch>> scratch_;
-  std::vector<std::unique_ptr<haptics::SegmentUpdateScratch>> segment_scratch_;
-  int64_t applied_model_steps_ = 0;
+  // The proxies' surfaces: three copies, brought up to date by the modelling thread.
+  hardware::TripleBuffer<std::unique_ptr<HapticSurfaces>> surfaces_to_haptic_;
 
   // Exchange (each buffer: one writer, one reader).
   hardware::TripleBuffer<HapticSnapshot> to_model_;

@@ -117,7 +117,7 @@ void BM_SleepLoopBaseline(benchmark::State& state) {
       const int64_t start = sim::monotonic_ns() + period_ns;
       for (int64_t k = 0; k < ticks; ++k) {
         const int64_t deadline = start + k * period_ns;
-        sim::sleep_until_ns(deadline, 50000);
+        sim::sleep_until_ns(deadline, sim::RuntimeSettings{}.spin_ns);
         const double late = static_cast<double>(sim::monotonic_ns() - deadline) * 1e-9;
         stats.add(late, 0.0);
         worst = std::max(worst, late);
