@@ -27,6 +27,7 @@
 #include "sim/scenario_loader.h"
 #include "sim/scene.h"
 #include "sim/session.h"
+#include "sim/session_report.h"
 
 namespace {
 
@@ -296,23 +297,6 @@ int cmd_probe(int argc, char** argv) {
   }
 }
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 bool parse_positive(const std::string& text, double* v) {
   try {
     size_t used = 0;
@@ -385,54 +369,12 @@ int cmd_run(int argc, char** argv) {
     }
     std::cerr << "\n";
   }
-  char hash[32];
-  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(m.state_hash));
-  std::string out = "{\n";
-  out += "  \"scenario\": " + json_string(args.get("--scenario")) + ",\n";
-  out += "  \"mode\": " + std::string(rs.fast ? "\"fast\"" : "\"realtime\"") + ",\n";
-  out += "  \"haptic\": " + m.haptic.to_json() + ",\n";
-  out += "  \"model\": " + m.model.to_json() + ",\n";
-  out += "  \"paused\": " + std::string(m.paused ? "true" : "false") + ",\n";
-  out += "  \"watchdog_events\": [";
-  for (size_t i = 0; i < m.events.size(); ++i) {
-    const auto& e = m.events[i];
-    out += std::string(i > 0 ? ", " : "") + "{\"tick\": " + std::to_string(e.tick) +
-           ", \"tool\": " +
-           json_string(e.tool == 0   ? "left"
-                       : e.tool == 1 ? "right"
-                                     : "haptic loop") +
-           ", \"reason\": " + json_string(std::string(lap::sim::to_string(e.reason))) + "}";
-  }
-  out += "],\n";
-  out += "  \"devices\": {\"left\": " +
-         json_string(std::string(lap::hardware::to_string(m.device_status[0]))) +
-         ", \"right\": " + json_string(std::string(lap::hardware::to_string(m.device_status[1]))) +
-         "},\n";
-  out += "  \"recorded_ticks\": " + std::to_string(m.recorded_ticks) + ",\n";
-  out += "  \"dropped_samples\": " + std::to_string(m.dropped_samples) + ",\n";
-  char force[64];
-  std::snprintf(force, sizeof(force), "%.6g", m.max_force_sent_n);
-  out += "  \"max_force_sent_n\": " + std::string(force) + ",\n";
-  out += "  \"warnings\": [";
-  for (size_t i = 0; i < m.warnings.size(); ++i) {
-    out += std::string(i > 0 ? ", " : "") + json_string(m.warnings[i]);
-  }
-  out += "],\n";
-  out += "  \"state_hash\": \"" + std::string(hash) + "\"\n}\n";
+  const std::string out = lap::sim::metrics_json(m, args.get("--scenario"), rs.fast);
   std::cout << out;
-  if (args.has("--record")) {
-    // The inputs (for replay) and the metrics, side by side.
-    if (!session->write_recording(args.get("--record"), &why)) {
-      std::cerr << "laptrainer-cli run: " << why << "\n";
-      return kExitProblems;
-    }
-    const fs::path metrics = fs::path(args.get("--record")) / "metrics.json";
-    std::ofstream f(metrics);
-    f << out;
-    if (!f) {
-      std::cerr << "laptrainer-cli run: " << metrics.string() << ": cannot write the metrics\n";
-      return kExitProblems;
-    }
+  if (args.has("--record") && !lap::sim::save_session(*session, m, args.get("--scenario"), rs.fast,
+                                                      args.get("--record"), &why)) {
+    std::cerr << "laptrainer-cli run: " << why << "\n";
+    return kExitProblems;
   }
   return kExitOk;
 }

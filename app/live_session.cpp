@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "sim/device_factory.h"
+#include "sim/session_report.h"
 
 namespace lap::app {
 
@@ -23,7 +24,8 @@ bool LiveSession::start(const sim::Scene& scene, std::string* error) {
   rs.record_s = 600.0;            // the first ten minutes of inputs are kept
   session_ = sim::Session::create(scene, std::move(devices), rs, error);
   if (!session_) return false;
-  runner_ = std::thread([this] { (void)session_->run(); });
+  scenario_ = scene.scenario.file.string();
+  runner_ = std::thread([this] { metrics_ = session_->run(); });
   return true;
 }
 
@@ -33,6 +35,19 @@ void LiveSession::stop() {
   runner_.join();
   session_.reset();
   devices_ = {};
+}
+
+bool LiveSession::stop_and_save(const std::string& dir, std::string* error) {
+  if (!session_) {
+    if (error != nullptr) *error = "no session is running";
+    return false;
+  }
+  session_->request_stop();
+  runner_.join();
+  const bool ok = sim::save_session(*session_, metrics_, scenario_, false, dir, error);
+  session_.reset();
+  devices_ = {};
+  return ok;
 }
 
 void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_rad) {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "hardware/simulated_device.h"
 #include "sim/session.h"
@@ -25,7 +26,15 @@ class LiveSession {
   /// Starts the loops on the scene with two simulated tools; false and *error on failure.
   bool start(const sim::Scene& scene, std::string* error);
   void stop();
+  /// Ends the session (the loops stop) and writes its inputs and metrics into `dir`
+  /// (left.lapdev, right.lapdev, metrics.json: sim::save_session). False and *error on
+  /// failure; the session is over either way.
+  bool stop_and_save(const std::string& dir, std::string* error);
   [[nodiscard]] bool running() const { return session_ != nullptr; }
+  /// Scheduling problems the loops met (SCHED_FIFO, mlockall refused); empty when all is well.
+  [[nodiscard]] std::vector<std::string> scheduling_warnings() const {
+    return session_ ? session_->scheduling_warnings() : std::vector<std::string>{};
+  }
 
   /// UI thread: move a simulated tool's handle by `delta` [m] and open its jaws by `opening`.
   void nudge(int tool, const Eigen::Vector3d& delta, double opening_rad);
@@ -51,6 +60,8 @@ class LiveSession {
   std::array<hardware::SimulatedDevice*, 2> devices_{};
   std::array<hardware::SimulatedInput, 2> inputs_{};
   std::thread runner_;
+  sim::SessionMetrics metrics_;  // written by the runner, read after it is joined
+  std::string scenario_;
 };
 
 }  // namespace lap::app

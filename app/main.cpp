@@ -1,5 +1,5 @@
 // laptrainer: the desktop application.
-//   laptrainer [--scenario FILE] [--screenshot PNG --frames N]
+//   laptrainer [--scenario FILE] [--record DIR] [--screenshot PNG --frames N]
 // With no display it says so and runs the scenario headless, printing a short summary.
 
 #include <vtkAutoInit.h>
@@ -25,14 +25,17 @@ constexpr int kExitProblems = 2;
 constexpr int kExitUsage = 64;
 
 const char* const kUsage =
-    "usage: laptrainer [--scenario FILE] [--screenshot PNG --frames N]\n"
+    "usage: laptrainer [--scenario FILE] [--record DIR] [--screenshot PNG --frames N]\n"
     "  --scenario FILE   scenario to open (default: scenarios/default.yaml)\n"
+    "  --record DIR      when the session ends, save its inputs (for replay) and metrics\n"
+    "                    there: left.lapdev, right.lapdev, metrics.json\n"
     "  --screenshot PNG  render N frames, write the last one to PNG and exit\n"
     "  --frames N        frames to render before the screenshot (default 10)\n";
 
 struct Options {
   std::string scenario;
   std::string screenshot;
+  std::string record;
   int frames = 10;
 };
 
@@ -52,6 +55,8 @@ bool parse(int argc, char** argv, Options& o) {
       if (!value(o.scenario)) return false;
     } else if (a == "--screenshot") {
       if (!value(o.screenshot)) return false;
+    } else if (a == "--record") {
+      if (!value(o.record)) return false;
     } else if (a == "--frames") {
       if (!value(v)) return false;
       char* end = nullptr;
@@ -120,6 +125,7 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setApplicationName("laptrainer");
   lap::app::MainWindow window;
+  window.set_record_dir(QString::fromStdString(opt.record));
   QStringList problems;
   if (!window.open_scenario(QString::fromStdString(opt.scenario), &problems)) {
     for (const QString& p : problems) std::cerr << p.toStdString() << "\n";
@@ -137,8 +143,13 @@ int main(int argc, char** argv) {
       }
       timer->stop();
       QString error;
-      const bool ok = window.view()->save_png(QString::fromStdString(opt.screenshot), &error);
+      bool ok = window.view()->save_png(QString::fromStdString(opt.screenshot), &error);
       if (!ok) std::cerr << "laptrainer: " << error.toStdString() << "\n";
+      QString saved;
+      if (!window.end_session(&saved)) {
+        std::cerr << "laptrainer: " << saved.toStdString() << "\n";
+        ok = false;
+      }
       QApplication::exit(ok ? 0 : 1);
     });
     timer->start(0);

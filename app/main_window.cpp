@@ -8,6 +8,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QDateTime>
 #include <QElapsedTimer>
 #include <QFileDialog>
 #include <QKeyEvent>
@@ -15,6 +16,7 @@
 #include <QMessageBox>
 #include <QStatusBar>
 #include <QTimer>
+#include <iostream>
 
 #include "app/mesh_actor.h"
 
@@ -33,6 +35,8 @@ MainWindow::MainWindow() {
   file->addAction("&Open Scenario...", QKeySequence::Open, this, &MainWindow::open_dialog);
   file->addAction("Save &Screenshot...", QKeySequence("Ctrl+P"), this,
                   &MainWindow::screenshot_dialog);
+  file->addAction("&End and Save Session...", QKeySequence::Save, this,
+                  &MainWindow::save_session_dialog);
   file->addSeparator();
   file->addAction("&Quit", QKeySequence::Quit, qApp, &QApplication::quit);
 
@@ -176,6 +180,14 @@ void MainWindow::update_loops() {
                      .arg(h.missed_deadlines)
                      .arg(steps)
                      .arg(active_tool_ == 0 ? "left" : "right");
+  const std::vector<std::string> warnings = session_.scheduling_warnings();
+  if (!warnings.empty()) {
+    // The loops run best effort: their timing figures are worth reading with that in mind.
+    QStringList all;
+    for (const std::string& w : warnings) all << QString::fromStdString(w);
+    text = QString("BEST EFFORT timing | ") + text;
+    loops_label_->setToolTip(all.join("\n"));
+  }
   if (h.paused) {
     text = QString("PAUSED (%1): forces off, Space resumes | ")
                .arg(QString::fromStdString(std::string(sim::to_string(h.last_reason)))) +
@@ -228,9 +240,36 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
   session_.nudge(active_tool_, d, opening);
 }
 
+bool MainWindow::end_session(QString* error) {
+  if (record_dir_.isEmpty() || !session_.running()) {
+    session_.stop();
+    return true;
+  }
+  std::string why;
+  const bool ok = session_.stop_and_save(record_dir_.toStdString(), &why);
+  if (!ok && error != nullptr) *error = QString::fromStdString(why);
+  return ok;
+}
+
 void MainWindow::closeEvent(QCloseEvent* event) {
-  session_.stop();
+  QString error;
+  if (!end_session(&error)) std::cerr << "laptrainer: " << error.toStdString() << "\n";
   QMainWindow::closeEvent(event);
+}
+
+void MainWindow::save_session_dialog() {
+  const QString parent = QFileDialog::getExistingDirectory(this, "Save the session in");
+  if (parent.isEmpty()) return;
+  // Each saved session in its own folder, named by when it was saved.
+  const QString dir =
+      parent + "/session-" + QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss");
+  std::string why;
+  if (!session_.stop_and_save(dir.toStdString(), &why)) {
+    QMessageBox::warning(this, "Session not saved", QString::fromStdString(why));
+  } else {
+    statusBar()->showMessage(QString("session saved to %1; a new one has started").arg(dir), 10000);
+  }
+  show_scene(scene_);  // a fresh session on the same scenario
 }
 
 void MainWindow::update_status() {

@@ -21,6 +21,12 @@ class MainWindow : public QMainWindow {
   /// Loads a scenario; on failure shows the problems and keeps the current scene.
   bool open_scenario(const QString& file, QStringList* problems = nullptr);
   VtkView* view() { return view_; }
+  /// Where the session's inputs and metrics are saved when it ends (window closed, quit);
+  /// empty: not saved unless the user asks (File > End and Save Session).
+  void set_record_dir(const QString& dir) { record_dir_ = dir; }
+  /// Ends the running session: saved to the record folder if one is set. False and *error
+  /// when saving failed.
+  bool end_session(QString* error);
 
  protected:
   void keyPressEvent(QKeyEvent* event) override;
@@ -31,6 +37,7 @@ class MainWindow : public QMainWindow {
   void update_loops();
   void open_dialog();
   void screenshot_dialog();
+  void save_session_dialog();
   void update_status();
 
   VtkView* view_ = nullptr;
@@ -44,6 +51,7 @@ class MainWindow : public QMainWindow {
   int64_t last_model_steps_ = 0;
   sim::Scene scene_;
   bool wireframe_ = false;
+  QString record_dir_;
 };
 
 }  // namespace lap::app

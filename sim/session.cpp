@@ -421,15 +421,28 @@ void Session::run_fast() {
 void Session::run_realtime() {
   if (settings_.realtime_priority) {
     const std::string mem = lock_memory();
-    if (!mem.empty()) warnings_.push_back(mem);
+    if (!mem.empty()) {
+      warnings_.push_back(mem);
+      memory_warning_ = mem;
+      scheduling_flags_.fetch_or(2U, std::memory_order_release);
+    }
   }
   std::string haptic_warning;
   const int64_t period_ns = std::llround(dt_ * 1e9);
   const int64_t model_period_ns = period_ns * ticks_per_model_;
-  const int64_t start_ns = monotonic_ns() + 5 * period_ns;
+  // The schedule starts once the haptic thread runs at its priority: starting a thread (its
+  // stack populated under mlockall) can take tens of milliseconds, which would otherwise make
+  // the first ticks late and trip the watchdog before the session has begun.
+  std::atomic<int64_t> start{0};
   haptic_done_.store(false);
   std::thread haptic([&] {
     if (settings_.realtime_priority) haptic_warning = request_realtime_priority(80);
+    if (!haptic_warning.empty()) {  // before the first tick: the string may allocate
+      priority_warning_ = haptic_warning;
+      scheduling_flags_.fetch_or(1U, std::memory_order_release);
+    }
+    const int64_t start_ns = monotonic_ns() + 5 * period_ns;
+    start.store(start_ns, std::memory_order_release);
     for (int64_t tick = 0; tick < max_ticks_; ++tick) {
       if (stop_.load(std::memory_order_relaxed)) break;
       const int64_t deadline = start_ns + tick * period_ns;
@@ -444,6 +457,10 @@ void Session::run_realtime() {
     haptic_done_.store(true);
   });
   std::thread model([&] {
+    int64_t start_ns = 0;
+    while ((start_ns = start.load(std::memory_order_acquire)) == 0) {
+      sleep_until_ns(monotonic_ns() + period_ns, 0);
+    }
     for (int64_t k = 0; !haptic_done_.load(); ++k) {
       const int64_t deadline = start_ns + k * model_period_ns;
       sleep_until_ns(deadline, 0);
@@ -457,6 +474,14 @@ void Session::run_realtime() {
   haptic.join();
   model.join();
   if (!haptic_warning.empty()) warnings_.push_back(haptic_warning);
+}
+
+std::vector<std::string> Session::scheduling_warnings() const {
+  const uint8_t flags = scheduling_flags_.load(std::memory_order_acquire);
+  std::vector<std::string> w;
+  if ((flags & 1U) != 0) w.push_back(priority_warning_);
+  if ((flags & 2U) != 0) w.push_back(memory_warning_);
+  return w;
 }
 
 SessionMetrics Session::run() {

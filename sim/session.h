@@ -133,6 +133,9 @@ class Session {
   SessionMetrics run();
   /// Any thread: end the session at the next tick.
   void request_stop() { stop_.store(true, std::memory_order_relaxed); }
+  /// Scheduling problems the loops met as they started (SCHED_FIFO or mlockall refused: the
+  /// loops then run best effort), for showing while the session runs. Any thread.
+  [[nodiscard]] std::vector<std::string> scheduling_warnings() const;
   /// Any thread: un-pause; forces ramp back in over resume_ramp_s.
   void resume() { resume_requested_.store(true, std::memory_order_relaxed); }
   [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_relaxed); }
@@ -198,6 +201,11 @@ class Session {
   // Models (the modelling thread's own).
   std::unique_ptr<TissueWorld> world_;
   std::array<ToolModelInput, 2> model_input_{};
+  // Scheduling warnings, published once each (bit 0: the haptic thread's priority, bit 1: the
+  // memory lock); each string is written before its bit is set and never after.
+  std::string priority_warning_;
+  std::string memory_warning_;
+  std::atomic<uint8_t> scheduling_flags_{0};
   // The proxies' surfaces: three copies, brought up to date by the modelling thread.
   hardware::TripleBuffer<std::unique_ptr<HapticSurfaces>> surfaces_to_haptic_;
 

@@ -7,8 +7,11 @@
 #include <QColor>
 #include <QImage>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <set>
 
+#include "hardware/device_recording.h"
 #include "sim/scene.h"
 #include "tests/test_support.h"
 
@@ -123,6 +126,39 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
   for (const auto& [x, y] : {std::pair{2, 2}, std::pair{image.width() - 3, image.height() - 3}}) {
     EXPECT_EQ(classify(image.pixelColor(x, y), organ_colours), -1) << "corner " << x << "," << y;
   }
+}
+
+// The resident's session is saved when it ends (--record DIR): the inputs of both tools, which
+// a replay device reads back, and the metrics an instructor reviews — the loops' statistics and
+// no watchdog trip at the start (the schedule begins once the haptic thread is running).
+TEST(Screenshot, TheSessionIsSavedForReviewWhenItEnds) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  TempDir dir;
+  const auto rec = dir.path() / "session";
+  const CommandResult r =
+      run_command((bin_dir() / "laptrainer").string() + " --scenario " +
+                  (source_dir() / "scenarios/default.yaml").string() + " --screenshot " +
+                  (dir.path() / "shot.png").string() + " --frames 20 --record " + rec.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string why;
+  int64_t samples = -1;
+  for (const char* side : {"left.lapdev", "right.lapdev"}) {
+    const auto recording = hardware::read_device_recording(rec / side, &why);
+    ASSERT_TRUE(recording.has_value()) << why;
+    EXPECT_GT(recording->samples.size(), 10U) << side;
+    if (samples >= 0) {
+      EXPECT_EQ(static_cast<int64_t>(recording->samples.size()), samples);
+    }
+    samples = static_cast<int64_t>(recording->samples.size());
+  }
+  std::ifstream f(rec / "metrics.json");
+  ASSERT_TRUE(f.good());
+  const std::string json((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"mode\": \"realtime\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"recorded_ticks\": " + std::to_string(samples)), std::string::npos) << json;
+  EXPECT_NE(json.find("\"achieved_rate_hz\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"paused\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"watchdog_events\": []"), std::string::npos) << json;
 }
 
 }  // namespace
