@@ -7,17 +7,30 @@
 
 namespace lap::app {
 
-bool LiveSession::start(const sim::Scene& scene, std::string* error) {
+bool LiveSession::start(const sim::Scene& scene, const std::array<hardware::DeviceSpec, 2>& specs,
+                        std::string* error) {
   stop();
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
   for (int side = 0; side < 2; ++side) {
+    const auto i = static_cast<size_t>(side);
+    if (specs[i].kind != hardware::DeviceKind::kSimulated) {
+      std::string why;
+      devices[i] = sim::make_device(specs[i], scene, side, &why);
+      if (!devices[i]) {
+        if (error != nullptr) *error = std::string(side == 0 ? "left" : "right") + ": " + why;
+        devices_ = {};
+        return false;
+      }
+      devices_[i] = nullptr;  // not driven from the keyboard
+      continue;
+    }
     hardware::SimulatedInput home;
     home.position_W = sim::default_handle_position(scene, side, 0.10);
     home.gripper_angle_rad = 0.6;
-    inputs_[static_cast<size_t>(side)] = home;
+    inputs_[i] = home;
     auto dev = std::make_unique<hardware::SimulatedDevice>(home, side == 0 ? "left" : "right");
-    devices_[static_cast<size_t>(side)] = dev.get();
-    devices[static_cast<size_t>(side)] = std::move(dev);
+    devices_[i] = dev.get();
+    devices[i] = std::move(dev);
   }
   sim::RuntimeSettings rs;
   rs.duration_s = 24.0 * 3600.0;  // until the window closes
@@ -51,7 +64,7 @@ bool LiveSession::stop_and_save(const std::string& dir, std::string* error) {
 }
 
 void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_rad) {
-  if (!session_ || tool < 0 || tool > 1) return;
+  if (!session_ || tool < 0 || tool > 1 || devices_[static_cast<size_t>(tool)] == nullptr) return;
   hardware::SimulatedInput& in = inputs_[static_cast<size_t>(tool)];
   in.position_W += delta;
   in.gripper_angle_rad = std::clamp(in.gripper_angle_rad + opening_rad, 0.0, 1.0);

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "hardware/device_spec.h"
 #include "hardware/simulated_device.h"
 #include "sim/session.h"
 
@@ -23,8 +24,11 @@ class LiveSession {
   LiveSession& operator=(LiveSession&&) = delete;
   ~LiveSession() { stop(); }
 
-  /// Starts the loops on the scene with two simulated tools; false and *error on failure.
-  bool start(const sim::Scene& scene, std::string* error);
+  /// Starts the loops on the scene with the given devices (`simulated`: driven by the keyboard
+  /// and mouse; `scripted:FILE`, `replay:FILE` — a saved session played back for review —,
+  /// `phantom:NAME`: hardware/README.md); false and *error on failure.
+  bool start(const sim::Scene& scene, const std::array<hardware::DeviceSpec, 2>& devices,
+             std::string* error);
   void stop();
   /// Ends the session (the loops stop) and writes its inputs and metrics into `dir`
   /// (left.lapdev, right.lapdev, metrics.json: sim::save_session). False and *error on

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/main_window.h"
+#include "hardware/device_spec.h"
 #include "sim/scenario_loader.h"
 #include "sim/scene.h"
 
@@ -25,8 +26,12 @@ constexpr int kExitProblems = 2;
 constexpr int kExitUsage = 64;
 
 const char* const kUsage =
-    "usage: laptrainer [--scenario FILE] [--record DIR] [--screenshot PNG --frames N]\n"
+    "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
+    "                  [--quit-after S] [--screenshot PNG --frames N]\n"
     "  --scenario FILE   scenario to open (default: scenarios/default.yaml)\n"
+    "  --left DEV, --right DEV  the tools' devices: simulated (default, keyboard and mouse),\n"
+    "                    scripted:FILE, replay:FILE (a saved session), phantom:NAME\n"
+    "  --quit-after S    close the window after S seconds (the session saved if --record)\n"
     "  --record DIR      when the session ends, save its inputs (for replay) and metrics\n"
     "                    there: left.lapdev, right.lapdev, metrics.json\n"
     "  --screenshot PNG  render N frames, write the last one to PNG and exit\n"
@@ -36,6 +41,8 @@ struct Options {
   std::string scenario;
   std::string screenshot;
   std::string record;
+  std::array<lap::hardware::DeviceSpec, 2> devices{};
+  double quit_after_s = 0.0;
   int frames = 10;
 };
 
@@ -57,6 +64,26 @@ bool parse(int argc, char** argv, Options& o) {
       if (!value(o.screenshot)) return false;
     } else if (a == "--record") {
       if (!value(o.record)) return false;
+    } else if (a == "--left" || a == "--right") {
+      std::string text;
+      if (!value(text)) return false;
+      std::string why;
+      const auto spec = lap::hardware::parse_device_spec(text, &why);
+      if (!spec) {
+        std::cerr << "laptrainer: " << a << ": " << why << "\n";
+        return false;
+      }
+      o.devices[a == "--left" ? 0 : 1] = *spec;
+    } else if (a == "--quit-after") {
+      std::string v;
+      if (!value(v)) return false;
+      char* end = nullptr;
+      const double s = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(s > 0.0 && s < 1e6)) {
+        std::cerr << "laptrainer: --quit-after expects seconds (> 0), got '" << v << "'\n";
+        return false;
+      }
+      o.quit_after_s = s;
     } else if (a == "--frames") {
       if (!value(v)) return false;
       char* end = nullptr;
@@ -126,6 +153,7 @@ int main(int argc, char** argv) {
   QApplication::setApplicationName("laptrainer");
   lap::app::MainWindow window;
   window.set_record_dir(QString::fromStdString(opt.record));
+  window.set_devices(opt.devices);
   QStringList problems;
   if (!window.open_scenario(QString::fromStdString(opt.scenario), &problems)) {
     for (const QString& p : problems) std::cerr << p.toStdString() << "\n";
@@ -153,6 +181,10 @@ int main(int argc, char** argv) {
       QApplication::exit(ok ? 0 : 1);
     });
     timer->start(0);
+  }
+  if (opt.quit_after_s > 0.0) {
+    QTimer::singleShot(static_cast<int>(opt.quit_after_s * 1000.0), &window,
+                       [&window] { window.close(); });
   }
   return QApplication::exec();
 }

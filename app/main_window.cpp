@@ -145,7 +145,7 @@ void MainWindow::show_scene(const sim::Scene& scene) {
   std::string error;
   std::vector<Eigen::Vector3d> colours;
   for (const sim::Organ& o : scene.organs) colours.push_back(o.color);
-  if (session_.start(scene, &error)) {
+  if (session_.start(scene, devices_, &error)) {
     // The organs as the session has them (the duct: its shell), deformed as the loops go.
     std::vector<const haptics::TriangleMesh*> surfaces;
     for (int32_t i = 0; i < session_.organ_count(); ++i)

@@ -24,6 +24,8 @@ class MainWindow : public QMainWindow {
   /// Where the session's inputs and metrics are saved when it ends (window closed, quit);
   /// empty: not saved unless the user asks (File > End and Save Session).
   void set_record_dir(const QString& dir) { record_dir_ = dir; }
+  /// The devices the next session uses (default: two simulated tools).
+  void set_devices(const std::array<hardware::DeviceSpec, 2>& devices) { devices_ = devices; }
   /// Ends the running session: saved to the record folder if one is set. False and *error
   /// when saving failed.
   bool end_session(QString* error);
@@ -52,6 +54,7 @@ class MainWindow : public QMainWindow {
   sim::Scene scene_;
   bool wireframe_ = false;
   QString record_dir_;
+  std::array<hardware::DeviceSpec, 2> devices_{};
 };
 
 }  // namespace lap::app

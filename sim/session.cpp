@@ -428,6 +428,7 @@ void Session::run_realtime() {
     }
   }
   std::string haptic_warning;
+  std::string model_warning;
   const int64_t period_ns = std::llround(dt_ * 1e9);
   const int64_t model_period_ns = period_ns * ticks_per_model_;
   // The schedule starts once the haptic thread runs at its priority: starting a thread (its
@@ -457,6 +458,9 @@ void Session::run_realtime() {
     haptic_done_.store(true);
   });
   std::thread model([&] {
+    // Below the haptic thread, above rendering: a software-rendered frame can hold both cores
+    // for tens of milliseconds, which would starve a best-effort modelling loop.
+    if (settings_.realtime_priority) model_warning = request_realtime_priority(60);
     int64_t start_ns = 0;
     while ((start_ns = start.load(std::memory_order_acquire)) == 0) {
       sleep_until_ns(monotonic_ns() + period_ns, 0);
@@ -466,14 +470,19 @@ void Session::run_realtime() {
       sleep_until_ns(deadline, 0);
       const int64_t begin = monotonic_ns();
       model_tick(k * ticks_per_model_);
+      const int64_t end = monotonic_ns();
       model_stats_.add(static_cast<double>(begin - deadline) * 1e-9,
-                       static_cast<double>(monotonic_ns() - begin) * 1e-9);
+                       static_cast<double>(end - begin) * 1e-9);
+      // Periods already past are skipped, not caught up: a model step is worth taking only on
+      // fresh inputs, and a real-time thread that never sleeps would starve the rest.
+      k = std::max(k, (end - start_ns) / model_period_ns);
     }
     model_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
   });
   haptic.join();
   model.join();
   if (!haptic_warning.empty()) warnings_.push_back(haptic_warning);
+  if (!model_warning.empty()) warnings_.push_back("modelling loop: " + model_warning);
 }
 
 std::vector<std::string> Session::scheduling_warnings() const {

@@ -161,5 +161,44 @@ TEST(Screenshot, TheSessionIsSavedForReviewWhenItEnds) {
   EXPECT_NE(json.find("\"watchdog_events\": []"), std::string::npos) << json;
 }
 
+// An instructor plays a saved session back in the window (--left/--right replay:FILE): the
+// replayed session's inputs are the saved ones, tick for tick, bit for bit.
+TEST(Screenshot, ASavedSessionPlaysBackInTheWindow) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  TempDir dir;
+  const std::string app = (bin_dir() / "laptrainer").string() + " --scenario " +
+                          (source_dir() / "scenarios/default.yaml").string();
+  const auto scripts = source_dir() / "scenarios/scripts";
+  const auto first = dir.path() / "first";
+  const auto second = dir.path() / "second";
+  CommandResult r =
+      run_command(app + " --left scripted:" + (scripts / "sweep_left_60s.csv").string() +
+                  " --right scripted:" + (scripts / "sweep_right_60s.csv").string() + " --record " +
+                  first.string() + " --quit-after 1.5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_command(app + " --left replay:" + (first / "left.lapdev").string() +
+                  " --right replay:" + (first / "right.lapdev").string() + " --record " +
+                  second.string() + " --quit-after 1.0");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* side : {"left.lapdev", "right.lapdev"}) {
+    std::string why;
+    const auto a = hardware::read_device_recording(first / side, &why);
+    ASSERT_TRUE(a.has_value()) << why;
+    const auto b = hardware::read_device_recording(second / side, &why);
+    ASSERT_TRUE(b.has_value()) << why;
+    ASSERT_GT(b->samples.size(), 300U) << side;
+    ASSERT_LE(b->samples.size(), a->samples.size()) << side;
+    for (size_t k = 0; k < b->samples.size(); ++k) {
+      const hardware::RecordedSample& x = a->samples[k];
+      const hardware::RecordedSample& y = b->samples[k];
+      ASSERT_EQ(x.tick, y.tick);
+      ASSERT_EQ(x.sample.position_W, y.sample.position_W) << side << " tick " << k;
+      ASSERT_EQ(x.sample.orientation_W.coeffs(), y.sample.orientation_W.coeffs()) << k;
+      ASSERT_EQ(x.sample.gripper_angle_rad, y.sample.gripper_angle_rad) << k;
+      ASSERT_EQ(x.sample.buttons, y.sample.buttons) << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lap::test
