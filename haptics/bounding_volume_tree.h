@@ -73,22 +73,7 @@ class BoundingVolumeTree {
   template <typename Extend>
   void refit(const Extend& extend) {
     for (auto i = static_cast<int64_t>(nodes_.size()) - 1; i >= 0; --i) {
-      BvhNode& node = nodes_[static_cast<size_t>(i)];
-      if (node.count > 0) {
-        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
-        double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        for (int32_t k = node.first; k < node.first + node.count; ++k) extend(k, lo, hi);
-        set_box(node, Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]),
-                                          Eigen::Vector3d(hi[0], hi[1], hi[2])));
-      } else {
-        // Children are already rounded outward: their float union is exact.
-        const BvhNode& a = nodes_[static_cast<size_t>(i) + 1];
-        const BvhNode& b = nodes_[node.first];
-        for (int c = 0; c < 3; ++c) {
-          node.lo[c] = std::min(a.lo[c], b.lo[c]);
-          node.hi[c] = std::max(a.hi[c], b.hi[c]);
-        }
-      }
+      refit_node(static_cast<size_t>(i), extend);
     }
   }
 
@@ -134,23 +119,7 @@ class BoundingVolumeTree {
     for (const int32_t i : r->nodes) {
       r->order[static_cast<size_t>(r->per_depth[r->depth[static_cast<size_t>(i)]]++)] = i;
     }
-    for (const int32_t i : r->order) {
-      BvhNode& node = nodes_[static_cast<size_t>(i)];
-      if (node.count > 0) {
-        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
-        double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        for (int32_t k = node.first; k < node.first + node.count; ++k) extend(k, lo, hi);
-        set_box(node, Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]),
-                                          Eigen::Vector3d(hi[0], hi[1], hi[2])));
-      } else {
-        const BvhNode& a = nodes_[static_cast<size_t>(i) + 1];
-        const BvhNode& b = nodes_[static_cast<size_t>(node.first)];
-        for (int c = 0; c < 3; ++c) {
-          node.lo[c] = std::min(a.lo[c], b.lo[c]);
-          node.hi[c] = std::max(a.hi[c], b.hi[c]);
-        }
-      }
-    }
+    for (const int32_t i : r->order) refit_node(static_cast<size_t>(i), extend);
   }
 
   /// Visits the leaves whose boxes the segment p0 -> p1 touches, nearest first. `visit(k, t_max)`
@@ -255,6 +224,27 @@ class BoundingVolumeTree {
   static void set_box(BvhNode& node, const Eigen::AlignedBox3d& box);
 
  private:
+  // Node i's box: a leaf's from its primitives (rounded outward), an inner node's as the union
+  // of its children's (already rounded outward: their float union is exact).
+  template <typename Extend>
+  void refit_node(size_t i, const Extend& extend) {
+    BvhNode& node = nodes_[i];
+    if (node.count > 0) {
+      double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+      double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+      for (int32_t k = node.first; k < node.first + node.count; ++k) extend(k, lo, hi);
+      set_box(node, Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]),
+                                        Eigen::Vector3d(hi[0], hi[1], hi[2])));
+    } else {
+      const BvhNode& a = nodes_[i + 1];
+      const BvhNode& b = nodes_[static_cast<size_t>(node.first)];
+      for (int c = 0; c < 3; ++c) {
+        node.lo[c] = std::min(a.lo[c], b.lo[c]);
+        node.hi[c] = std::max(a.hi[c], b.hi[c]);
+      }
+    }
+  }
+
   void build_from_codes(std::vector<uint64_t>& codes, int32_t max_leaf_size,
                         std::vector<int32_t>* order);
   static bool segment_touches(const BvhNode& n, const Eigen::Vector3d& p0,

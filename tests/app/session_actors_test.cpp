@@ -34,6 +34,16 @@ sim::SurfaceDeformation dent(const haptics::TriangleMesh& m, const Eigen::Vector
   return d;
 }
 
+// The mesh with a deformation's vertices moved: the reference the drawing is checked against.
+haptics::TriangleMesh deformed(const haptics::TriangleMesh& m, const sim::SurfaceDeformation& d) {
+  haptics::TriangleMesh out = m;
+  for (int32_t k = 0; k < d.count; ++k) {
+    out.positions[static_cast<size_t>(d.vertex[static_cast<size_t>(k)])] =
+        d.position[static_cast<size_t>(k)];
+  }
+  return out;
+}
+
 // Largest distance between the drawn points / normals and the expected ones.
 struct Drawn {
   double points = 0.0;
@@ -74,12 +84,7 @@ TEST(SessionActors, AnOrganIsDrawnDentedAndLitAsItsDentedShape) {
   actors.update(haptic, model);
 
   // The reference: the dented mesh built afresh.
-  haptics::TriangleMesh dented = sphere;
-  const sim::SurfaceDeformation& d = model.organs[0];
-  for (int32_t k = 0; k < d.count; ++k) {
-    dented.positions[static_cast<size_t>(d.vertex[static_cast<size_t>(k)])] =
-        d.position[static_cast<size_t>(k)];
-  }
+  const haptics::TriangleMesh dented = deformed(sphere, model.organs[0]);
   const haptics::MeshDatabase fresh = haptics::MeshDatabase::build(dented);
   const haptics::MeshDatabase rest = haptics::MeshDatabase::build(sphere);
   const Drawn first = compare(poly, dented.positions, fresh);
@@ -94,12 +99,7 @@ TEST(SessionActors, AnOrganIsDrawnDentedAndLitAsItsDentedShape) {
   model.organs[0] = dent(sphere, Eigen::Vector3d(-0.05, 0.0, 0.0), 0.004);
   model.steps = 2;
   actors.update(haptic, model);
-  haptics::TriangleMesh second = sphere;
-  const sim::SurfaceDeformation& d2 = model.organs[0];
-  for (int32_t k = 0; k < d2.count; ++k) {
-    second.positions[static_cast<size_t>(d2.vertex[static_cast<size_t>(k)])] =
-        d2.position[static_cast<size_t>(k)];
-  }
+  const haptics::TriangleMesh second = deformed(sphere, model.organs[0]);
   const Drawn after = compare(poly, second.positions, haptics::MeshDatabase::build(second));
   EXPECT_LT(after.points, 1e-8);
   EXPECT_LT(after.normals, 1e-6);
