@@ -45,7 +45,7 @@ bool LiveSession::start(const sim::Scene& scene, const std::array<hardware::Devi
 void LiveSession::stop() {
   if (!session_) return;
   session_->request_stop();
-  runner_.join();
+  if (runner_.joinable()) runner_.join();
   session_.reset();
   devices_ = {};
 }
@@ -56,10 +56,9 @@ bool LiveSession::stop_and_save(const std::string& dir, std::string* error) {
     return false;
   }
   session_->request_stop();
-  runner_.join();
+  runner_.join();  // metrics_ is complete from here
   const bool ok = sim::save_session(*session_, metrics_, scenario_, false, dir, error);
-  session_.reset();
-  devices_ = {};
+  stop();
   return ok;
 }
 

@@ -1,11 +1,11 @@
 #pragma once
 /// \file
 /// A deformed organ surface as the modelling loop publishes it (ARCHITECTURE.md: it "publishes
-/// surface positions") and as a reader — the haptic loop's database, the graphics' points —
-/// applies it. A deformation lists only the vertices away from rest, with their positions, in
-/// arrays sized once for every vertex (so a triple buffer's slots never reallocate); a reader
-/// puts back to rest what the previous one moved and learns exactly which vertices changed,
-/// whichever snapshots it skipped.
+/// surface positions") and as a reader — a copy of the proxies' surfaces (haptic_surfaces.h),
+/// the graphics' points — applies it. A deformation lists only the vertices away from rest, with
+/// their positions, in arrays sized once for every vertex (so a triple buffer's slots never
+/// reallocate); a reader puts back to rest what the previous one moved and learns exactly which
+/// vertices changed, whichever snapshots it skipped.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -42,9 +42,10 @@ class DeformedSurface {
     haptics::SegmentUpdateScratch* segment_scratch = nullptr;
     haptics::ShadingNormals* shading = nullptr;
   };
-  /// apply(), then the targets take up what changed (local refits, no allocation): what the
-  /// haptic loop does with each new snapshot. Returns whether anything changed (then the
-  /// scratch's dirty_vertices are the vertices whose normals were recomputed).
+  /// apply(), then the targets take up what changed (local refits, no allocation): what a copy
+  /// of the proxies' surfaces does with each modelling step (HapticSurfaces::take_up). Returns
+  /// whether anything changed (then the scratch's dirty_vertices are the vertices whose normals
+  /// were recomputed).
   bool apply_to(const SurfaceDeformation& d, const Targets& t) noexcept;
   [[nodiscard]] std::span<const Eigen::Vector3d> positions() const { return positions_; }
 

@@ -10,8 +10,9 @@
 ///   lock or exception after start-up.
 /// - Modelling loop (default 200 Hz): the tissue world (tissue_world.h): grasping the catheter
 ///   and the duct, the mass-spring catheter (§7.7(3)) and its contacts, organs dented by the tools
-///   and the catheter (§6.5), the duct's modes (§7.7(2)); it publishes the deformed surfaces, which
-///   the haptic loop's databases take up (the proxies feel them) and the graphics draw.
+///   and the catheter (§6.5), the duct's modes (§7.7(2)); it publishes the deformed surfaces for
+///   the graphics, and brings the proxies' next copy of the surfaces up to date with them
+///   (haptic_surfaces.h), which the haptic loop switches to.
 /// - Graphics: whoever shows the session reads snapshots (graphics_snapshot()).
 /// The loops exchange whole snapshots through triple buffers: nobody waits for anybody.
 ///
