@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -86,9 +87,10 @@ class BoundingVolumeTree {
     /// Starts a new set of marks.
     void begin();
     /// Marks primitive k (tree order): its leaf and every ancestor not yet marked.
-    void mark(int32_t k) {
-      for (int32_t i = leaf_of[static_cast<size_t>(k)];
-           i >= 0 && stamp[static_cast<size_t>(i)] != epoch; i = parent[static_cast<size_t>(i)]) {
+    void mark(int32_t k) { mark_node(leaf_of[static_cast<size_t>(k)]); }
+    /// Marks node i (a leaf, as leaf_of gives it) and every ancestor not yet marked.
+    void mark_node(int32_t i) {
+      for (; i >= 0 && stamp[static_cast<size_t>(i)] != epoch; i = parent[static_cast<size_t>(i)]) {
         stamp[static_cast<size_t>(i)] = epoch;
         nodes.push_back(i);
       }
@@ -165,6 +167,52 @@ class BoundingVolumeTree {
     }
     if (t_hit != nullptr) *t_hit = best_t;
     return best;
+  }
+
+  /// The primitive nearest p, by branch and bound: `visit(k, best_d2)` returns the squared
+  /// distance from p to primitive k (tree order); nodes whose boxes lie farther than the best so
+  /// far are skipped, the nearer child is searched first. Returns the primitive (-1 for an
+  /// empty tree) and its squared distance in *d2. No allocation.
+  template <typename Visit>
+  int32_t nearest(const Eigen::Vector3d& p, const Visit& visit, double* d2) const {
+    double best_d2 = std::numeric_limits<double>::infinity();
+    int32_t best = -1;
+    std::array<int32_t, kMaxDepth + 4> stack{};
+    int top = 0;
+    if (!nodes_.empty()) stack[top++] = 0;
+    while (top > 0) {
+      const BvhNode& node = nodes_[stack[--top]];
+      if (box_distance2(node, p) >= best_d2) continue;
+      if (node.count > 0) {
+        for (int32_t k = node.first; k < node.first + node.count; ++k) {
+          const double d = visit(k, best_d2);
+          if (d < best_d2) {
+            best_d2 = d;
+            best = k;
+          }
+        }
+      } else {
+        const int32_t a = static_cast<int32_t>(&node - nodes_.data()) + 1;
+        const int32_t b = node.first;
+        const bool a_first = box_distance2(nodes_[a], p) <= box_distance2(nodes_[b], p);
+        stack[top++] = a_first ? b : a;  // the nearer child last, so it is popped first
+        stack[top++] = a_first ? a : b;
+      }
+    }
+    if (d2 != nullptr) *d2 = best_d2;
+    return best;
+  }
+
+  /// Squared distance from p to a node's box (0 inside).
+  static double box_distance2(const BvhNode& n, const Eigen::Vector3d& p) {
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const double below = static_cast<double>(n.lo[a]) - p[a];
+      const double above = p[a] - static_cast<double>(n.hi[a]);
+      const double out = std::max({below, above, 0.0});
+      d2 += out * out;
+    }
+    return d2;
   }
 
   /// Visits every primitive k (tree order) in a leaf whose box, grown by r on every side, the

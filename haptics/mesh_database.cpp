@@ -7,6 +7,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "haptics/closest_point.h"
 #include "haptics/corner_angle.h"
 #include "haptics/segment_triangle.h"
 
@@ -208,12 +209,25 @@ Eigen::Vector3d MeshDatabase::normal(PrimitiveRef p) const {
 
 namespace {
 
-// Adds face t's normal to its three vertices, weighted by the angle at each (§4.2), and returns
-// the face's unit normal (+y for a degenerate face, as compute_face_normal()). The three angles
-// share |e1 x e2| (twice the area) and sum to pi, so two atan2 calls suffice.
-inline Eigen::Vector3d accumulate_face(const std::array<int32_t, 3>& t,
-                                       const std::vector<Eigen::Vector3d>& p, Eigen::Vector3d* out0,
-                                       Eigen::Vector3d* out1, Eigen::Vector3d* out2) {
+// A face's unit normal and the angles at its corners (§4.2: the vertex normals weight each face
+// by the angle it subtends at the vertex). A degenerate face gets +y (as compute_face_normal())
+// and zero angles, so it adds nothing. The three angles share |e1 x e2| (twice the area) and sum
+// to pi, so two arctangents suffice.
+struct FaceShape {
+  Eigen::Vector3d unit;
+  std::array<double, 3> angle;
+};
+
+// The parts of face_shape() before the arctangents.
+struct FaceParts {
+  Eigen::Vector3d unit;
+  double twice_area;  // 0 for a degenerate face
+  double dot_a;       // (b - a).(c - a)
+  double dot_b;       // (a - b).(c - b)
+};
+
+inline FaceParts face_parts(const std::array<int32_t, 3>& t,
+                            const std::vector<Eigen::Vector3d>& p) {
   const Eigen::Vector3d& a = p[t[0]];
   const Eigen::Vector3d& b = p[t[1]];
   const Eigen::Vector3d& c = p[t[2]];
@@ -222,15 +236,22 @@ inline Eigen::Vector3d accumulate_face(const std::array<int32_t, 3>& t,
   const Eigen::Vector3d bc = c - b;
   const Eigen::Vector3d n = ab.cross(ac);
   const double twice_area = n.norm();
-  if (!(twice_area > 0.0)) return Eigen::Vector3d::UnitY();
-  Eigen::Vector3d unit = n / twice_area;
-  const double angle_a = corner_angle(twice_area, ab.dot(ac));
-  const double angle_b = corner_angle(twice_area, -ab.dot(bc));
-  const double angle_c = 3.14159265358979323846 - angle_a - angle_b;
-  if (out0 != nullptr) *out0 += angle_a * unit;
-  if (out1 != nullptr) *out1 += angle_b * unit;
-  if (out2 != nullptr) *out2 += angle_c * unit;
-  return unit;
+  if (!(twice_area > 0.0)) return {Eigen::Vector3d::UnitY(), 0.0, 0.0, 0.0};
+  return {n / twice_area, twice_area, ab.dot(ac), -ab.dot(bc)};
+}
+
+// The corner angles from {twice_area, dot_a, dot_b} (zero for a degenerate face).
+inline std::array<double, 3> corner_angles(const std::array<double, 3>& y_dots) {
+  if (!(y_dots[0] > 0.0)) return {0.0, 0.0, 0.0};
+  const double angle_a = corner_angle(y_dots[0], y_dots[1]);
+  const double angle_b = corner_angle(y_dots[0], y_dots[2]);
+  return {angle_a, angle_b, 3.14159265358979323846 - angle_a - angle_b};
+}
+
+inline FaceShape face_shape(const std::array<int32_t, 3>& t,
+                            const std::vector<Eigen::Vector3d>& p) {
+  const FaceParts parts = face_parts(t, p);
+  return {parts.unit, corner_angles({parts.twice_area, parts.dot_a, parts.dot_b})};
 }
 
 inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
@@ -241,22 +262,22 @@ inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
 }  // namespace
 
 void MeshDatabase::update_normals() {
+  // Each vertex sums its faces' shares in ascending face order, as the scratch update does.
   for (Eigen::Vector3d& n : vertex_normals_) n.setZero();
-  for (const auto& t : face_vertices_) {
-    (void)accumulate_face(t, positions_, &vertex_normals_[t[0]], &vertex_normals_[t[1]],
-                          &vertex_normals_[t[2]]);
+  for (int32_t f = 0; f < face_count(); ++f) {
+    const auto& t = face_vertices_[f];
+    const FaceShape shape = face_shape(t, positions_);
+    face_normals_[f] = shape.unit;
+    for (int k = 0; k < 3; ++k) vertex_normals_[t[k]] += shape.angle[k] * shape.unit;
   }
   for (Eigen::Vector3d& n : vertex_normals_) n = unit_or_up(n);
-  for (int32_t f = 0; f < face_count(); ++f) face_normals_[f] = compute_face_normal(f);
 }
 
 void MeshDatabase::update_vertex_normal(int32_t v) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for_each_vertex_face(v, [&](int32_t f) {
-    const auto& t = face_vertices_[f];
-    const int k = corner_of(f, v);
-    (void)accumulate_face(t, positions_, k == 0 ? &sum : nullptr, k == 1 ? &sum : nullptr,
-                          k == 2 ? &sum : nullptr);
+    const FaceShape shape = face_shape(face_vertices_[f], positions_);
+    sum += shape.angle[corner_of(f, v)] * shape.unit;
   });
   vertex_normals_[v] = unit_or_up(sum);
 }
@@ -291,6 +312,24 @@ MeshDatabase::Crossing MeshDatabase::first_crossing(const Eigen::Vector3d& p0,
   return c;
 }
 
+int32_t MeshDatabase::nearest_face(const Eigen::Vector3d& p, Eigen::Vector3d* q, double* d2) const {
+  Eigen::Vector3d best_q = p;
+  const int32_t f = tree_.nearest(
+      p,
+      [&](int32_t k, double best_d2) {
+        const auto& v = face_vertices_[k];
+        TriangleFeature feature;
+        const Eigen::Vector3d c =
+            closest_on_triangle(p, positions_[v[0]], positions_[v[1]], positions_[v[2]], &feature);
+        const double d = (c - p).squaredNorm();
+        if (d < best_d2) best_q = c;
+        return d;
+      },
+      d2);
+  if (q != nullptr) *q = best_q;
+  return f;
+}
+
 void MeshDatabase::move_vertices(std::span<const Eigen::Vector3d> positions) {
   ++revision_;
   std::copy(positions.begin(), positions.end(), positions_.begin());
@@ -321,65 +360,85 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
 MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
     : face_stamp(static_cast<size_t>(db.face_count()), 0),
       vertex_stamp(static_cast<size_t>(db.vertex_count()), 0),
-      moved_stamp(static_cast<size_t>(db.vertex_count()), 0),
-      normal_sum(static_cast<size_t>(db.vertex_count()), Eigen::Vector3d::Zero()),
+      corner_start(static_cast<size_t>(db.vertex_count()) + 1, 0),
+      corners(static_cast<size_t>(db.face_count()) * 3),
+      face_angles(static_cast<size_t>(db.face_count())),
+      angles_of(&db),
+      angles_revision(db.revision()),
       tree(db.tree()) {
   dirty_faces.reserve(static_cast<size_t>(db.face_count()));
   dirty_vertices.reserve(static_cast<size_t>(db.vertex_count()));
+  for (int32_t f = 0; f < db.face_count(); ++f) {
+    for (const int32_t v : db.face_vertices(f)) ++corner_start[static_cast<size_t>(v) + 1];
+  }
+  std::partial_sum(corner_start.begin(), corner_start.end(), corner_start.begin());
+  std::vector<int32_t> fill(corner_start.begin(), corner_start.end() - 1);
+  for (int32_t f = 0; f < db.face_count(); ++f) {  // ascending faces, so each list is sorted
+    const auto& t = db.face_vertices(f);
+    for (int k = 0; k < 3; ++k) corners[static_cast<size_t>(fill[t[k]]++)] = 4 * f + k;
+  }
+  for (int32_t f = 0; f < db.face_count(); ++f) {
+    face_angles[static_cast<size_t>(f)] = face_shape(db.face_vertices(f), db.positions_).angle;
+  }
 }
 
 void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
                                  std::span<const int32_t> moved, MeshUpdateScratch* s) {
   if (moved.empty()) return;
   for (int32_t v : moved) positions_[v] = positions[v];
+  if (s->angles_of != this || s->angles_revision != revision_) {
+    // The cached angles are another database's, or this one moved by another route.
+    for (int32_t f = 0; f < face_count(); ++f) {
+      s->face_angles[f] = face_shape(face_vertices_[f], positions_).angle;
+    }
+  }
   ++revision_;
   if (++s->epoch == 0) {  // wrapped: old stamps could collide
-    for (auto* stamps : {&s->face_stamp, &s->vertex_stamp, &s->moved_stamp}) {
+    for (auto* stamps : {&s->face_stamp, &s->vertex_stamp}) {
       std::fill(stamps->begin(), stamps->end(), 0U);
     }
     s->epoch = 1;
   }
   const uint32_t epoch = s->epoch;
-  // The faces around moved vertices changed shape; their corners' normal sums start afresh.
+  // The faces around moved vertices changed shape, and so did the normals of their vertices.
   s->dirty_faces.clear();
   s->dirty_vertices.clear();
+  s->tree.begin();
   for (int32_t v : moved) {
-    s->moved_stamp[v] = epoch;
-    for_each_vertex_face(v, [&](int32_t f) {
-      if (s->face_stamp[f] == epoch) return;
+    for (const int32_t c : s->corners_of(v)) {
+      const int32_t f = c >> 2;
+      if (s->face_stamp[f] == epoch) continue;
       s->face_stamp[f] = epoch;
       s->dirty_faces.push_back(f);
+      s->tree.mark(f);
       for (int32_t w : face_vertices_[f]) {
         if (s->vertex_stamp[w] == epoch) continue;
         s->vertex_stamp[w] = epoch;
         s->dirty_vertices.push_back(w);
-        s->normal_sum[w].setZero();
       }
-    });
-  }
-  // Each touched face once: its normal, and its angle-weighted share to each corner (§4.2).
-  for (int32_t f : s->dirty_faces) {
-    const auto& t = face_vertices_[f];
-    face_normals_[f] = accumulate_face(t, positions_, &s->normal_sum[t[0]], &s->normal_sum[t[1]],
-                                       &s->normal_sum[t[2]]);
-  }
-  // A moved vertex's fan is all touched: its sum is complete. A vertex at the rim of the region
-  // also has faces that did not move; their shares are added here.
-  for (int32_t w : s->dirty_vertices) {
-    if (s->moved_stamp[w] != epoch) {
-      for_each_vertex_face(w, [&](int32_t f) {
-        if (s->face_stamp[f] == epoch) return;
-        const int k = corner_of(f, w);
-        Eigen::Vector3d* sum = &s->normal_sum[w];
-        (void)accumulate_face(face_vertices_[f], positions_, k == 0 ? sum : nullptr,
-                              k == 1 ? sum : nullptr, k == 2 ? sum : nullptr);
-      });
     }
-    vertex_normals_[w] = unit_or_up(s->normal_sum[w]);
   }
+  // Each reshaped face once: its normal and corner angles. In two passes, the second only the
+  // arctangents (from y = |e1 x e2| and the corners' dot products, parked in face_angles): a
+  // short loop of independent iterations, which the processor overlaps far better than the
+  // whole shape's long chain.
+  for (int32_t f : s->dirty_faces) {
+    const FaceParts parts = face_parts(face_vertices_[f], positions_);
+    face_normals_[f] = parts.unit;
+    s->face_angles[f] = {parts.twice_area, parts.dot_a, parts.dot_b};
+  }
+  for (int32_t f : s->dirty_faces) s->face_angles[f] = corner_angles(s->face_angles[f]);
+  // Each touched vertex sums its faces' shares (§4.2), reshaped or not, as update_normals().
+  for (int32_t w : s->dirty_vertices) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const int32_t c : s->corners_of(w)) {
+      sum += s->face_angles[c >> 2][c & 3] * face_normals_[c >> 2];
+    }
+    vertex_normals_[w] = unit_or_up(sum);
+  }
+  s->angles_of = this;
+  s->angles_revision = revision_;
   // The tree: the leaves holding those faces and their ancestors, each once.
-  s->tree.begin();
-  for (int32_t f : s->dirty_faces) s->tree.mark(f);
   tree_.refit_marked(&s->tree, [this](int32_t f, double* lo, double* hi) {
     for (int32_t v : face_vertices_[f]) {
       const Eigen::Vector3d& p = positions_[v];

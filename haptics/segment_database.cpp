@@ -195,13 +195,10 @@ void SegmentDatabase::refit_edge_tree(std::span<const int32_t> moved_faces,
   const MeshDatabase& mesh = *mesh_;
   s->tree.begin();
   for (const int32_t f : moved_faces) {
-    for (const int32_t e : mesh.face_edges(f)) {
-      const int32_t k = s->slot[static_cast<size_t>(e)];
-      if (k >= 0) s->tree.mark(k);
-    }
+    for (const int32_t leaf : s->face_leaves[static_cast<size_t>(f)]) s->tree.mark_node(leaf);
   }
   edge_tree_.refit_marked(&s->tree, [&](int32_t k, double* lo, double* hi) {
-    for (int32_t v : mesh.edge_vertices(tree_edges_[k])) {
+    for (int32_t v : s->slot_vertices[static_cast<size_t>(k)]) {
       const Eigen::Vector3d& p = mesh.position(v);
       for (int a = 0; a < 3; ++a) {
         lo[a] = std::min(lo[a], p[a]);
@@ -212,10 +209,22 @@ void SegmentDatabase::refit_edge_tree(std::span<const int32_t> moved_faces,
 }
 
 SegmentUpdateScratch::SegmentUpdateScratch(const SegmentDatabase& db)
-    : slot(static_cast<size_t>(db.mesh().edge_count()), -1), tree(db.edge_tree()) {
+    : face_leaves(static_cast<size_t>(db.mesh().face_count()), {-1, -1, -1}),
+      slot_vertices(db.tree_edges().size()),
+      tree(db.edge_tree()) {
+  const MeshDatabase& mesh = db.mesh();
   const std::span<const int32_t> edges = db.tree_edges();
+  std::vector<int32_t> slot(static_cast<size_t>(mesh.edge_count()), -1);
   for (size_t k = 0; k < edges.size(); ++k) {
     slot[static_cast<size_t>(edges[k])] = static_cast<int32_t>(k);
+    slot_vertices[k] = mesh.edge_vertices(edges[k]);
+  }
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    for (int j = 0; j < 3; ++j) {
+      const int32_t k = slot[static_cast<size_t>(mesh.face_edges(f)[static_cast<size_t>(j)])];
+      face_leaves[static_cast<size_t>(f)][static_cast<size_t>(j)] =
+          k >= 0 ? tree.leaf_of[static_cast<size_t>(k)] : -1;
+    }
   }
 }
 

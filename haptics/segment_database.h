@@ -130,10 +130,13 @@ class SegmentDatabase {
   BoundingVolumeTree edge_tree_;
 };
 
-/// Workspace of SegmentDatabase::refit_edge_tree(moved_faces, scratch), sized at setup.
+/// Workspace of SegmentDatabase::refit_edge_tree(moved_faces, scratch), sized and filled at
+/// setup: what the refit would otherwise look up through three arrays per edge.
 struct SegmentUpdateScratch {
   explicit SegmentUpdateScratch(const SegmentDatabase& db);
-  std::vector<int32_t> slot;  // per mesh edge: its place in the edge tree, -1 if not contactable
+  std::vector<std::array<int32_t, 3>> face_leaves;    // per mesh face: the edge-tree leaf of each
+                                                      // of its edges, -1 if not contactable
+  std::vector<std::array<int32_t, 2>> slot_vertices;  // per edge-tree slot: the edge's vertices
   BoundingVolumeTree::PartialRefit tree;
 };
 

@@ -21,6 +21,16 @@ bool on_boundary(const haptics::MeshDatabase& m, haptics::PrimitiveRef p) {
   return boundary;
 }
 
+// The nearest face of p by the tree, and the side of it p is on.
+void find_nearest(const haptics::MeshDatabase& surface, const Eigen::Vector3d& p,
+                  haptics::PrimitiveRef* nearest, int8_t* side) noexcept {
+  Eigen::Vector3d q;
+  const int32_t f = surface.nearest_face(p, &q, nullptr);
+  if (f < 0) return;
+  *nearest = {haptics::PrimitiveKind::kFace, f};
+  *side = surface.face_normal(f).dot(p - q) >= 0.0 ? 1 : -1;
+}
+
 }  // namespace
 
 SurfaceTracking::SurfaceTracking(const haptics::MeshDatabase& surface,
@@ -28,21 +38,9 @@ SurfaceTracking::SurfaceTracking(const haptics::MeshDatabase& surface,
   const Eigen::Isometry3d inv = pose_WO.inverse();
   nearest.resize(catheter.positions.size());
   side.assign(catheter.positions.size(), 1);
+  away.assign(catheter.positions.size(), 0);
   for (size_t i = 0; i < catheter.positions.size(); ++i) {
-    const Eigen::Vector3d p = inv * catheter.positions[i];
-    double best = std::numeric_limits<double>::infinity();
-    for (int32_t f = 0; f < surface.face_count(); ++f) {
-      const auto& fv = surface.face_vertices(f);
-      haptics::TriangleFeature feature;
-      const Eigen::Vector3d q = haptics::closest_on_triangle(
-          p, surface.position(fv[0]), surface.position(fv[1]), surface.position(fv[2]), &feature);
-      const double d = (q - p).squaredNorm();
-      if (d < best) {
-        best = d;
-        nearest[i] = {haptics::PrimitiveKind::kFace, f};
-        side[i] = surface.face_normal(f).dot(p - q) >= 0.0 ? 1 : -1;
-      }
-    }
+    find_nearest(surface, inv * catheter.positions[i], &nearest[i], &side[i]);
   }
 }
 
@@ -85,10 +83,22 @@ int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
                                 SurfaceTracking* tracking, CatheterState* cath,
                                 std::span<SurfaceReaction> out) noexcept {
   const Eigen::Isometry3d inv = pose_WO.inverse();
+  const std::vector<haptics::BvhNode>& nodes = surface.tree().nodes();
+  const haptics::BvhNode* root = nodes.empty() ? nullptr : nodes.data();
   int32_t count = 0;
   for (size_t i = 0; i < cath->positions.size(); ++i) {
     const Eigen::Vector3d p = inv * cath->positions[i];
     if (!p.allFinite()) continue;
+    // Beyond the box grown by the clearance no point of the surface is near enough to touch.
+    if (root == nullptr ||
+        haptics::BoundingVolumeTree::box_distance2(*root, p) > s.clearance_m * s.clearance_m) {
+      tracking->away[i] = 1;
+      continue;
+    }
+    if (tracking->away[i] != 0) {  // back: found afresh, as at setup
+      find_nearest(surface, p, &tracking->nearest[i], &tracking->side[i]);
+      tracking->away[i] = 0;
+    }
     Eigen::Vector3d q;
     int32_t rounds = 0;
     const haptics::PrimitiveRef prim =

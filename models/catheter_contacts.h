@@ -5,7 +5,10 @@
 /// kept the catheter's radius (plus, for the duct's mid-surface, half its wall) away from it.
 /// Each particle tracks its nearest primitive by the point proxy's local search (Neighborhood
 /// Watch, §4.3) from one modelling step to the next, so the cost does not depend on the surface's
-/// size; the first nearest primitives come from an exhaustive search at setup.
+/// size. A particle beyond the surface's bounding box (grown by its clearance) cannot touch it
+/// and is not searched at all — most particles, for most surfaces; when it comes back, its
+/// nearest face is found afresh by the surface's tree (exact), as at setup, not walked to from
+/// where it was left.
 ///
 /// A particle closer than its clearance gets a contact plane in the catheter state (a spring
 /// along the surface normal inside the catheter's implicit step), and its reaction — equal and
@@ -39,8 +42,9 @@ struct SurfaceContactSettings {
 /// Per particle, the nearest primitive found last time (object frame of the surface).
 struct SurfaceTracking {
   std::vector<haptics::PrimitiveRef> nearest;
-  std::vector<int8_t> side;  ///< +1 in front of the surface, −1 behind (keep_side)
-  /// Exhaustive search for every particle (setup; O(particles × faces)).
+  std::vector<int8_t> side;   ///< +1 in front of the surface, −1 behind (keep_side)
+  std::vector<uint8_t> away;  ///< 1: beyond the surface's box last step (nearest is stale)
+  /// The nearest face of every particle, by the surface's tree (setup).
   SurfaceTracking(const haptics::MeshDatabase& surface, const Eigen::Isometry3d& pose_WO,
                   const CatheterState& catheter);
 };

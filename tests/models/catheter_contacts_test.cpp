@@ -269,5 +269,71 @@ TEST(CatheterContacts, CatheterPushedAgainstTheDuctFromOutsideStaysOutside) {
       r.applied_x, r.on_wall_x, 1e3 * r.min_radius, 1e3 * mid_radius);
 }
 
+// A particle beyond a surface's box is not searched; when it comes back it finds its nearest
+// point afresh. Here the surface is two separate blocks: the catheter leaves the first, goes far
+// away and comes down onto the second, which the local search could never walk to from the
+// first. Every particle's contact is then on the second block, at the nearest point an
+// exhaustive search finds.
+TEST(CatheterContacts, AParticleComingBackFromAfarFindsItsNearestPointAfresh) {
+  haptics::TriangleMesh two = haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 4);
+  const haptics::TriangleMesh second = haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 4);
+  const auto offset = static_cast<int32_t>(two.positions.size());
+  for (const Eigen::Vector3d& p : second.positions) {
+    two.positions.push_back(p + Eigen::Vector3d(0.3, 0.0, 0.0));
+  }
+  for (const haptics::Triangle& t : second.triangles) {
+    two.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  }
+  const haptics::MeshDatabase blocks = haptics::MeshDatabase::build(two);
+  const CatheterModel model = CatheterModel::build({});
+  CatheterState cath(model, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
+  SurfaceContactSettings settings;
+  settings.clearance_m = model.radius_m();
+  const auto n = static_cast<size_t>(model.particle_count());
+  // Resting in a line on the first block's top, 0.3 mm into the clearance.
+  auto lay = [&](double x0, double y) {
+    for (size_t i = 0; i < n; ++i) {
+      cath.positions[i] = Eigen::Vector3d(x0 + 0.09 * static_cast<double>(i) / (n - 1), y,
+                                          -0.03 + 0.06 * static_cast<double>(i) / (n - 1));
+    }
+  };
+  const double y_touching = 0.05 + model.radius_m() - 0.0003;
+  lay(-0.045, y_touching);
+  SurfaceTracking tracking(blocks, Eigen::Isometry3d::Identity(), cath);
+  std::vector<SurfaceReaction> reactions(n);
+  auto contacts = [&] {
+    clear_contacts(&cath);
+    return update_surface_contacts(blocks, Eigen::Isometry3d::Identity(), settings, &tracking,
+                                   &cath, reactions);
+  };
+  EXPECT_EQ(contacts(), static_cast<int32_t>(n));
+  // Lifted 1 m: beyond the box, nothing searched, no contact.
+  lay(-0.045, 1.0);
+  EXPECT_EQ(contacts(), 0);
+  EXPECT_EQ(std::count(tracking.away.begin(), tracking.away.end(), 1), static_cast<ptrdiff_t>(n));
+  // Down onto the second block.
+  lay(0.255, y_touching);
+  ASSERT_EQ(contacts(), static_cast<int32_t>(n));
+  for (size_t k = 0; k < n; ++k) {
+    const SurfaceReaction& r = reactions[k];
+    const Eigen::Vector3d& p = cath.positions[static_cast<size_t>(r.particle)];
+    double best = 1e300;
+    for (int32_t f = 0; f < blocks.face_count(); ++f) {
+      const auto& v = blocks.face_vertices(f);
+      haptics::TriangleFeature feature;
+      best = std::min(best,
+                      (haptics::closest_on_triangle(p, blocks.position(v[0]), blocks.position(v[1]),
+                                                    blocks.position(v[2]), &feature) -
+                       p)
+                          .squaredNorm());
+    }
+    EXPECT_NEAR((r.point_O - p).squaredNorm(), best, 1e-15) << "particle " << r.particle;
+    EXPECT_GT(r.point_O.x(), 0.2);  // on the second block
+    EXPECT_NEAR(cath.contact_offset[static_cast<size_t>(r.particle)], 0.05 + model.radius_m(),
+                1e-12);
+  }
+  EXPECT_EQ(std::count(tracking.away.begin(), tracking.away.end(), 1), 0);
+}
+
 }  // namespace
 }  // namespace lap::models
