@@ -108,6 +108,13 @@ class BoundingVolumeTree {
   /// Refits the nodes marked in `r` (see PartialRefit); extend as for refit(). No allocation.
   template <typename Extend>
   void refit_marked(PartialRefit* r, const Extend& extend) {
+    order_marked(r);
+    refit_ordered(*r, extend);
+  }
+  /// The two halves of refit_marked(): order the marked nodes children first, then refit them
+  /// in that order — again, without marking or ordering anew, when the same primitives move
+  /// again (a dent held still).
+  static void order_marked(PartialRefit* r) {
     // Deepest first puts every child before its parent: a counting sort by depth, O(marked).
     r->per_depth.fill(0);
     for (const int32_t i : r->nodes) ++r->per_depth[r->depth[static_cast<size_t>(i)]];
@@ -121,7 +128,10 @@ class BoundingVolumeTree {
     for (const int32_t i : r->nodes) {
       r->order[static_cast<size_t>(r->per_depth[r->depth[static_cast<size_t>(i)]]++)] = i;
     }
-    for (const int32_t i : r->order) refit_node(static_cast<size_t>(i), extend);
+  }
+  template <typename Extend>
+  void refit_ordered(const PartialRefit& r, const Extend& extend) {
+    for (const int32_t i : r.order) refit_node(static_cast<size_t>(i), extend);
   }
 
   /// Visits the leaves whose boxes the segment p0 -> p1 touches, nearest first. `visit(k, t_max)`

@@ -368,6 +368,7 @@ MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
       tree(db.tree()) {
   dirty_faces.reserve(static_cast<size_t>(db.face_count()));
   dirty_vertices.reserve(static_cast<size_t>(db.vertex_count()));
+  last_moved.reserve(static_cast<size_t>(db.vertex_count()));
   for (int32_t f = 0; f < db.face_count(); ++f) {
     for (const int32_t v : db.face_vertices(f)) ++corner_start[static_cast<size_t>(v) + 1];
   }
@@ -382,17 +383,10 @@ MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
   }
 }
 
-void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
-                                 std::span<const int32_t> moved, MeshUpdateScratch* s) {
-  if (moved.empty()) return;
-  for (int32_t v : moved) positions_[v] = positions[v];
-  if (s->angles_of != this || s->angles_revision != revision_) {
-    // The cached angles are another database's, or this one moved by another route.
-    for (int32_t f = 0; f < face_count(); ++f) {
-      s->face_angles[f] = face_shape(face_vertices_[f], positions_).angle;
-    }
-  }
-  ++revision_;
+// The faces around the moved vertices (they changed shape), their vertices (whose normals
+// change), and the tree nodes above those faces, ordered for the refit; remembered for the
+// next call.
+void MeshDatabase::find_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const {
   if (++s->epoch == 0) {  // wrapped: old stamps could collide
     for (auto* stamps : {&s->face_stamp, &s->vertex_stamp}) {
       std::fill(stamps->begin(), stamps->end(), 0U);
@@ -418,6 +412,25 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
       }
     }
   }
+  BoundingVolumeTree::order_marked(&s->tree);
+  s->last_moved.assign(moved.begin(), moved.end());  // within the reserved capacity
+  s->region_of = this;
+}
+
+void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
+                                 std::span<const int32_t> moved, MeshUpdateScratch* s) {
+  if (moved.empty()) return;
+  for (int32_t v : moved) positions_[v] = positions[v];
+  if (s->angles_of != this || s->angles_revision != revision_) {
+    // The cached angles are another database's, or this one moved by another route.
+    for (int32_t f = 0; f < face_count(); ++f) {
+      s->face_angles[f] = face_shape(face_vertices_[f], positions_).angle;
+    }
+  }
+  ++revision_;
+  const bool same_region = s->region_of == this && moved.size() == s->last_moved.size() &&
+                           std::equal(moved.begin(), moved.end(), s->last_moved.begin());
+  if (!same_region) find_region(moved, s);
   // Each reshaped face once: its normal and corner angles. In two passes, the second only the
   // arctangents (from y = |e1 x e2| and the corners' dot products, parked in face_angles): a
   // short loop of independent iterations, which the processor overlaps far better than the
@@ -439,7 +452,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   s->angles_of = this;
   s->angles_revision = revision_;
   // The tree: the leaves holding those faces and their ancestors, each once.
-  tree_.refit_marked(&s->tree, [this](int32_t f, double* lo, double* hi) {
+  tree_.refit_ordered(s->tree, [this](int32_t f, double* lo, double* hi) {
     for (int32_t v : face_vertices_[f]) {
       const Eigen::Vector3d& p = positions_[v];
       for (int a = 0; a < 3; ++a) {

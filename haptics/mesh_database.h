@@ -72,6 +72,10 @@ struct MeshUpdateScratch {
   const MeshDatabase* angles_of = nullptr;
   uint64_t angles_revision = 0;
   BoundingVolumeTree::PartialRefit tree;  // the face tree's local refit
+  // The last moved list and whose: the same list again (a dent held still, whatever its depth)
+  // reuses the touched faces, vertices and ordered tree nodes found for it.
+  std::vector<int32_t> last_moved;  // reserved n_v
+  const MeshDatabase* region_of = nullptr;
 };
 
 class MeshDatabase {
@@ -92,9 +96,11 @@ class MeshDatabase {
   /// faces' angle-weighted normals from those (the faces that did not move from the angles
   /// cached in the workspace), and only the touched leaves and their ancestors are refitted,
   /// each once. Cost proportional to the deformed region, not to the mesh. The normals equal
-  /// the full update's bit for bit (same terms, same order). A workspace used with another
-  /// database, or after this one moved by another route, first recomputes its cached angles
-  /// (O(n), once). No allocation.
+  /// the full update's bit for bit (same terms, same order). The same `moved` list as the last
+  /// call's (a dent held still, at whatever depth) reuses the faces, vertices and tree nodes
+  /// found then. A workspace used with another database, or after this one moved by another
+  /// route, first recomputes its cached angles (O(n), once). `moved` lists each vertex once.
+  /// No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved,
                      MeshUpdateScratch* scratch);
   /// The three parts of set_positions, for callers that schedule them apart: copy the
@@ -189,6 +195,7 @@ class MeshDatabase {
 
  private:
   void update_vertex_normal(int32_t v);
+  void find_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const;
   friend struct MeshUpdateScratch;
   [[nodiscard]] Eigen::Vector3d compute_face_normal(int32_t f) const;
 

@@ -193,11 +193,19 @@ void SegmentDatabase::refit_edge_tree() {
 void SegmentDatabase::refit_edge_tree(std::span<const int32_t> moved_faces,
                                       SegmentUpdateScratch* s) {
   const MeshDatabase& mesh = *mesh_;
-  s->tree.begin();
-  for (const int32_t f : moved_faces) {
-    for (const int32_t leaf : s->face_leaves[static_cast<size_t>(f)]) s->tree.mark_node(leaf);
+  const bool same_region =
+      s->region_of == this && moved_faces.size() == s->last_faces.size() &&
+      std::equal(moved_faces.begin(), moved_faces.end(), s->last_faces.begin());
+  if (!same_region) {
+    s->tree.begin();
+    for (const int32_t f : moved_faces) {
+      for (const int32_t leaf : s->face_leaves[static_cast<size_t>(f)]) s->tree.mark_node(leaf);
+    }
+    BoundingVolumeTree::order_marked(&s->tree);
+    s->last_faces.assign(moved_faces.begin(), moved_faces.end());  // within the reserved capacity
+    s->region_of = this;
   }
-  edge_tree_.refit_marked(&s->tree, [&](int32_t k, double* lo, double* hi) {
+  edge_tree_.refit_ordered(s->tree, [&](int32_t k, double* lo, double* hi) {
     for (int32_t v : s->slot_vertices[static_cast<size_t>(k)]) {
       const Eigen::Vector3d& p = mesh.position(v);
       for (int a = 0; a < 3; ++a) {
@@ -212,6 +220,7 @@ SegmentUpdateScratch::SegmentUpdateScratch(const SegmentDatabase& db)
     : face_leaves(static_cast<size_t>(db.mesh().face_count()), {-1, -1, -1}),
       slot_vertices(db.tree_edges().size()),
       tree(db.edge_tree()) {
+  last_faces.reserve(face_leaves.size());
   const MeshDatabase& mesh = db.mesh();
   const std::span<const int32_t> edges = db.tree_edges();
   std::vector<int32_t> slot(static_cast<size_t>(mesh.edge_count()), -1);

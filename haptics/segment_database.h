@@ -138,6 +138,9 @@ struct SegmentUpdateScratch {
                                                       // of its edges, -1 if not contactable
   std::vector<std::array<int32_t, 2>> slot_vertices;  // per edge-tree slot: the edge's vertices
   BoundingVolumeTree::PartialRefit tree;
+  // The last moved faces and whose: the same list again reuses the ordered nodes.
+  std::vector<int32_t> last_faces;  // reserved n_f
+  const SegmentDatabase* region_of = nullptr;
 };
 
 }  // namespace lap::haptics

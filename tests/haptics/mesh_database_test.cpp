@@ -224,16 +224,23 @@ TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
     std::vector<Eigen::Vector3d> positions = m.positions;
     std::mt19937 rng(2);
     std::uniform_int_distribution<int32_t> pick(0, local.vertex_count() - 1);
-    for (int round = 0; round < 30; ++round) {
-      // Dent a patch around a random vertex (and let the last patch spring back).
-      const Eigen::Vector3d centre = m.positions[pick(rng)];
-      std::vector<int32_t> moved;
+    std::vector<int32_t> moved;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int round = 0; round < 40; ++round) {
+      if (round % 4 != 3) {
+        // Dent a patch around a random vertex (and let the last patch spring back).
+        centre = m.positions[pick(rng)];
+        moved.clear();
+      }
+      // Every fourth round holds the last dent at another depth: the same moved list again,
+      // which reuses the region found for it.
+      const double depth = round % 4 == 3 ? 0.1 : 0.2;
       for (int32_t v = 0; v < local.vertex_count(); ++v) {
         const double d = (m.positions[v] - centre).norm();
         const bool was = positions[v] != m.positions[v];
         positions[v] =
-            d < 0.015 ? m.positions[v] * (1.0 - 0.2 * (0.015 - d) / 0.015) : m.positions[v];
-        if (was || d < 0.015) moved.push_back(v);
+            d < 0.015 ? m.positions[v] * (1.0 - depth * (0.015 - d) / 0.015) : m.positions[v];
+        if (round % 4 != 3 && (was || d < 0.015)) moved.push_back(v);
       }
       if (round % 10 == 5) {
         // Now and then by another route: the workspace's cached angles go stale and must be
