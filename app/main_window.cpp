@@ -16,7 +16,10 @@
 #include <QMessageBox>
 #include <QStatusBar>
 #include <QTimer>
+#include <algorithm>
 #include <iostream>
+#include <memory>
+#include <string>
 
 #include "app/mesh_actor.h"
 
@@ -85,9 +88,30 @@ MainWindow::MainWindow() {
 
   // The graphics loop (ARCHITECTURE.md: Qt event loop, 30-60 Hz): redraw at 60 Hz so that moving
   // tools and deforming organs appear as the other loops publish them.
+  // A 3D mouse, if there is one, is polled here too and moves the active tool's simulated device
+  // like the keys do (hardware/space_mouse.h); without one, nothing changes.
+  std::string no_mouse;
+  space_mouse_ = hardware::SpaceMouse::open(&no_mouse);
+  if (space_mouse_) {
+    auto* mouse_label = new QLabel("3D mouse", this);
+    mouse_label->setToolTip("A 3D mouse (spacenavd) steers the active tool (T switches tools)");
+    statusBar()->addPermanentWidget(mouse_label);
+  }
   auto* frame_timer = new QTimer(this);
   frame_timer->setTimerType(Qt::PreciseTimer);
-  connect(frame_timer, &QTimer::timeout, this, [this] {
+  auto frame_clock = std::make_shared<QElapsedTimer>();
+  frame_clock->start();
+  connect(frame_timer, &QTimer::timeout, this, [this, frame_clock, last_s = 0.0]() mutable {
+    const double now_s = static_cast<double>(frame_clock->nsecsElapsed()) * 1e-9;
+    if (space_mouse_) {
+      const double dt = std::clamp(now_s - last_s, 0.0, 0.1);  // a stalled UI must not jump
+      const hardware::ToolNudge n =
+          hardware::space_mouse_nudge(space_mouse_->poll(now_s), space_mouse_mapping_, dt);
+      if (!n.delta_W.isZero() || n.opening_rad != 0.0) {
+        session_.nudge(active_tool_, n.delta_W, n.opening_rad);
+      }
+    }
+    last_s = now_s;
     if (session_.running()) actors_.update(session_.haptic(), session_.model());
     view_->render();
   });

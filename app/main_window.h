@@ -5,10 +5,12 @@
 #include <QLabel>
 #include <QMainWindow>
 #include <QString>
+#include <memory>
 
 #include "app/live_session.h"
 #include "app/tool_actors.h"
 #include "app/vtk_view.h"
+#include "hardware/space_mouse.h"
 #include "sim/scene.h"
 
 namespace lap::app {
@@ -55,6 +57,9 @@ class MainWindow : public QMainWindow {
   bool wireframe_ = false;
   QString record_dir_;
   std::array<hardware::DeviceSpec, 2> devices_{};
+  // A 3D mouse, when spacenavd and libspnav are there: it steers the active tool like the keys.
+  std::unique_ptr<hardware::SpaceMouse> space_mouse_;
+  hardware::SpaceMouseMapping space_mouse_mapping_;
 };
 
 }  // namespace lap::app

@@ -1,0 +1,74 @@
+// A stand-in for libspnav (the spacenavd client library) for the 3D mouse tests: the same three
+// entry points, fed from a queue the test fills through fake_spnav_push() and told whether the
+// daemon "runs" by fake_spnav_set_daemon(). Written here from libspnav's published interface.
+
+#include <deque>
+
+namespace {
+
+union Event {
+  int type;
+  struct {
+    int type;
+    int x, y, z;
+    int rx, ry, rz;
+    unsigned int period;
+    int* data;
+  } motion;
+  struct {
+    int type;
+    int press;
+    int bnum;
+  } button;
+};
+
+std::deque<Event>& queue() {
+  static std::deque<Event> q;
+  return q;
+}
+bool g_daemon = true;
+int g_open = 0;
+
+}  // namespace
+
+extern "C" {
+
+// NOLINTBEGIN(readability-identifier-naming): libspnav's names
+int spnav_open() {
+  if (!g_daemon) return -1;
+  ++g_open;
+  return 0;
+}
+
+int spnav_close() {
+  --g_open;
+  return 0;
+}
+
+int spnav_poll_event(Event* e) {
+  if (queue().empty()) return 0;
+  *e = queue().front();
+  queue().pop_front();
+  return e->type;
+}
+// NOLINTEND(readability-identifier-naming)
+
+// Test controls.
+void fake_spnav_set_daemon(int running) { g_daemon = running != 0; }
+int fake_spnav_open_count() { return g_open; }
+void fake_spnav_push_motion(int x, int y, int z, int rx, int ry, int rz) {
+  Event e{};
+  e.motion = {1, x, y, z, rx, ry, rz, 8U, nullptr};
+  queue().push_back(e);
+}
+void fake_spnav_push_button(int press, int bnum) {
+  Event e{};
+  e.button = {2, press, bnum};
+  queue().push_back(e);
+}
+void fake_spnav_push_raw(int type) {
+  Event e{};
+  e.type = type;
+  queue().push_back(e);
+}
+}
