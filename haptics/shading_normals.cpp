@@ -106,6 +106,20 @@ void ShadingNormals::update(const MeshDatabase& mesh, std::span<const int32_t> v
   }
 }
 
+void ShadingNormals::update(const MeshDatabase& mesh, const MeshUpdateScratch& scratch) {
+  for (const int32_t v : scratch.dirty_vertices) {
+    if (smooth_vertex_[v] != 0) {
+      const Eigen::Vector3d& n = mesh.vertex_normal(v);
+      for (const int32_t c : scratch.corners_of(v)) corners_[c >> 2][c & 3] = n;
+      continue;
+    }
+    for (const int32_t c : scratch.corners_of(v)) {
+      const int32_t f = c >> 2;
+      corners_[f][c & 3] = shaded_[f] == 0 ? mesh.face_normal(f) : blended_corner(mesh, f, v);
+    }
+  }
+}
+
 Eigen::Vector3d ShadingNormals::normal(const MeshDatabase& mesh, PrimitiveRef on,
                                        const Eigen::Vector3d& p) const {
   switch (on.kind) {

@@ -42,6 +42,9 @@ class ShadingNormals {
   /// keeps its flat normal. So a dented organ feels as smooth as it looks (§6.1 over §6.5).
   /// No allocation.
   void update(const MeshDatabase& mesh, std::span<const int32_t> vertices);
+  /// The same over the vertices the workspace's last set_positions() recomputed, reading the
+  /// faces around each from its flat lists instead of walking fans.
+  void update(const MeshDatabase& mesh, const MeshUpdateScratch& scratch);
 
   /// The shaded unit normal (object frame) at point p on primitive `on` (the point proxy's
   /// contacted primitive). Falls back to the primitive's own normal where it is not smooth.

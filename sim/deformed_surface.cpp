@@ -42,7 +42,7 @@ bool DeformedSurface::apply_to(const SurfaceDeformation& d, const Targets& t) no
   if (changed.empty()) return false;
   t.db->set_positions(positions_, changed, t.scratch);
   if (t.segments != nullptr) t.segments->refit_edge_tree(t.scratch->dirty_faces, t.segment_scratch);
-  if (t.shading != nullptr) t.shading->update(*t.db, t.scratch->dirty_vertices);
+  if (t.shading != nullptr) t.shading->update(*t.db, *t.scratch);
   return true;
 }
 
