@@ -7,12 +7,14 @@
 // Targets (issue 7): ≥ 999 Hz, p99.9 ≤ 200 µs, no tick later than 2 ms.
 
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <thread>
@@ -55,6 +57,21 @@ hardware::ScriptedTrajectory sweep(const sim::Scene& scene, int side, double dur
   return t;
 }
 
+// The CPU time the hypervisor took from this machine so far (steal, /proc/stat) [s]; 0 where
+// there is none to read. A stall that an idle loop also sees, with steal rising over it, is
+// the machine's.
+double steal_s() {
+  std::ifstream in("/proc/stat");
+  std::string cpu;
+  std::array<double, 8> t{};
+  if (!(in >> cpu) || cpu != "cpu") return 0.0;
+  for (double& v : t) {
+    if (!(in >> v)) return 0.0;
+  }
+  const long hz = sysconf(_SC_CLK_TCK);
+  return hz > 0 ? t[7] / static_cast<double>(hz) : 0.0;
+}
+
 // What the graphics loop does with the session while it runs, until `done`; counts its frames.
 using GraphicsLoop =
     std::function<void(sim::Session& session, const std::atomic<bool>& done, int64_t* frames)>;
@@ -85,7 +102,9 @@ void run_runtime(benchmark::State& state, const GraphicsLoop& graphics) {
     std::atomic<bool> done{false};
     int64_t frames = 0;
     std::thread graphics_thread([&] { graphics(*session, done, &frames); });
+    const double steal0 = steal_s();
     const sim::SessionMetrics m = session->run();
+    state.counters["steal_ms"] = 1e3 * (steal_s() - steal0);
     done.store(true);
     graphics_thread.join();
     state.counters["seconds"] = duration;
@@ -190,6 +209,7 @@ void BM_SleepLoopBaseline(benchmark::State& state) {
   for (auto _ : state) {
     double worst = 0.0;
     sim::LoopStats stats(0.001);
+    const double steal0 = steal_s();
     std::thread loop([&] {
       const std::string refused = sim::request_realtime_priority(80);
       state.counters["sched_fifo"] = refused.empty() ? 1.0 : 0.0;
@@ -206,6 +226,7 @@ void BM_SleepLoopBaseline(benchmark::State& state) {
       stats.set_elapsed(static_cast<double>(sim::monotonic_ns() - start) * 1e-9);
     });
     loop.join();
+    state.counters["steal_ms"] = 1e3 * (steal_s() - steal0);
     state.counters["seconds"] = duration;
     state.counters["achieved_rate_hz"] = stats.achieved_rate_hz();
     state.counters["jitter_p50_us"] = stats.jitter_quantile_s(0.5) * 1e6;
