@@ -4,23 +4,12 @@
 
 #include <deque>
 
+#include "hardware/space_mouse.h"
+
 namespace {
 
-union Event {
-  int type;
-  struct {
-    int type;
-    int x, y, z;
-    int rx, ry, rz;
-    unsigned int period;
-    int* data;
-  } motion;
-  struct {
-    int type;
-    int press;
-    int bnum;
-  } button;
-};
+// libspnav's event record, as the driver declares it.
+using Event = lap::hardware::SpnavEvent;
 
 std::deque<Event>& queue() {
   static std::deque<Event> q;
@@ -58,12 +47,12 @@ void fake_spnav_set_daemon(int running) { g_daemon = running != 0; }
 int fake_spnav_open_count() { return g_open; }
 void fake_spnav_push_motion(int x, int y, int z, int rx, int ry, int rz) {
   Event e{};
-  e.motion = {1, x, y, z, rx, ry, rz, 8U, nullptr};
+  e.motion = {lap::hardware::kSpnavEventMotion, x, y, z, rx, ry, rz, 8U, nullptr};
   queue().push_back(e);
 }
 void fake_spnav_push_button(int press, int bnum) {
   Event e{};
-  e.button = {2, press, bnum};
+  e.button = {lap::hardware::kSpnavEventButton, press, bnum};
   queue().push_back(e);
 }
 void fake_spnav_push_raw(int type) {
