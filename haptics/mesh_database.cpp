@@ -430,7 +430,12 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   ++revision_;
   const bool same_region = s->region_of == this && moved.size() == s->last_moved.size() &&
                            std::equal(moved.begin(), moved.end(), s->last_moved.begin());
-  if (!same_region) find_region(moved, s);
+  if (same_region) {
+    ++s->regions_reused;
+  } else {
+    find_region(moved, s);
+    ++s->regions_found;
+  }
   // Each reshaped face once: its normal and corner angles. In two passes, the second only the
   // arctangents (from y = |e1 x e2| and the corners' dot products, parked in face_angles): a
   // short loop of independent iterations, which the processor overlaps far better than the

@@ -50,7 +50,8 @@ class MeshDatabase;
 /// vertex as a flat list (CSR: no fan walks in the update), each face's corner angles as last
 /// computed (so a vertex at the rim of a dent sums its unmoved faces' shares without trigonometry),
 /// and the tree's partial refit. Sized and filled at setup; kept by whoever deforms the database
-/// (not in the database, which the haptic loop reads). Memory: 36 bytes per face and 4 per vertex.
+/// (not in the database, which the haptic loop reads). Memory: 44 bytes per face and 16 per
+/// vertex, and the tree's refit workspace.
 struct MeshUpdateScratch {
   explicit MeshUpdateScratch(const MeshDatabase& db);
   /// The (face, corner) pairs around vertex v, each packed as 4 face + corner, faces ascending.
@@ -76,6 +77,8 @@ struct MeshUpdateScratch {
   // reuses the touched faces, vertices and ordered tree nodes found for it.
   std::vector<int32_t> last_moved;  // reserved n_v
   const MeshDatabase* region_of = nullptr;
+  int64_t regions_found = 0;   // calls that found their region
+  int64_t regions_reused = 0;  // calls that reused the last one
 };
 
 class MeshDatabase {

@@ -1,9 +1,7 @@
 #include "models/catheter_contacts.h"
 
 #include <algorithm>
-#include <limits>
 
-#include "haptics/closest_point.h"
 #include "haptics/point_proxy.h"
 
 namespace lap::models {

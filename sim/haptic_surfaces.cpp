@@ -42,6 +42,18 @@ void HapticSurfaces::take_up(std::span<const SurfaceDeformation> deformations,
   model_steps_ = model_steps;
 }
 
+int64_t HapticSurfaces::regions_reused() const {
+  int64_t n = 0;
+  for (const Organ& o : organs_) n += o.scratch->regions_reused;
+  return n;
+}
+
+int64_t HapticSurfaces::regions_taken_up() const {
+  int64_t n = 0;
+  for (const Organ& o : organs_) n += o.scratch->regions_reused + o.scratch->regions_found;
+  return n;
+}
+
 void HapticSurfaces::point(std::span<haptics::HapticObject> objects) const noexcept {
   for (size_t i = 0; i < organs_.size() && i < objects.size(); ++i) {
     const Organ& o = organs_[i];

@@ -50,6 +50,10 @@ class HapticSurfaces {
   }
   /// The modelling step this copy shows.
   [[nodiscard]] int64_t model_steps() const { return model_steps_; }
+  /// Take-ups of a surface so far that reused the region found for the same moved vertices
+  /// last time (a dent held still), of all take-ups that moved something.
+  [[nodiscard]] int64_t regions_reused() const;
+  [[nodiscard]] int64_t regions_taken_up() const;
 
  private:
   struct Organ {

@@ -121,15 +121,37 @@ void TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double dt) no
       // 4. Dents: the catheter's (conforming), then the tools' (their share of the push).
       int32_t n = models::catheter_dents(*m.local, *m.rest, Eigen::Isometry3d::Identity(),
                                          m.stiffness_n_per_m, reactions, m.dents);
+      // Each tool contact's force comes from how deep its segment lies below the dent the last
+      // step left, so the dents and the forces alternate between the loops. Contacts near one
+      // another (a tool's three segments on one spot, or both tools) share one push: each
+      // dents by its force over the number of contacts within R of it. Summed in full, n
+      // contacts on one spot would dent n times share of the penetration: from n = 2 on the
+      // dent overshoots the tool and swings back through it, and the proxies, whose tool did
+      // not move, lose the surface (the tool ends up inside the organ with no force).
+      const double reach2 = m.local->settings().radius_m * m.local->settings().radius_m;
+      auto contacts_near = [&](const Eigen::Vector3d& p) {
+        int32_t count = 0;
+        for (const ToolModelInput& other : tools) {
+          for (int32_t c = 0; c < other.contact_count && other.valid; ++c) {
+            const ToolContact& oc = other.contacts[static_cast<size_t>(c)];
+            if (oc.organ == static_cast<int32_t>(i) && (oc.point_W - p).squaredNorm() < reach2) {
+              ++count;
+            }
+          }
+        }
+        return std::max(count, 1);
+      };
       for (const ToolModelInput& tool : tools) {
         for (int32_t c = 0; c < tool.contact_count && tool.valid; ++c) {
           const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
           if (tc.organ != static_cast<int32_t>(i) || n >= static_cast<int32_t>(m.dents.size())) {
             continue;
           }
+          const Eigen::Vector3d share_of_push =
+              tc.force_on_organ_W / static_cast<double>(contacts_near(tc.point_W));
           m.dents[static_cast<size_t>(n++)] =
               models::rest_contact(*m.local, *m.rest, m.local_state->positions, tc.primitive,
-                                   tc.point_W, tc.force_on_organ_W, m.stiffness_n_per_m);
+                                   tc.point_W, share_of_push, m.stiffness_n_per_m);
         }
       }
       (void)models::deform(*m.local, {m.dents.data(), static_cast<size_t>(n)}, m.local_state.get());

@@ -1,8 +1,8 @@
 // The proxies' three copies of the organ surfaces (haptic_surfaces.h): the modelling thread's
-// side takes up every step into its copy, the haptic side takes only some of them, and the copy
-// it holds is still exactly the surface of the newest step — checked against databases built
-// afresh over that surface (vertex normals, first contacts), its edge tree's boxes containing
-// their edges, and its shading normals equal to a fresh build's.
+// side takes up every step into its copy (a dent now held, now moved on), the haptic side takes
+// only some of them, and the copy it holds is still exactly the surface of the newest step —
+// checked against databases built afresh over that surface (vertex normals, first contacts), its
+// edge tree's boxes containing their edges, and its shading normals equal to a fresh build's.
 
 #include "sim/haptic_surfaces.h"
 
@@ -18,9 +18,11 @@
 namespace lap::sim {
 namespace {
 
-// Step s of a dent sliding round the sphere's equator, 3 mm deep, 15 mm across.
+// Step s of a dent moving round the sphere's equator, 15 mm across: held in one place for
+// four steps at a time while it deepens (2, 2.33, 2.67, 3 mm), then moved on.
 SurfaceDeformation dent_at_step(const haptics::TriangleMesh& m, int s) {
-  const double a = 0.3 * s;
+  const double a = 0.3 * (s / 4);
+  const double depth = 0.04 + 0.02 * (s % 4) / 3.0;
   const Eigen::Vector3d centre = 0.05 * Eigen::Vector3d(std::cos(a), 0.0, std::sin(a));
   SurfaceDeformation d(m.positions.size());
   for (size_t v = 0; v < m.positions.size(); ++v) {
@@ -28,7 +30,7 @@ SurfaceDeformation dent_at_step(const haptics::TriangleMesh& m, int s) {
     if (dist >= 0.015) continue;
     d.vertex[static_cast<size_t>(d.count)] = static_cast<int32_t>(v);
     d.position[static_cast<size_t>(d.count++)] =
-        m.positions[v] * (1.0 - 0.06 * (0.015 - dist) / 0.015);
+        m.positions[v] * (1.0 - depth * (0.015 - dist) / 0.015);
   }
   return d;
 }
@@ -126,6 +128,18 @@ TEST(HapticSurfaces, TheCopyTheHapticSideHoldsIsTheNewestStepsSurfaceWhateverItS
   }
   EXPECT_LT(shading_error, 1e-12);
   EXPECT_EQ(taken, 6);
+  // While the dent was held, copies took it up again through the region found before.
+  // The three copies: the one read, the one being written, and the one published before it.
+  int64_t reused = buffer.read()->regions_reused();
+  int64_t all = buffer.read()->regions_taken_up();
+  for (int i = 0; i < 2; ++i) {
+    reused += buffer.write_slot()->regions_reused();
+    all += buffer.write_slot()->regions_taken_up();
+    buffer.publish();
+  }
+  EXPECT_EQ(all, 40);  // each step taken up by one copy
+  EXPECT_GT(reused, 0);
+  EXPECT_LT(reused, all);
 }
 
 }  // namespace
