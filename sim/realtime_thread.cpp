@@ -3,10 +3,14 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
+#include <sys/syscall.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
+#include <string>
 
 namespace lap::sim {
 
@@ -42,6 +46,70 @@ std::string lock_memory() {
   if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) return {};
   return std::string("mlockall refused (") + std::strerror(errno) +
          "): memory not locked; raise `ulimit -l` to lock it";
+}
+
+namespace {
+
+// Calls f(tid) for every thread of this process but the calling one.
+template <typename F>
+void for_each_other_thread(const F& f) {
+  const auto self = static_cast<pid_t>(syscall(SYS_gettid));
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+    const std::string name = entry.path().filename().string();
+    char* end = nullptr;
+    const long tid = std::strtol(name.c_str(), &end, 10);
+    if (end == name.c_str() || *end != '\0' || tid == self) continue;
+    f(static_cast<pid_t>(tid));
+  }
+}
+
+}  // namespace
+
+int isolate_calling_thread(std::string* why) {
+  cpu_set_t mine;
+  CPU_ZERO(&mine);
+  if (pthread_getaffinity_np(pthread_self(), sizeof mine, &mine) != 0 || CPU_COUNT(&mine) < 2) {
+    if (why != nullptr) *why = "fewer than two processors: the haptic thread shares them";
+    return -1;
+  }
+  int cpu = -1;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &mine)) cpu = c;
+  }
+  cpu_set_t only;
+  CPU_ZERO(&only);
+  CPU_SET(cpu, &only);
+  if (const int rc = pthread_setaffinity_np(pthread_self(), sizeof only, &only); rc != 0) {
+    if (why != nullptr)
+      *why = std::string("could not pin the haptic thread (") + std::strerror(rc) + ")";
+    return -1;
+  }
+  for_each_other_thread([&](pid_t tid) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(tid, sizeof set, &set) != 0) return;
+    CPU_CLR(cpu, &set);
+    if (CPU_COUNT(&set) > 0) (void)sched_setaffinity(tid, sizeof set, &set);
+  });
+  return cpu;
+}
+
+void release_isolated_processor(int cpu) {
+  if (cpu < 0) return;
+  for_each_other_thread([&](pid_t tid) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(tid, sizeof set, &set) != 0) return;
+    CPU_SET(cpu, &set);
+    (void)sched_setaffinity(tid, sizeof set, &set);
+  });
+  cpu_set_t self;
+  CPU_ZERO(&self);
+  if (sched_getaffinity(0, sizeof self, &self) == 0) {
+    CPU_SET(cpu, &self);
+    (void)sched_setaffinity(0, sizeof self, &self);
+  }
 }
 
 }  // namespace lap::sim

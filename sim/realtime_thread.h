@@ -23,4 +23,14 @@ void sleep_until_ns(int64_t deadline_ns, int64_t spin_ns) noexcept;
 /// empty string or the reason it was refused.
 [[nodiscard]] std::string lock_memory();
 
+/// Gives the calling thread a processor of its own within this process: pins it to the last
+/// processor it may run on and takes that processor from every other thread of the process
+/// (threads started later inherit their starter's set, so a renderer's worker threads stay off
+/// it too). Nothing is done with fewer than two processors. Returns the processor, or -1 and
+/// the reason in *why. Setup: reads /proc/self/task and allocates.
+[[nodiscard]] int isolate_calling_thread(std::string* why);
+/// Gives every thread of the process back every processor the process had before (the end of
+/// a session that isolated its haptic thread).
+void release_isolated_processor(int cpu);
+
 }  // namespace lap::sim

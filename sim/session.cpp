@@ -436,8 +436,10 @@ void Session::run_realtime() {
   // the first ticks late and trip the watchdog before the session has begun.
   std::atomic<int64_t> start{0};
   haptic_done_.store(false);
+  int isolated_cpu = -1;
   std::thread haptic([&] {
     if (settings_.realtime_priority) haptic_warning = request_realtime_priority(80);
+    if (settings_.isolate_haptic_processor) isolated_cpu = isolate_calling_thread(nullptr);
     if (!haptic_warning.empty()) {  // before the first tick: the string may allocate
       priority_warning_ = haptic_warning;
       scheduling_flags_.fetch_or(1U, std::memory_order_release);
@@ -481,6 +483,7 @@ void Session::run_realtime() {
   });
   haptic.join();
   model.join();
+  release_isolated_processor(isolated_cpu);
   if (!haptic_warning.empty()) warnings_.push_back(haptic_warning);
   if (!model_warning.empty()) warnings_.push_back("modelling loop: " + model_warning);
 }

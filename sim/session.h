@@ -63,6 +63,11 @@ struct RuntimeSettings {
   /// spin absorbs (at the cost of a fifth of a core while the loop runs at 1 kHz).
   int64_t spin_ns = 200000;
   bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
+  /// Give the haptic thread a processor of its own within the process (the last one; every
+  /// other thread, the renderer's too, is kept off it while the loops run). With two or more.
+  /// Off by default: on the 2-core VM measured (sim/README.md) it helped while software
+  /// rendering ran and hurt without it; the app turns it on.
+  bool isolate_haptic_processor = false;
 };
 
 enum class WatchdogReason : uint8_t { kOverrun, kNonFinite, kDeviceDisconnected, kDeviceError };

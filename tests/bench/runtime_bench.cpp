@@ -78,7 +78,7 @@ using GraphicsLoop =
 
 // The whole runtime for LAP_RUNTIME_BENCH_S seconds (default 60) with `graphics` as its graphics
 // loop, and the haptic loop's figures as counters.
-void run_runtime(benchmark::State& state, const GraphicsLoop& graphics) {
+void run_runtime(benchmark::State& state, bool isolate_by_default, const GraphicsLoop& graphics) {
   const char* env = std::getenv("LAP_RUNTIME_BENCH_S");
   const double duration = env != nullptr ? std::atof(env) : 60.0;
   const sim::SceneLoadResult r =
@@ -93,6 +93,12 @@ void run_runtime(benchmark::State& state, const GraphicsLoop& graphics) {
         std::make_unique<hardware::ScriptedDevice>(sweep(r.scene, 1, duration), "right")};
     sim::RuntimeSettings rs;
     rs.duration_s = duration;
+    // The haptic thread's processor kept to itself as the app does when it renders, not
+    // headless (as laptrainer-cli); LAP_RUNTIME_ISOLATE=0 or 1 overrides.
+    const char* isolate = std::getenv("LAP_RUNTIME_ISOLATE");
+    rs.isolate_haptic_processor =
+        isolate != nullptr ? std::string(isolate) == "1" : isolate_by_default;
+    state.counters["isolated"] = rs.isolate_haptic_processor ? 1.0 : 0.0;
     std::string error;
     auto session = sim::Session::create(r.scene, std::move(d), rs, &error);
     if (!session) {
@@ -127,18 +133,19 @@ void run_runtime(benchmark::State& state, const GraphicsLoop& graphics) {
 
 // The graphics loop as a reader only: the newest snapshots taken at 60 Hz.
 void BM_RuntimeLoop(benchmark::State& state) {
-  run_runtime(state, [](sim::Session& session, const std::atomic<bool>& done, int64_t* frames) {
-    double contacts = 0.0;
-    while (!done.load()) {
-      const sim::HapticSnapshot& h = session.graphics_haptic();
-      const sim::ModelSnapshot& m = session.graphics_model();
-      contacts += h.tools[0].contacts + h.tools[1].contacts;
-      benchmark::DoNotOptimize(m.catheter.data());
-      ++*frames;
-      std::this_thread::sleep_for(std::chrono::microseconds(16667));
-    }
-    benchmark::DoNotOptimize(contacts);
-  });
+  run_runtime(state, false,
+              [](sim::Session& session, const std::atomic<bool>& done, int64_t* frames) {
+                double contacts = 0.0;
+                while (!done.load()) {
+                  const sim::HapticSnapshot& h = session.graphics_haptic();
+                  const sim::ModelSnapshot& m = session.graphics_model();
+                  contacts += h.tools[0].contacts + h.tools[1].contacts;
+                  benchmark::DoNotOptimize(m.catheter.data());
+                  ++*frames;
+                  std::this_thread::sleep_for(std::chrono::microseconds(16667));
+                }
+                benchmark::DoNotOptimize(contacts);
+              });
 }
 BENCHMARK(BM_RuntimeLoop)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
@@ -155,42 +162,43 @@ void BM_RuntimeLoopRendered(benchmark::State& state) {
   double update_s = 0.0;  // taking up the snapshots into the actors
   double render_s = 0.0;  // drawing
   int64_t drawn = 0;
-  run_runtime(state, [&](sim::Session& session, const std::atomic<bool>& done, int64_t* frames) {
-    vtkNew<vtkRenderWindow> window;
-    window->SetOffScreenRendering(1);
-    window->SetMultiSamples(0);  // as the app's view (app/vtk_view.cpp)
-    window->SetSize(1024, 720);
-    vtkNew<vtkRenderer> renderer;
-    window->AddRenderer(renderer);
-    vtkNew<vtkLight> light;
-    light->SetLightTypeToHeadlight();
-    renderer->AddLight(light);
-    std::vector<const haptics::TriangleMesh*> surfaces;
-    std::vector<Eigen::Vector3d> colours;
-    for (int32_t i = 0; i < session.organ_count(); ++i) {
-      surfaces.push_back(&session.organ_surface(i));
-      colours.emplace_back(0.8, 0.4, 0.35);
-    }
-    app::SessionActors actors;
-    actors.add_organs(renderer, surfaces, colours);
-    actors.add_to(renderer, {session.tool_geometry(0), session.tool_geometry(1)},
-                  static_cast<int>(session.graphics_model().catheter.size()));
-    renderer->ResetCamera();
-    auto next = std::chrono::steady_clock::now();
-    while (!done.load()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      actors.update(session.graphics_haptic(), session.graphics_model());
-      const auto t1 = std::chrono::steady_clock::now();
-      window->Render();
-      const auto t2 = std::chrono::steady_clock::now();
-      update_s += std::chrono::duration<double>(t1 - t0).count();
-      render_s += std::chrono::duration<double>(t2 - t1).count();
-      ++*frames;
-      next += std::chrono::microseconds(16667);
-      std::this_thread::sleep_until(next);
-    }
-    drawn = *frames;
-  });
+  run_runtime(state, true,
+              [&](sim::Session& session, const std::atomic<bool>& done, int64_t* frames) {
+                vtkNew<vtkRenderWindow> window;
+                window->SetOffScreenRendering(1);
+                window->SetMultiSamples(0);  // as the app's view (app/vtk_view.cpp)
+                window->SetSize(1024, 720);
+                vtkNew<vtkRenderer> renderer;
+                window->AddRenderer(renderer);
+                vtkNew<vtkLight> light;
+                light->SetLightTypeToHeadlight();
+                renderer->AddLight(light);
+                std::vector<const haptics::TriangleMesh*> surfaces;
+                std::vector<Eigen::Vector3d> colours;
+                for (int32_t i = 0; i < session.organ_count(); ++i) {
+                  surfaces.push_back(&session.organ_surface(i));
+                  colours.emplace_back(0.8, 0.4, 0.35);
+                }
+                app::SessionActors actors;
+                actors.add_organs(renderer, surfaces, colours);
+                actors.add_to(renderer, {session.tool_geometry(0), session.tool_geometry(1)},
+                              static_cast<int>(session.graphics_model().catheter.size()));
+                renderer->ResetCamera();
+                auto next = std::chrono::steady_clock::now();
+                while (!done.load()) {
+                  const auto t0 = std::chrono::steady_clock::now();
+                  actors.update(session.graphics_haptic(), session.graphics_model());
+                  const auto t1 = std::chrono::steady_clock::now();
+                  window->Render();
+                  const auto t2 = std::chrono::steady_clock::now();
+                  update_s += std::chrono::duration<double>(t1 - t0).count();
+                  render_s += std::chrono::duration<double>(t2 - t1).count();
+                  ++*frames;
+                  next += std::chrono::microseconds(16667);
+                  std::this_thread::sleep_until(next);
+                }
+                drawn = *frames;
+              });
   if (drawn > 0) {
     state.counters["mean_actor_update_ms"] = 1e3 * update_s / static_cast<double>(drawn);
     state.counters["mean_render_ms"] = 1e3 * render_s / static_cast<double>(drawn);
