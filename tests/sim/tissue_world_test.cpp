@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <set>
 
@@ -100,14 +101,31 @@ int32_t organ_named(const Scene& scene, const std::string& name) {
   return -1;
 }
 
+// The default scene's tissue world, and its liver as a database at rest (the organ the tool
+// tests press).
+struct LiverWorld {
+  test::TempDir cache;
+  std::unique_ptr<TissueWorld> world;
+  int32_t liver = -1;  // -1: the scene has none
+  haptics::MeshDatabase db;
+};
+
+std::unique_ptr<LiverWorld> liver_world() {
+  auto w = std::make_unique<LiverWorld>();
+  w->world = TissueWorld::build(default_scene(), world_settings(w->cache.path()), nullptr);
+  w->liver = organ_named(default_scene(), "liver");
+  if (w->liver >= 0) w->db = haptics::MeshDatabase::build(w->world->surface(w->liver));
+  return w;
+}
+
 TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
   const Scene& scene = default_scene();
-  const test::TempDir cache;
-  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr);
-  const int32_t liver = organ_named(scene, "liver");
-  ASSERT_GE(liver, 0);
+  const auto lw = liver_world();
+  ASSERT_GE(lw->liver, 0);
+  TissueWorld* const world = lw->world.get();
+  const int32_t liver = lw->liver;
   const haptics::TriangleMesh& surface = world->surface(liver);
-  const haptics::MeshDatabase db = haptics::MeshDatabase::build(surface);
+  const haptics::MeshDatabase& db = lw->db;
   // A 0.6 N push on the middle of face 100, along its inward normal.
   std::array<ToolModelInput, 2> tools{};
   tools[0].valid = true;
@@ -154,12 +172,12 @@ TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
 // full did that (the dent overshot to 1.3 times the tool's depth on the first step).
 TEST(TissueWorld, ThreeSegmentsOnOneSpotDentItWithoutOvershootingTheTool) {
   const Scene& scene = default_scene();
-  const test::TempDir cache;
-  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr);
-  const int32_t liver = organ_named(scene, "liver");
-  ASSERT_GE(liver, 0);
+  const auto lw = liver_world();
+  ASSERT_GE(lw->liver, 0);
+  TissueWorld* const world = lw->world.get();
+  const int32_t liver = lw->liver;
   const haptics::TriangleMesh& surface = world->surface(liver);
-  const haptics::MeshDatabase db = haptics::MeshDatabase::build(surface);
+  const haptics::MeshDatabase& db = lw->db;
   const auto& fv = db.face_vertices(100);
   const Eigen::Vector3d p = (db.position(fv[0]) + db.position(fv[1]) + db.position(fv[2])) / 3.0;
   const Eigen::Vector3d n = db.face_normal(100);
