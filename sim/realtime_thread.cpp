@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -50,9 +51,9 @@ std::string lock_memory() {
 
 namespace {
 
-// Calls f(tid) for every thread of this process but the calling one.
-template <typename F>
-void for_each_other_thread(const F& f) {
+// Adds processor `cpu` to, or takes it from, every thread of this process but the calling one
+// (a thread left with no processor keeps its set).
+void set_cpu_of_other_threads(int cpu, bool allowed) {
   const auto self = static_cast<pid_t>(syscall(SYS_gettid));
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task", ec)) {
@@ -60,7 +61,15 @@ void for_each_other_thread(const F& f) {
     char* end = nullptr;
     const long tid = std::strtol(name.c_str(), &end, 10);
     if (end == name.c_str() || *end != '\0' || tid == self) continue;
-    f(static_cast<pid_t>(tid));
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(static_cast<pid_t>(tid), sizeof set, &set) != 0) continue;
+    if (allowed) {
+      CPU_SET(cpu, &set);
+    } else {
+      CPU_CLR(cpu, &set);
+    }
+    if (CPU_COUNT(&set) > 0) (void)sched_setaffinity(static_cast<pid_t>(tid), sizeof set, &set);
   }
 }
 
@@ -85,25 +94,13 @@ int isolate_calling_thread(std::string* why) {
       *why = std::string("could not pin the haptic thread (") + std::strerror(rc) + ")";
     return -1;
   }
-  for_each_other_thread([&](pid_t tid) {
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(tid, sizeof set, &set) != 0) return;
-    CPU_CLR(cpu, &set);
-    if (CPU_COUNT(&set) > 0) (void)sched_setaffinity(tid, sizeof set, &set);
-  });
+  set_cpu_of_other_threads(cpu, false);
   return cpu;
 }
 
 void release_isolated_processor(int cpu) {
   if (cpu < 0) return;
-  for_each_other_thread([&](pid_t tid) {
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(tid, sizeof set, &set) != 0) return;
-    CPU_SET(cpu, &set);
-    (void)sched_setaffinity(tid, sizeof set, &set);
-  });
+  set_cpu_of_other_threads(cpu, true);
   cpu_set_t self;
   CPU_ZERO(&self);
   if (sched_getaffinity(0, sizeof self, &self) == 0) {

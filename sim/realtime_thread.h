@@ -29,8 +29,8 @@ void sleep_until_ns(int64_t deadline_ns, int64_t spin_ns) noexcept;
 /// it too). Nothing is done with fewer than two processors. Returns the processor, or -1 and
 /// the reason in *why. Setup: reads /proc/self/task and allocates.
 [[nodiscard]] int isolate_calling_thread(std::string* why);
-/// Gives every thread of the process back every processor the process had before (the end of
-/// a session that isolated its haptic thread).
+/// Gives processor `cpu` (isolate_calling_thread()'s) back to every thread of the process, the
+/// calling one included: the end of a session that isolated its haptic thread.
 void release_isolated_processor(int cpu);
 
 }  // namespace lap::sim
