@@ -122,10 +122,8 @@ TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
   const Scene& scene = default_scene();
   const auto lw = liver_world();
   ASSERT_GE(lw->liver, 0);
-  TissueWorld* const world = lw->world.get();
-  const int32_t liver = lw->liver;
+  const auto& [cache, world, liver, db] = *lw;
   const haptics::TriangleMesh& surface = world->surface(liver);
-  const haptics::MeshDatabase& db = lw->db;
   // A 0.6 N push on the middle of face 100, along its inward normal.
   std::array<ToolModelInput, 2> tools{};
   tools[0].valid = true;
@@ -174,10 +172,8 @@ TEST(TissueWorld, ThreeSegmentsOnOneSpotDentItWithoutOvershootingTheTool) {
   const Scene& scene = default_scene();
   const auto lw = liver_world();
   ASSERT_GE(lw->liver, 0);
-  TissueWorld* const world = lw->world.get();
-  const int32_t liver = lw->liver;
+  const auto& [cache, world, liver, db] = *lw;
   const haptics::TriangleMesh& surface = world->surface(liver);
-  const haptics::MeshDatabase& db = lw->db;
   const auto& fv = db.face_vertices(100);
   const Eigen::Vector3d p = (db.position(fv[0]) + db.position(fv[1]) + db.position(fv[2])) / 3.0;
   const Eigen::Vector3d n = db.face_normal(100);
