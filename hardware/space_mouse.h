@@ -7,8 +7,8 @@
 /// (never the haptic thread) and space_mouse_nudge() turns its deflection into a motion of the
 /// simulated device's tool tip.
 ///
-/// Not yet tried with a real puck: the axis signs follow libspnav's documentation (x right,
-/// y up, z towards the user), and SpaceMouseMapping can flip them.
+/// Not yet tried with a real puck: which way each axis points is a guess to check with one;
+/// SpaceMouseMapping::axis_sign flips them.
 
 #include <Eigen/Core>
 #include <array>
