@@ -1,4 +1,4 @@
-// laptrainer-cli: the headless command line (ARCHITECTURE.md "Stable command-line contracts").
+// laptrainer-cli: the headless command line (its contracts: README.md, docs/architecture.md).
 // No Qt or VTK here: it must run on machines without a display.
 
 #include <array>
@@ -10,24 +10,25 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
-#include "haptics/mesh_repair.h"
-#include "haptics/mesh_validation.h"
 #include "haptics/point_proxy.h"
 #include "haptics/segment_proxy.h"
+#include "haptics/setup/mesh_generators.h"
+#include "haptics/setup/mesh_repair.h"
+#include "haptics/setup/mesh_validation.h"
 #include "hardware/device_spec.h"
-#include "sim/device_factory.h"
-#include "sim/load_error.h"
-#include "sim/mesh_loader.h"
-#include "sim/probe_path.h"
-#include "sim/scenario_loader.h"
-#include "sim/scene.h"
-#include "sim/session.h"
-#include "sim/session_report.h"
+#include "sim/report/session_report.h"
+#include "sim/runtime/session.h"
+#include "sim/setup/device_factory.h"
+#include "sim/setup/mesh_loader.h"
+#include "sim/setup/probe_path.h"
+#include "sim/setup/scenario_loader.h"
+#include "sim/setup/scene.h"
 
 namespace {
 
@@ -97,6 +98,31 @@ struct Args {
   }
 };
 
+// The whole text as one number, or nothing.
+std::optional<double> parse_number(const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+// A positive finite number, or nothing.
+std::optional<double> parse_positive(const std::string& text) {
+  const std::optional<double> v = parse_number(text);
+  if (v && std::isfinite(*v) && *v > 0.0) return v;
+  return std::nullopt;
+}
+
+// Prints each problem as `file:line: field: message` (the app shows the same text) and returns
+// the exit code for problems in the input.
+int print_problems(const std::vector<lap::Diagnostic>& problems) {
+  for (const lap::Diagnostic& d : problems) std::cerr << d.to_string() << "\n";
+  return kExitProblems;
+}
+
 int usage_error(const Args& args) {
   for (const auto& e : args.errors) std::cerr << "laptrainer-cli: " << e << "\n";
   std::cerr << kUsage;
@@ -129,14 +155,16 @@ int cmd_mesh_info(int argc, char** argv) {
     return usage_error(args);
   }
   lap::sim::MeshLoadSettings load;
-  try {
-    load.scale = std::stod(args.get("--scale", "1"));
-  } catch (const std::exception&) {
+  const std::optional<double> scale = parse_number(args.get("--scale", "1"));
+  if (!scale) {  // a number that is not positive is the loader's to refuse (exit 2)
     args.errors.push_back("--scale expects a positive number");
     return usage_error(args);
   }
-  try {
-    lap::haptics::TriangleMesh mesh = lap::sim::load_mesh(args.get("--mesh"), load);
+  load.scale = *scale;
+  lap::Result<lap::haptics::TriangleMesh> loaded = lap::sim::load_mesh(args.get("--mesh"), load);
+  if (!loaded.ok()) return print_problems(loaded.diagnostics());
+  lap::haptics::TriangleMesh& mesh = loaded.value();
+  {
     auto print = [](const lap::haptics::TriangleMesh& m, const char* label) {
       const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(m);
       std::printf("%s: %d vertices, %d triangles, %d components, area %.6g m^2, volume %.6g m^3\n",
@@ -161,26 +189,102 @@ int cmd_mesh_info(int argc, char** argv) {
       std::printf("repair: %s\n", report.summary().c_str());
       clean = print(mesh, "after repair");
     }
-    if (args.has("--out")) lap::sim::save_obj(mesh, args.get("--out"));
+    if (args.has("--out")) {
+      if (lap::Status saved = lap::sim::save_obj(mesh, args.get("--out")); !saved.ok()) {
+        return print_problems(saved.diagnostics());
+      }
+    }
     return clean ? kExitOk : kExitProblems;
-  } catch (const lap::sim::LoadError& e) {
-    std::cerr << e.what() << "\n";
-    return kExitProblems;
   }
 }
 
-double parse_positive(const Args& args, const std::string& key, double fallback, bool* ok) {
+// The option `key` as a positive number (fallback when absent); false in *ok and a message when
+// it is something else.
+double positive_option(const Args& args, const std::string& key, double fallback, bool* ok) {
   if (!args.has(key)) return fallback;
-  try {
-    size_t used = 0;
-    const double v = std::stod(args.get(key), &used);
-    if (used == args.get(key).size() && v > 0.0 && std::isfinite(v)) return v;
-  } catch (const std::exception&) {
-  }
+  if (const std::optional<double> v = parse_positive(args.get(key))) return *v;
   std::cerr << "laptrainer-cli: " << key << " expects a positive number, got '" << args.get(key)
             << "'\n";
   *ok = false;
   return fallback;
+}
+
+using ProbePath = std::vector<Eigen::Matrix<double, 6, 1>>;
+
+// Runs the segment proxy along the path (rows x1..z2) and writes one CSV row per tick.
+void run_segment_probe(lap::haptics::HapticObject object, const lap::haptics::MeshDatabase& db,
+                       const ProbePath& path, std::ostream& out) {
+  const lap::haptics::SegmentDatabase sd = lap::haptics::SegmentDatabase::build(db);
+  object.segments = &sd;
+  out << "tick,ideal_a_x,ideal_a_y,ideal_a_z,ideal_b_x,ideal_b_y,ideal_b_z,force_x,force_y,"
+         "force_z,torque_x,torque_y,torque_z,contact_type,primitive_kind,primitive_id,"
+         "step_ns\n";
+  lap::haptics::SegmentProxy proxy;
+  proxy.reset(path.front().head<3>(), path.front().tail<3>());
+  for (size_t i = 0; i < path.size(); ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const lap::haptics::SegmentProxyOutput r =
+        proxy.step(std::span<const lap::haptics::HapticObject>(&object, 1), path[i].head<3>(),
+                   path[i].tail<3>(), 0.001);
+    const auto t1 = std::chrono::steady_clock::now();
+    std::string type = "none";
+    lap::haptics::PrimitiveRef prim;
+    if (!proxy.contacts().empty()) {
+      type = lap::haptics::to_string(proxy.contacts()[0].kind);
+      prim = proxy.contacts()[0].primitive;
+    }
+    int32_t id = prim.index;
+    if (prim.kind == lap::haptics::PrimitiveKind::kFace) id = db.original_face(id);
+    out << i << ',' << r.ideal_a_W.x() << ',' << r.ideal_a_W.y() << ',' << r.ideal_a_W.z() << ','
+        << r.ideal_b_W.x() << ',' << r.ideal_b_W.y() << ',' << r.ideal_b_W.z() << ','
+        << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ',' << r.torque_W.x()
+        << ',' << r.torque_W.y() << ',' << r.torque_W.z() << ',' << type << ','
+        << lap::haptics::to_string(prim.kind) << ',' << id << ','
+        << std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count() << '\n';
+  }
+}
+
+// Runs the point proxy along the path (rows x,y,z) and writes one CSV row per tick.
+void run_point_probe(const lap::haptics::HapticObject& object, const lap::haptics::MeshDatabase& db,
+                     const ProbePath& path, std::ostream& out) {
+  out << "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns\n";
+  lap::haptics::PointProxy proxy;
+  proxy.reset(path.front().head<3>());
+  for (size_t i = 0; i < path.size(); ++i) {
+    const Eigen::Vector3d hip = path[i].head<3>();
+    const auto t0 = std::chrono::steady_clock::now();
+    const lap::haptics::PointProxyOutput r =
+        proxy.step(std::span<const lap::haptics::HapticObject>(&object, 1), hip, 0.001);
+    const auto t1 = std::chrono::steady_clock::now();
+    // Faces are reported by their index in the input mesh, not the tree order.
+    int32_t id = r.primitive.index;
+    if (r.primitive.kind == lap::haptics::PrimitiveKind::kFace) id = db.original_face(id);
+    out << i << ',' << r.ihip_W.x() << ',' << r.ihip_W.y() << ',' << r.ihip_W.z() << ','
+        << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ','
+        << lap::haptics::to_string(r.primitive.kind) << ',' << id << ','
+        << std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count() << '\n';
+  }
+}
+
+// Whether the proxies can run on the mesh: open surfaces are fine (two-sided) for the point
+// proxy; anything else must be clean. Prints why not.
+bool probeable(const std::string& file, const lap::haptics::TriangleMesh& mesh, bool segment) {
+  const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(mesh);
+  const bool usable = d.non_finite_vertices.empty() && d.invalid_index_triangles.empty() &&
+                      d.degenerate_triangles.empty() && d.duplicate_triangles.empty() &&
+                      d.non_manifold_edges.empty() && d.non_manifold_vertices.empty() &&
+                      d.orientation_conflict_edges.empty() && d.sliver_fragments.empty();
+  if (!usable) {
+    std::cerr << file << ": the mesh cannot be probed as it is:\n";
+    for (const auto& line : d.describe()) std::cerr << "  " << line << "\n";
+    std::cerr << "  (add --repair to fix what can be fixed)\n";
+    return false;
+  }
+  if (segment && !d.closed()) {
+    std::cerr << file << ": the segment probe needs a closed mesh (this one has boundary edges)\n";
+    return false;
+  }
+  return true;
 }
 
 int cmd_probe(int argc, char** argv) {
@@ -199,112 +303,45 @@ int cmd_probe(int argc, char** argv) {
   }
   bool ok = true;
   lap::sim::MeshLoadSettings load;
-  load.scale = parse_positive(args, "--scale", 1.0, &ok);
+  load.scale = positive_option(args, "--scale", 1.0, &ok);
   lap::haptics::HapticObject object;
-  object.law.stiffness_n_per_m = parse_positive(args, "--stiffness", 500.0, &ok);
-  object.law.max_force_n = parse_positive(args, "--max-force", 10.0, &ok);
+  object.law.stiffness_n_per_m = positive_option(args, "--stiffness", 500.0, &ok);
+  object.law.max_force_n = positive_option(args, "--max-force", 10.0, &ok);
   if (!ok) return kExitUsage;
-  try {
-    lap::haptics::TriangleMesh mesh = lap::sim::load_mesh(args.get("--mesh"), load);
-    if (args.has("--repair")) lap::haptics::repair_mesh(mesh);
-    const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(mesh);
-    // Open surfaces are fine for the proxy (two-sided); anything else must be clean.
-    const bool usable = d.non_finite_vertices.empty() && d.invalid_index_triangles.empty() &&
-                        d.degenerate_triangles.empty() && d.duplicate_triangles.empty() &&
-                        d.non_manifold_edges.empty() && d.non_manifold_vertices.empty() &&
-                        d.orientation_conflict_edges.empty() && d.sliver_fragments.empty();
-    if (!usable) {
-      std::cerr << args.get("--mesh") << ": the mesh cannot be probed as it is:\n";
-      for (const auto& line : d.describe()) std::cerr << "  " << line << "\n";
-      std::cerr << "  (add --repair to fix what can be fixed)\n";
-      return kExitProblems;
-    }
-    const bool segment = kind == "segment";
-    if (segment && !d.closed()) {
-      std::cerr << args.get("--mesh")
-                << ": the segment probe needs a closed mesh (this one has boundary edges)\n";
-      return kExitProblems;
-    }
-    const auto path = lap::sim::load_probe_path(args.get("--path"), segment ? 6 : 3);
-    const lap::haptics::MeshDatabase db = lap::haptics::MeshDatabase::build(mesh);
-    object.mesh = &db;
-    object.two_sided = db.has_boundary();
-    std::ofstream file;
-    if (args.has("--out")) {
-      file.open(args.get("--out"));
-      if (!file) {
-        std::cerr << args.get("--out") << ": cannot open for writing\n";
-        return kExitProblems;
-      }
-    }
-    std::ostream& out = args.has("--out") ? static_cast<std::ostream&>(file) : std::cout;
-    out.precision(12);
-    if (segment) {
-      const lap::haptics::SegmentDatabase sd = lap::haptics::SegmentDatabase::build(db);
-      object.segments = &sd;
-      out << "tick,ideal_a_x,ideal_a_y,ideal_a_z,ideal_b_x,ideal_b_y,ideal_b_z,force_x,force_y,"
-             "force_z,torque_x,torque_y,torque_z,contact_type,primitive_kind,primitive_id,"
-             "step_ns\n";
-      lap::haptics::SegmentProxy proxy;
-      proxy.reset(path.front().head<3>(), path.front().tail<3>());
-      for (size_t i = 0; i < path.size(); ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const lap::haptics::SegmentProxyOutput r =
-            proxy.step(std::span<const lap::haptics::HapticObject>(&object, 1), path[i].head<3>(),
-                       path[i].tail<3>(), 0.001);
-        const auto t1 = std::chrono::steady_clock::now();
-        std::string type = "none";
-        lap::haptics::PrimitiveRef prim;
-        if (!proxy.contacts().empty()) {
-          type = lap::haptics::to_string(proxy.contacts()[0].kind);
-          prim = proxy.contacts()[0].primitive;
-        }
-        int32_t id = prim.index;
-        if (prim.kind == lap::haptics::PrimitiveKind::kFace) id = db.original_face(id);
-        out << i << ',' << r.ideal_a_W.x() << ',' << r.ideal_a_W.y() << ',' << r.ideal_a_W.z()
-            << ',' << r.ideal_b_W.x() << ',' << r.ideal_b_W.y() << ',' << r.ideal_b_W.z() << ','
-            << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ','
-            << r.torque_W.x() << ',' << r.torque_W.y() << ',' << r.torque_W.z() << ',' << type
-            << ',' << lap::haptics::to_string(prim.kind) << ',' << id << ','
-            << std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count() << '\n';
-      }
-      return kExitOk;
-    }
-    out << "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns\n";
-    lap::haptics::PointProxy proxy;
-    proxy.reset(path.front().head<3>());
-    for (size_t i = 0; i < path.size(); ++i) {
-      const Eigen::Vector3d hip = path[i].head<3>();
-      const auto t0 = std::chrono::steady_clock::now();
-      const lap::haptics::PointProxyOutput r =
-          proxy.step(std::span<const lap::haptics::HapticObject>(&object, 1), hip, 0.001);
-      const auto t1 = std::chrono::steady_clock::now();
-      // Faces are reported by their index in the input mesh, not the tree order.
-      int32_t id = r.primitive.index;
-      if (r.primitive.kind == lap::haptics::PrimitiveKind::kFace) id = db.original_face(id);
-      out << i << ',' << r.ihip_W.x() << ',' << r.ihip_W.y() << ',' << r.ihip_W.z() << ','
-          << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ','
-          << lap::haptics::to_string(r.primitive.kind) << ',' << id << ','
-          << std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count() << '\n';
-    }
-    return kExitOk;
-  } catch (const lap::sim::LoadError& e) {
-    std::cerr << e.what() << "\n";
-    return kExitProblems;
+  lap::Result<lap::haptics::TriangleMesh> mesh = lap::sim::load_mesh(args.get("--mesh"), load);
+  if (!mesh.ok()) return print_problems(mesh.diagnostics());
+  if (args.has("--repair")) lap::haptics::repair_mesh(mesh.value());
+  const bool segment = kind == "segment";
+  if (!probeable(args.get("--mesh"), mesh.value(), segment)) return kExitProblems;
+  const auto path = lap::sim::load_probe_path(args.get("--path"), segment ? 6 : 3);
+  if (!path.ok()) return print_problems(path.diagnostics());
+  std::unique_ptr<lap::haptics::MeshDatabase> built;
+  try {  // the database's own checks (e.g. an edge shared by too many faces)
+    built = std::make_unique<lap::haptics::MeshDatabase>(
+        lap::haptics::MeshDatabase::build(mesh.value()));
   } catch (const std::invalid_argument& e) {
     std::cerr << args.get("--mesh") << ": " << e.what() << "\n";
     return kExitProblems;
   }
-}
-
-bool parse_positive(const std::string& text, double* v) {
-  try {
-    size_t used = 0;
-    *v = std::stod(text, &used);
-    return used == text.size() && std::isfinite(*v) && *v > 0.0;
-  } catch (const std::exception&) {
-    return false;
+  const lap::haptics::MeshDatabase& db = *built;
+  object.mesh = &db;
+  object.two_sided = db.has_boundary();
+  std::ofstream file;
+  if (args.has("--out")) {
+    file.open(args.get("--out"));
+    if (!file) {
+      std::cerr << args.get("--out") << ": cannot open for writing\n";
+      return kExitProblems;
+    }
   }
+  std::ostream& out = args.has("--out") ? static_cast<std::ostream&>(file) : std::cout;
+  out.precision(12);
+  if (segment) {
+    run_segment_probe(object, db, path.value(), out);
+  } else {
+    run_point_probe(object, db, path.value(), out);
+  }
+  return kExitOk;
 }
 
 int cmd_run(int argc, char** argv) {
@@ -319,7 +356,10 @@ int cmd_run(int argc, char** argv) {
   for (const auto& [key, field] : {std::pair<const char*, double*>{"--duration", &rs.duration_s},
                                    {"--rate", &rs.haptic_rate_hz},
                                    {"--model-rate", &rs.model_rate_hz}}) {
-    if (args.has(key) && !parse_positive(args.get(key), field)) {
+    if (!args.has(key)) continue;
+    if (const std::optional<double> v = parse_positive(args.get(key))) {
+      *field = *v;
+    } else {
       args.errors.push_back(std::string(key) + " expects a positive number, got '" + args.get(key) +
                             "'");
     }
@@ -328,53 +368,55 @@ int cmd_run(int argc, char** argv) {
   for (int side = 0; side < 2; ++side) {
     const char* key = side == 0 ? "--left" : "--right";
     if (!args.has(key)) continue;
-    std::string why;
-    const auto spec = lap::hardware::parse_device_spec(args.get(key), &why);
-    if (!spec) {
-      args.errors.push_back(std::string(key) + ": " + why);
+    const auto spec = lap::hardware::parse_device_spec(args.get(key));
+    if (!spec.ok()) {
+      args.errors.push_back(std::string(key) + ": " + spec.message());
     } else {
-      specs[static_cast<size_t>(side)] = *spec;
+      specs[static_cast<size_t>(side)] = spec.value();
     }
   }
   if (!ok || !args.errors.empty()) return usage_error(args);
 
   const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
-  if (!r.ok()) {
-    for (const auto& p : r.problems) std::cerr << p.to_string() << "\n";
-    return kExitProblems;
-  }
+  if (!r.ok()) return print_problems(r.problems);
   std::array<std::unique_ptr<lap::hardware::HapticDevice>, 2> devices;
   for (int side = 0; side < 2; ++side) {
-    std::string why;
-    devices[static_cast<size_t>(side)] =
-        lap::sim::make_device(specs[static_cast<size_t>(side)], r.scene, side, &why);
-    if (!devices[static_cast<size_t>(side)]) {
-      std::cerr << "laptrainer-cli run: " << (side == 0 ? "--left" : "--right") << ": " << why
-                << "\n";
+    auto device = lap::sim::make_device(specs[static_cast<size_t>(side)], r.scene, side);
+    if (!device.ok()) {
+      std::cerr << "laptrainer-cli run: " << (side == 0 ? "--left" : "--right") << ": "
+                << device.message() << "\n";
       return kExitProblems;
     }
+    devices[static_cast<size_t>(side)] = std::move(device).value();
   }
-  std::string why;
-  auto session = lap::sim::Session::create(r.scene, std::move(devices), rs, &why);
-  if (!session) {
-    std::cerr << "laptrainer-cli run: " << why << "\n";
+  auto created = lap::sim::Session::create(r.scene, std::move(devices), rs);
+  if (!created.ok()) {
+    std::cerr << "laptrainer-cli run: " << created.message() << "\n";
     return kExitProblems;
   }
+  const std::unique_ptr<lap::sim::Session> session = std::move(created).value();
   const lap::sim::SessionMetrics m = session->run();
   for (const std::string& w : m.warnings) std::cerr << "laptrainer-cli run: warning: " << w << "\n";
   if (m.paused) {
     std::cerr << "laptrainer-cli run: the watchdog paused the session (forces zeroed):";
     for (const auto& e : m.events) {
-      std::cerr << " tick " << e.tick << " " << lap::sim::to_string(e.reason) << ";";
+      std::cerr << " tick " << e.tick << " " << lap::sim::to_string(e.reason);
+      if (e.reason == lap::sim::WatchdogReason::kModelFault) {
+        std::cerr << " (" << lap::sim::to_string(e.model_fault.kind) << ")";
+      }
+      std::cerr << ";";
     }
     std::cerr << "\n";
   }
   const std::string out = lap::sim::metrics_json(m, args.get("--scenario"), rs.fast);
   std::cout << out;
-  if (args.has("--record") && !lap::sim::save_session(*session, m, args.get("--scenario"), rs.fast,
-                                                      args.get("--record"), &why)) {
-    std::cerr << "laptrainer-cli run: " << why << "\n";
-    return kExitProblems;
+  if (args.has("--record")) {
+    const lap::Status saved =
+        lap::sim::save_session(*session, m, args.get("--scenario"), rs.fast, args.get("--record"));
+    if (!saved.ok()) {
+      std::cerr << "laptrainer-cli run: " << saved.message() << "\n";
+      return kExitProblems;
+    }
   }
   return kExitOk;
 }
@@ -388,13 +430,13 @@ int cmd_generate_assets(int argc, char** argv) {
   const fs::path dir = args.get("--out");
   std::error_code ec;
   fs::create_directories(dir, ec);
-  try {
-    lap::sim::save_obj(lap::haptics::make_stand_in_liver(), dir / "liver.obj");
-    lap::sim::save_obj(lap::haptics::make_stand_in_gallbladder(), dir / "gallbladder.obj");
-    lap::sim::save_obj(lap::haptics::make_stand_in_cystic_duct(), dir / "cystic_duct.obj");
-  } catch (const lap::sim::LoadError& e) {
-    std::cerr << e.what() << "\n";
-    return kExitProblems;
+  for (const auto& [mesh, name] :
+       {std::pair{lap::haptics::make_stand_in_liver(), "liver.obj"},
+        std::pair{lap::haptics::make_stand_in_gallbladder(), "gallbladder.obj"},
+        std::pair{lap::haptics::make_stand_in_cystic_duct(), "cystic_duct.obj"}}) {
+    if (lap::Status saved = lap::sim::save_obj(mesh, dir / name); !saved.ok()) {
+      return print_problems(saved.diagnostics());
+    }
   }
   std::cout << "wrote liver.obj, gallbladder.obj, cystic_duct.obj to " << dir.string() << "\n";
   return kExitOk;

@@ -2,25 +2,24 @@
 
 #include <algorithm>
 
-#include "sim/device_factory.h"
-#include "sim/session_report.h"
+#include "sim/report/session_report.h"
+#include "sim/setup/device_factory.h"
 
 namespace lap::app {
 
-bool LiveSession::start(const sim::Scene& scene, const std::array<hardware::DeviceSpec, 2>& specs,
-                        std::string* error) {
+Status LiveSession::start(const sim::Scene& scene,
+                          const std::array<hardware::DeviceSpec, 2>& specs) {
   stop();
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
   for (int side = 0; side < 2; ++side) {
     const auto i = static_cast<size_t>(side);
     if (specs[i].kind != hardware::DeviceKind::kSimulated) {
-      std::string why;
-      devices[i] = sim::make_device(specs[i], scene, side, &why);
-      if (!devices[i]) {
-        if (error != nullptr) *error = std::string(side == 0 ? "left" : "right") + ": " + why;
+      auto device = sim::make_device(specs[i], scene, side);
+      if (!device.ok()) {
         devices_ = {};
-        return false;
+        return diagnostic(std::string(side == 0 ? "left" : "right") + ": " + device.message());
       }
+      devices[i] = std::move(device).value();
       devices_[i] = nullptr;  // not driven from the keyboard
       continue;
     }
@@ -34,15 +33,16 @@ bool LiveSession::start(const sim::Scene& scene, const std::array<hardware::Devi
   }
   sim::RuntimeSettings rs;
   // The renderer (software OpenGL on machines without a GPU) is kept off the haptic thread's
-  // processor: measured better while rendering runs (sim/README.md).
+  // processor: measured better while rendering runs (docs/benchmarks.md).
   rs.isolate_haptic_processor = true;
   rs.duration_s = 24.0 * 3600.0;  // until the window closes
   rs.record_s = 600.0;            // the first ten minutes of inputs are kept
-  session_ = sim::Session::create(scene, std::move(devices), rs, error);
-  if (!session_) return false;
+  auto created = sim::Session::create(scene, std::move(devices), rs);
+  if (!created.ok()) return created.diagnostics();
+  session_ = std::move(created).value();
   scenario_ = scene.scenario.file.string();
   runner_ = std::thread([this] { metrics_ = session_->run(); });
-  return true;
+  return {};
 }
 
 void LiveSession::stop() {
@@ -53,16 +53,13 @@ void LiveSession::stop() {
   devices_ = {};
 }
 
-bool LiveSession::stop_and_save(const std::string& dir, std::string* error) {
-  if (!session_) {
-    if (error != nullptr) *error = "no session is running";
-    return false;
-  }
+Status LiveSession::stop_and_save(const std::string& dir) {
+  if (!session_) return diagnostic("no session is running");
   session_->request_stop();
   runner_.join();  // metrics_ is complete from here
-  const bool ok = sim::save_session(*session_, metrics_, scenario_, false, dir, error);
+  Status saved = sim::save_session(*session_, metrics_, scenario_, false, dir);
   stop();
-  return ok;
+  return saved;
 }
 
 void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_rad) {

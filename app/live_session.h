@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The session the trainee window runs (ARCHITECTURE.md "Three loops"): the haptic and
+/// The session the trainee window runs (docs/architecture.md "Three loops"): the haptic and
 /// modelling loops on their own threads (sim::Session in real time), two simulated devices the
 /// keyboard drives, and the window as the graphics loop, reading the newest snapshots each frame.
 
@@ -11,7 +11,7 @@
 
 #include "hardware/device_spec.h"
 #include "hardware/simulated_device.h"
-#include "sim/session.h"
+#include "sim/runtime/session.h"
 
 namespace lap::app {
 
@@ -26,14 +26,14 @@ class LiveSession {
 
   /// Starts the loops on the scene with the given devices (`simulated`: driven by the keyboard
   /// and mouse; `scripted:FILE`, `replay:FILE` — a saved session played back for review —,
-  /// `phantom:NAME`: hardware/README.md); false and *error on failure.
-  bool start(const sim::Scene& scene, const std::array<hardware::DeviceSpec, 2>& devices,
-             std::string* error);
+  /// `phantom:NAME`: hardware/README.md); the diagnostics say why not.
+  [[nodiscard]] Status start(const sim::Scene& scene,
+                             const std::array<hardware::DeviceSpec, 2>& devices);
   void stop();
   /// Ends the session (the loops stop) and writes its inputs and metrics into `dir`
-  /// (left.lapdev, right.lapdev, metrics.json: sim::save_session). False and *error on
-  /// failure; the session is over either way.
-  bool stop_and_save(const std::string& dir, std::string* error);
+  /// (left.lapdev, right.lapdev, metrics.json: sim::save_session); the diagnostics name the
+  /// file on failure. The session is over either way.
+  [[nodiscard]] Status stop_and_save(const std::string& dir);
   [[nodiscard]] bool running() const { return session_ != nullptr; }
   /// Scheduling problems the loops met (SCHED_FIFO, mlockall refused); empty when all is well.
   [[nodiscard]] std::vector<std::string> scheduling_warnings() const {

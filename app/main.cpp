@@ -1,6 +1,7 @@
 // laptrainer: the desktop application.
 //   laptrainer [--scenario FILE] [--record DIR] [--screenshot PNG --frames N]
-// With no display it says so and runs the scenario headless, printing a short summary.
+// With no display it says so, loads and checks the scenario without a window and prints a short
+// summary.
 
 #include <vtkAutoInit.h>
 
@@ -14,8 +15,8 @@
 
 #include "app/main_window.h"
 #include "hardware/device_spec.h"
-#include "sim/scenario_loader.h"
-#include "sim/scene.h"
+#include "sim/setup/scenario_loader.h"
+#include "sim/setup/scene.h"
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkInteractionStyle);
@@ -67,13 +68,12 @@ bool parse(int argc, char** argv, Options& o) {
     } else if (a == "--left" || a == "--right") {
       std::string text;
       if (!value(text)) return false;
-      std::string why;
-      const auto spec = lap::hardware::parse_device_spec(text, &why);
-      if (!spec) {
-        std::cerr << "laptrainer: " << a << ": " << why << "\n";
+      const auto spec = lap::hardware::parse_device_spec(text);
+      if (!spec.ok()) {
+        std::cerr << "laptrainer: " << a << ": " << spec.message() << "\n";
         return false;
       }
-      o.devices[a == "--left" ? 0 : 1] = *spec;
+      o.devices[a == "--left" ? 0 : 1] = spec.value();
     } else if (a == "--quit-after") {
       std::string v;
       if (!value(v)) return false;
@@ -170,12 +170,11 @@ int main(int argc, char** argv) {
         return;
       }
       timer->stop();
-      QString error;
-      bool ok = window.view()->save_png(QString::fromStdString(opt.screenshot), &error);
-      if (!ok) std::cerr << "laptrainer: " << error.toStdString() << "\n";
-      QString saved;
-      if (!window.end_session(&saved)) {
-        std::cerr << "laptrainer: " << saved.toStdString() << "\n";
+      const lap::Status shot = window.view()->save_png(QString::fromStdString(opt.screenshot));
+      bool ok = shot.ok();
+      if (!ok) std::cerr << "laptrainer: " << shot.message() << "\n";
+      if (const lap::Status ended = window.end_session(); !ended.ok()) {
+        std::cerr << "laptrainer: " << ended.message() << "\n";
         ok = false;
       }
       QApplication::exit(ok ? 0 : 1);

@@ -86,13 +86,13 @@ MainWindow::MainWindow() {
   statusBar()->addPermanentWidget(loops_label_);
   statusBar()->addPermanentWidget(fps_label_);
 
-  // The graphics loop (ARCHITECTURE.md: Qt event loop, 30-60 Hz): redraw at 60 Hz so that moving
-  // tools and deforming organs appear as the other loops publish them.
-  // A 3D mouse, if there is one, is polled here too and moves the active tool's simulated device
-  // like the keys do (hardware/space_mouse.h); without one, nothing changes.
-  std::string no_mouse;
-  space_mouse_ = hardware::SpaceMouse::open(&no_mouse);
-  if (space_mouse_) {
+  // The graphics loop (docs/architecture.md: Qt event loop, 30-60 Hz): redraw at 60 Hz so that
+  // moving tools and deforming organs appear as the other loops publish them. A 3D mouse, if there
+  // is one, is polled here too and moves the active tool's simulated device like the keys do
+  // (hardware/space_mouse.h); without one, nothing changes.
+  auto mouse = hardware::SpaceMouse::open();
+  if (mouse.ok()) {
+    space_mouse_ = std::move(mouse).value();
     auto* mouse_label = new QLabel("3D mouse", this);
     mouse_label->setToolTip("A 3D mouse (spacenavd) steers the active tool (T switches tools)");
     statusBar()->addPermanentWidget(mouse_label);
@@ -166,10 +166,10 @@ void MainWindow::show_scene(const sim::Scene& scene) {
   pose.view_angle_deg = c.view_angle_deg;
   view_->set_home_camera(pose);
   // The loops: two simulated tools through their trocars, the catheter.
-  std::string error;
   std::vector<Eigen::Vector3d> colours;
   for (const sim::Organ& o : scene.organs) colours.push_back(o.color);
-  if (session_.start(scene, devices_, &error)) {
+  const Status started = session_.start(scene, devices_);
+  if (started.ok()) {
     // The organs as the session has them (the duct: its shell), deformed as the loops go.
     std::vector<const haptics::TriangleMesh*> surfaces;
     for (int32_t i = 0; i < session_.organ_count(); ++i)
@@ -182,7 +182,8 @@ void MainWindow::show_scene(const sim::Scene& scene) {
       const double rgb[3] = {o.color.x(), o.color.y(), o.color.z()};
       ren->AddActor(make_mesh_actor(o.mesh, rgb));
     }
-    loops_label_->setText(QString("loops not started: %1").arg(QString::fromStdString(error)));
+    loops_label_->setText(
+        QString("loops not started: %1").arg(QString::fromStdString(started.message())));
   }
   last_haptic_tick_ = -1;
   last_model_steps_ = 0;
@@ -264,20 +265,18 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
   session_.nudge(active_tool_, d, opening);
 }
 
-bool MainWindow::end_session(QString* error) {
+Status MainWindow::end_session() {
   if (record_dir_.isEmpty() || !session_.running()) {
     session_.stop();
-    return true;
+    return {};
   }
-  std::string why;
-  const bool ok = session_.stop_and_save(record_dir_.toStdString(), &why);
-  if (!ok && error != nullptr) *error = QString::fromStdString(why);
-  return ok;
+  return session_.stop_and_save(record_dir_.toStdString());
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-  QString error;
-  if (!end_session(&error)) std::cerr << "laptrainer: " << error.toStdString() << "\n";
+  if (const Status ended = end_session(); !ended.ok()) {
+    std::cerr << "laptrainer: " << ended.message() << "\n";
+  }
   QMainWindow::closeEvent(event);
 }
 
@@ -287,9 +286,8 @@ void MainWindow::save_session_dialog() {
   // Each saved session in its own folder, named by when it was saved.
   const QString dir =
       parent + "/session-" + QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss");
-  std::string why;
-  if (!session_.stop_and_save(dir.toStdString(), &why)) {
-    QMessageBox::warning(this, "Session not saved", QString::fromStdString(why));
+  if (const Status saved = session_.stop_and_save(dir.toStdString()); !saved.ok()) {
+    QMessageBox::warning(this, "Session not saved", QString::fromStdString(saved.message()));
   } else {
     statusBar()->showMessage(QString("session saved to %1; a new one has started").arg(dir), 10000);
   }
@@ -317,8 +315,9 @@ void MainWindow::screenshot_dialog() {
   const QString file =
       QFileDialog::getSaveFileName(this, "Save screenshot", "laptrainer.png", "PNG images (*.png)");
   if (file.isEmpty()) return;
-  QString error;
-  if (!view_->save_png(file, &error)) QMessageBox::warning(this, "Screenshot", error);
+  if (const Status saved = view_->save_png(file); !saved.ok()) {
+    QMessageBox::warning(this, "Screenshot", QString::fromStdString(saved.message()));
+  }
 }
 
 }  // namespace lap::app

@@ -11,7 +11,7 @@
 #include "app/tool_actors.h"
 #include "app/vtk_view.h"
 #include "hardware/space_mouse.h"
-#include "sim/scene.h"
+#include "sim/setup/scene.h"
 
 namespace lap::app {
 
@@ -30,7 +30,7 @@ class MainWindow : public QMainWindow {
   void set_devices(const std::array<hardware::DeviceSpec, 2>& devices) { devices_ = devices; }
   /// Ends the running session: saved to the record folder if one is set. False and *error
   /// when saving failed.
-  bool end_session(QString* error);
+  Status end_session();
 
  protected:
   void keyPressEvent(QKeyEvent* event) override;

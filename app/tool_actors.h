@@ -18,8 +18,8 @@
 
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_database.h"
-#include "sim/deformed_surface.h"
-#include "sim/session.h"
+#include "sim/runtime/deformed_surface.h"
+#include "sim/runtime/session.h"
 
 namespace lap::app {
 

@@ -73,7 +73,7 @@ void VtkView::reset_camera() {
   render();
 }
 
-bool VtkView::save_png(const QString& file, QString* error) {
+lap::Status VtkView::save_png(const QString& file) {
   render();
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(render_window_);
@@ -85,10 +85,9 @@ bool VtkView::save_png(const QString& file, QString* error) {
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
   if (writer->GetErrorCode() != 0) {
-    if (error != nullptr) *error = "could not write " + file;
-    return false;
+    return lap::diagnostic("could not write " + file.toStdString());
   }
-  return true;
+  return {};
 }
 
 void VtkView::paintEvent(QPaintEvent*) { render(); }

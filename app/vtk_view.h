@@ -12,6 +12,8 @@
 #include <QPoint>
 #include <QWidget>
 
+#include "core/result.h"
+
 namespace lap::app {
 
 /// Camera pose the view can be reset to.
@@ -41,7 +43,7 @@ class VtkView : public QWidget {
   /// Renders now if the native window exists.
   void render();
   /// Writes the current frame as PNG; false (and *error) on failure.
-  bool save_png(const QString& file, QString* error);
+  [[nodiscard]] lap::Status save_png(const QString& file);
   /// Frames rendered so far.
   [[nodiscard]] long frames() const { return frames_; }
 

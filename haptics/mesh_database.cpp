@@ -27,154 +27,205 @@ const char* to_string(PrimitiveKind kind) {
   return "none";
 }
 
-MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSettings& settings) {
-  MeshDatabase db;
-  const int32_t nv = mesh.vertex_count();
-  const int32_t nf = mesh.triangle_count();
-  db.positions_ = mesh.positions;
+namespace {
 
-  // Tree first, so that faces can be stored in tree order; its boxes come from the refit below.
-  {
-    std::vector<Eigen::Vector3d> centres(nf);
-    for (int32_t f = 0; f < nf; ++f) {
-      const Triangle& t = mesh.triangles[f];
-      centres[f] = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
-    }
-    db.tree_.build(centres, settings.max_leaf_faces, &db.original_face_);
-  }
-  db.face_vertices_.resize(nf);
-  for (int32_t f = 0; f < nf; ++f) db.face_vertices_[f] = mesh.triangles[db.original_face_[f]];
-  db.refit_tree();
-
-  // Vertex -> faces (CSR), needed only while building.
-  std::vector<int32_t> start(nv + 1, 0);
-  for (const auto& t : db.face_vertices_) {
-    for (int32_t v : t) ++start[v + 1];
-  }
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<int32_t> around(static_cast<size_t>(3) * nf);
-  {
-    std::vector<int32_t> fill(start.begin(), start.end() - 1);
-    for (int32_t f = 0; f < nf; ++f) {
-      for (int32_t v : db.face_vertices_[f]) around[fill[v]++] = f;
-    }
-  }
-  auto faces_of = [&](int32_t v) {
+// Vertex -> faces (CSR), needed only while building.
+struct FacesAroundVertices {
+  std::vector<int32_t> start;   // n_v + 1
+  std::vector<int32_t> around;  // 3 n_f
+  [[nodiscard]] std::span<const int32_t> of(int32_t v) const {
     return std::span<const int32_t>(around.data() + start[v],
                                     static_cast<size_t>(start[v + 1] - start[v]));
-  };
+  }
+};
 
-  // Edges and fans, one vertex at a time over its own faces only. In face g, v's corner has an
-  // outgoing half-edge v -> next and an incoming one prev -> v. The undirected edge {v, w} with
-  // v < w pairs the face leaving v towards w with the face entering v from w; a face with no
-  // partner lies on a boundary. The same pairing (g -> the face entering v from g's next) must
-  // chain all of v's faces into one fan.
-  db.face_edges_.assign(nf, {-1, -1, -1});
-  db.edge_vertices_.reserve(static_cast<size_t>(nf) * 3 / 2 + 16);
-  db.edge_faces_.reserve(static_cast<size_t>(nf) * 3 / 2 + 16);
-  db.vertex_face_.assign(nv, -1);
+FacesAroundVertices faces_around_vertices(const std::vector<std::array<int32_t, 3>>& faces,
+                                          int32_t nv) {
+  FacesAroundVertices r;
+  r.start.assign(static_cast<size_t>(nv) + 1, 0);
+  for (const auto& t : faces) {
+    for (int32_t v : t) ++r.start[v + 1];
+  }
+  std::partial_sum(r.start.begin(), r.start.end(), r.start.begin());
+  r.around.resize(static_cast<size_t>(3) * faces.size());
+  std::vector<int32_t> fill(r.start.begin(), r.start.end() - 1);
+  for (int32_t f = 0; f < static_cast<int32_t>(faces.size()); ++f) {
+    for (int32_t v : faces[f]) r.around[fill[v]++] = f;
+  }
+  return r;
+}
+
+[[noreturn]] void fail_edge(int32_t a, int32_t b, const char* what) {
+  throw std::invalid_argument("mesh edge " + std::to_string(a) + "-" + std::to_string(b) + " " +
+                              what + " (validate and repair first)");
+}
+
+}  // namespace
+
+// The faces around one vertex v while building, as corners, and how they pair across v's edges;
+// sized once for the largest fan.
+struct MeshDatabase::Fan {
   struct Corner {
     int32_t face;
     int32_t next;  // vertex after v in the face
     int32_t prev;  // vertex before v in the face
     int32_t j;     // v's corner index
   };
-  std::vector<Corner> corner(kMaxFan);
-  std::vector<int32_t> successor(kMaxFan);
-  std::vector<int32_t> predecessors(kMaxFan);
-  auto fail_edge = [](int32_t a, int32_t b, const char* what) {
-    throw std::invalid_argument("mesh edge " + std::to_string(a) + "-" + std::to_string(b) + " " +
-                                what + " (validate and repair first)");
-  };
-  for (int32_t v = 0; v < nv; ++v) {
-    const std::span<const int32_t> fv = faces_of(v);
-    const auto d = static_cast<int32_t>(fv.size());
-    if (d == 0) {
-      throw std::invalid_argument("mesh vertex " + std::to_string(v) +
-                                  " is used by no face (remove unreferenced vertices)");
-    }
-    if (d > kMaxFan) {
-      throw std::invalid_argument("mesh vertex " + std::to_string(v) + " has more than " +
-                                  std::to_string(kMaxFan) + " faces");
-    }
-    for (int32_t i = 0; i < d; ++i) {
-      const auto& t = db.face_vertices_[fv[i]];
-      const int j = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-      corner[i] = {fv[i], t[(j + 1) % 3], t[(j + 2) % 3], j};
-      successor[i] = -1;
-      predecessors[i] = 0;
-    }
-    // successor[i]: the face entering v from corner i's next vertex (-1 on a boundary).
-    for (int32_t i = 0; i < d; ++i) {
-      for (int32_t k = 0; k < d; ++k) {
-        if (k == i) continue;
-        if (corner[k].next == corner[i].next) {
-          fail_edge(v, corner[i].next, "joins faces of opposite orientation");
-        }
-        if (corner[k].prev != corner[i].next) continue;
-        if (successor[i] >= 0) fail_edge(v, corner[i].next, "has more than two faces");
-        successor[i] = k;
-      }
-      if (successor[i] >= 0) ++predecessors[successor[i]];
-    }
-    for (int32_t i = 0; i < d; ++i) {
-      if (predecessors[i] > 1) fail_edge(corner[i].prev, v, "has more than two faces");
-    }
-    // Edges owned by v (v < w): outgoing v -> w paired with its successor, and incoming w -> v
-    // that no face leaves v towards (a boundary).
-    for (int32_t i = 0; i < d; ++i) {
-      const Corner& c = corner[i];
-      if (v < c.next) {
-        const auto e = static_cast<int32_t>(db.edge_vertices_.size());
-        db.edge_vertices_.push_back({v, c.next});
-        db.face_edges_[c.face][c.j] = e;
-        if (successor[i] >= 0) {
-          const Corner& h = corner[successor[i]];
-          db.edge_faces_.push_back({c.face, h.face});
-          db.face_edges_[h.face][(h.j + 2) % 3] = e;
-        } else {
-          db.edge_faces_.push_back({c.face, -1});
-          ++db.boundary_edges_;
-        }
-      }
-      if (v < c.prev && predecessors[i] == 0) {
-        const auto e = static_cast<int32_t>(db.edge_vertices_.size());
-        db.edge_vertices_.push_back({v, c.prev});
-        db.edge_faces_.push_back({c.face, -1});
-        db.face_edges_[c.face][(c.j + 2) % 3] = e;
-        ++db.boundary_edges_;
-      }
-    }
-    // One fan: following successors from a face with no predecessor (any face, if the fan is
-    // closed) reaches every face.
-    int32_t first = 0;
-    for (int32_t i = 0; i < d; ++i) {
-      if (predecessors[i] == 0) {
-        first = i;
-        break;
-      }
-    }
-    int32_t walked = 0;
-    for (int32_t i = first; i >= 0 && walked <= d; i = successor[i]) {
-      ++walked;
-      if (successor[i] == first) break;
-    }
-    if (walked != d) {
-      throw std::invalid_argument("mesh vertex " + std::to_string(v) +
-                                  " is non-manifold (its faces form several fans; repair first)");
-    }
-    db.vertex_face_[v] = corner[first].face;
-  }
-  // A closed mesh has exactly 3F/2 edges, the capacity reserved: shrink only open meshes with
-  // real slack (shrinking copies the arrays).
-  if (db.edge_vertices_.capacity() > db.edge_vertices_.size() + db.edge_vertices_.size() / 8) {
-    db.edge_vertices_.shrink_to_fit();
-    db.edge_faces_.shrink_to_fit();
-  }
-  db.vertex_normals_.resize(nv);
+  int32_t size = 0;
+  std::vector<Corner> corner = std::vector<Corner>(kMaxFan);
+  // successor[i]: the corner whose face enters v from corner i's next vertex (-1 on a boundary);
+  // predecessors[i]: how many corners have i as their successor.
+  std::vector<int32_t> successor = std::vector<int32_t>(kMaxFan);
+  std::vector<int32_t> predecessors = std::vector<int32_t>(kMaxFan);
+};
+
+MeshDatabase MeshDatabase::build(const TriangleMesh& mesh, const MeshDatabaseSettings& settings) {
+  MeshDatabase db;
+  db.positions_ = mesh.positions;
+  db.build_tree(mesh, settings.max_leaf_faces);
+  db.build_edges_and_fans();
+  db.vertex_normals_.resize(mesh.vertex_count());
   db.face_normals_.resize(db.face_vertices_.size());
   db.update_normals();
   return db;
+}
+
+// Tree first, so that faces can be stored in tree order; its boxes come from the refit.
+void MeshDatabase::build_tree(const TriangleMesh& mesh, int32_t max_leaf_faces) {
+  const int32_t nf = mesh.triangle_count();
+  {
+    std::vector<Eigen::Vector3d> centres(nf);
+    for (int32_t f = 0; f < nf; ++f) {
+      const Triangle& t = mesh.triangles[f];
+      centres[f] = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+    }
+    tree_.build(centres, max_leaf_faces, &original_face_);
+  }
+  face_vertices_.resize(nf);
+  for (int32_t f = 0; f < nf; ++f) face_vertices_[f] = mesh.triangles[original_face_[f]];
+  refit_tree();
+}
+
+// Edges and fans, one vertex at a time over its own faces only. In face g, v's corner has an
+// outgoing half-edge v -> next and an incoming one prev -> v. The undirected edge {v, w} with
+// v < w pairs the face leaving v towards w with the face entering v from w; a face with no
+// partner lies on a boundary. The same pairing (g -> the face entering v from g's next) must
+// chain all of v's faces into one fan.
+void MeshDatabase::build_edges_and_fans() {
+  const int32_t nv = vertex_count();
+  const int32_t nf = face_count();
+  const FacesAroundVertices around = faces_around_vertices(face_vertices_, nv);
+  face_edges_.assign(nf, {-1, -1, -1});
+  edge_vertices_.reserve(static_cast<size_t>(nf) * 3 / 2 + 16);
+  edge_faces_.reserve(static_cast<size_t>(nf) * 3 / 2 + 16);
+  vertex_face_.assign(nv, -1);
+  Fan fan;
+  for (int32_t v = 0; v < nv; ++v) {
+    gather_fan(v, around.of(v), &fan);
+    pair_fan(v, &fan);
+    add_edges_owned_by(v, fan);
+    vertex_face_[v] = fan.corner[first_corner_of_single_fan(v, fan)].face;
+  }
+  // A closed mesh has exactly 3F/2 edges, the capacity reserved: shrink only open meshes with
+  // real slack (shrinking copies the arrays).
+  if (edge_vertices_.capacity() > edge_vertices_.size() + edge_vertices_.size() / 8) {
+    edge_vertices_.shrink_to_fit();
+    edge_faces_.shrink_to_fit();
+  }
+}
+
+void MeshDatabase::gather_fan(int32_t v, std::span<const int32_t> faces, Fan* fan) const {
+  const auto d = static_cast<int32_t>(faces.size());
+  if (d == 0) {
+    throw std::invalid_argument("mesh vertex " + std::to_string(v) +
+                                " is used by no face (remove unreferenced vertices)");
+  }
+  if (d > kMaxFan) {
+    throw std::invalid_argument("mesh vertex " + std::to_string(v) + " has more than " +
+                                std::to_string(kMaxFan) + " faces");
+  }
+  fan->size = d;
+  for (int32_t i = 0; i < d; ++i) {
+    const auto& t = face_vertices_[faces[i]];
+    const int j = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+    fan->corner[i] = {faces[i], t[(j + 1) % 3], t[(j + 2) % 3], j};
+    fan->successor[i] = -1;
+    fan->predecessors[i] = 0;
+  }
+}
+
+void MeshDatabase::pair_fan(int32_t v, Fan* fan) {
+  const int32_t d = fan->size;
+  const std::vector<Fan::Corner>& corner = fan->corner;
+  std::vector<int32_t>& successor = fan->successor;
+  std::vector<int32_t>& predecessors = fan->predecessors;
+  // successor[i]: the face entering v from corner i's next vertex (-1 on a boundary).
+  for (int32_t i = 0; i < d; ++i) {
+    for (int32_t k = 0; k < d; ++k) {
+      if (k == i) continue;
+      if (corner[k].next == corner[i].next) {
+        fail_edge(v, corner[i].next, "joins faces of opposite orientation");
+      }
+      if (corner[k].prev != corner[i].next) continue;
+      if (successor[i] >= 0) fail_edge(v, corner[i].next, "has more than two faces");
+      successor[i] = k;
+    }
+    if (successor[i] >= 0) ++predecessors[successor[i]];
+  }
+  for (int32_t i = 0; i < d; ++i) {
+    if (predecessors[i] > 1) fail_edge(corner[i].prev, v, "has more than two faces");
+  }
+}
+
+// Edges owned by v (v < w): outgoing v -> w paired with its successor, and incoming w -> v that
+// no face leaves v towards (a boundary).
+void MeshDatabase::add_edges_owned_by(int32_t v, const Fan& fan) {
+  for (int32_t i = 0; i < fan.size; ++i) {
+    const Fan::Corner& c = fan.corner[i];
+    if (v < c.next) {
+      const auto e = static_cast<int32_t>(edge_vertices_.size());
+      edge_vertices_.push_back({v, c.next});
+      face_edges_[c.face][c.j] = e;
+      if (fan.successor[i] >= 0) {
+        const Fan::Corner& h = fan.corner[fan.successor[i]];
+        edge_faces_.push_back({c.face, h.face});
+        face_edges_[h.face][(h.j + 2) % 3] = e;
+      } else {
+        edge_faces_.push_back({c.face, -1});
+        ++boundary_edges_;
+      }
+    }
+    if (v < c.prev && fan.predecessors[i] == 0) {
+      const auto e = static_cast<int32_t>(edge_vertices_.size());
+      edge_vertices_.push_back({v, c.prev});
+      edge_faces_.push_back({c.face, -1});
+      face_edges_[c.face][(c.j + 2) % 3] = e;
+      ++boundary_edges_;
+    }
+  }
+}
+
+// One fan: following successors from a face with no predecessor (any face, if the fan is
+// closed) reaches every face. Returns that first corner.
+int32_t MeshDatabase::first_corner_of_single_fan(int32_t v, const Fan& fan) {
+  const int32_t d = fan.size;
+  int32_t first = 0;
+  for (int32_t i = 0; i < d; ++i) {
+    if (fan.predecessors[i] == 0) {
+      first = i;
+      break;
+    }
+  }
+  int32_t walked = 0;
+  for (int32_t i = first; i >= 0 && walked <= d; i = fan.successor[i]) {
+    ++walked;
+    if (fan.successor[i] == first) break;
+  }
+  if (walked != d) {
+    throw std::invalid_argument("mesh vertex " + std::to_string(v) +
+                                " is non-manifold (its faces form several fans; repair first)");
+  }
+  return first;
 }
 
 Eigen::Vector3d MeshDatabase::compute_face_normal(int32_t f) const {

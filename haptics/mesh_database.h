@@ -197,6 +197,17 @@ class MeshDatabase {
   [[nodiscard]] size_t memory_bytes() const;
 
  private:
+  struct Fan;  // the faces around one vertex while building (mesh_database.cpp)
+  // The stages of build(), in order: faces in tree order with the tree, then edges and fans
+  // vertex by vertex (each vertex's faces gathered, paired across its edges, its own edges
+  // added, its single fan checked).
+  void build_tree(const TriangleMesh& mesh, int32_t max_leaf_faces);
+  void build_edges_and_fans();
+  void gather_fan(int32_t v, std::span<const int32_t> faces, Fan* fan) const;
+  static void pair_fan(int32_t v, Fan* fan);
+  void add_edges_owned_by(int32_t v, const Fan& fan);
+  static int32_t first_corner_of_single_fan(int32_t v, const Fan& fan);
+
   void update_vertex_normal(int32_t v);
   void find_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const;
   friend struct MeshUpdateScratch;

@@ -147,20 +147,8 @@ void PointProxy::reset(const Eigen::Vector3d& hip_W) {
   hover_object_ = -1;
 }
 
-const char* surface_problem(const HapticObject& object) {
-  if (object.shading != nullptr && object.texture != nullptr) {
-    return "force shading and a texture on one object: both change its shape and are not "
-           "combined (thesis 6.6)";
-  }
-  if (object.texture != nullptr && !(object.texture_k >= 0.0)) return "texture K must be >= 0";
-  if (object.friction != nullptr && object.friction->problem()[0] != '\0') {
-    return object.friction->problem();
-  }
-  return "";
-}
-
 Eigen::Vector3d PointProxy::texture_penetration(const HapticObject& o, const Eigen::Vector3d& q_O,
-                                                const Eigen::Vector3d& n_O, double s) {
+                                                const Eigen::Vector3d& n_O, double s) noexcept {
   // §6.3.1: depth under the textured surface = height at the nearest point - nearest distance.
   const HeightSample t = o.texture->sample(q_O);
   const double d = t.height_m - s;
@@ -170,7 +158,8 @@ Eigen::Vector3d PointProxy::texture_penetration(const HapticObject& o, const Eig
   return o.pose_WO.linear() * textured_penetration(d, kh, n_O, m_O);
 }
 
-void PointProxy::find_hover(std::span<const HapticObject> objects, const Eigen::Vector3d& hip) {
+void PointProxy::find_hover(std::span<const HapticObject> objects,
+                            const Eigen::Vector3d& hip) noexcept {
   double best = std::numeric_limits<double>::infinity();
   for (int32_t oi = 0; oi < static_cast<int32_t>(objects.size()); ++oi) {
     const HapticObject& o = objects[oi];
@@ -196,7 +185,7 @@ void PointProxy::find_hover(std::span<const HapticObject> objects, const Eigen::
   }
 }
 
-Eigen::Vector3d PointProxy::combine(const Eigen::Vector3d& hip) const {
+Eigen::Vector3d PointProxy::combine(const Eigen::Vector3d& hip) const noexcept {
   if (count_ == 0) return hip;
   if (count_ == 1) return contacts_[0].point_W;
   // Nearest point to the HIP that is on or outside every contact's plane: try each active set
@@ -241,25 +230,35 @@ Eigen::Vector3d PointProxy::combine(const Eigen::Vector3d& hip) const {
   return best;
 }
 
-PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const Eigen::Vector3d& hip,
-                                  double dt) noexcept {
-  ++stats_.steps;
-  PointProxyOutput out;
-  auto fault = [&]() {
-    ++stats_.faults;
-    reset(hip.allFinite() ? hip : ihip_W_);
-    out = PointProxyOutput{};
-    out.ihip_W = ihip_W_;
-    out.fault = true;
-    return out;
-  };
-  if (!hip.allFinite()) return fault();
-  if (!initialised_) reset(hip);
+// The contacts whose HIP left their object this tick (stage 1), with last tick's contact
+// (primitive and plane): each is held again or released in stage 4.
+struct PointProxy::Leaving {
+  std::array<PointContact, kMaxContacts> contacts{};
+  int32_t count = 0;
+};
 
-  // 1. Contacts follow the HIP by local search. One whose HIP has left its object wants
-  //    release; it is kept aside with last tick's contact (primitive and plane).
-  std::array<PointContact, kMaxContacts> leaving{};
-  int32_t n_leaving = 0;
+// What the force of stage 5 comes from: the penetration vector, the law that turns it into a
+// force, and the touched object with its contact point and normal (object frame) for friction.
+// No law: no force.
+struct PointProxy::ForceSource {
+  Eigen::Vector3d penetration = Eigen::Vector3d::Zero();
+  const ForceLaw* law = nullptr;
+  int32_t touched = -1;
+  Eigen::Vector3d contact_O = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_O = Eigen::Vector3d::UnitY();
+};
+
+PointProxyOutput PointProxy::fault(const Eigen::Vector3d& hip) noexcept {
+  ++stats_.faults;
+  reset(hip.allFinite() ? hip : ihip_W_);
+  PointProxyOutput out;
+  out.ihip_W = ihip_W_;
+  out.fault = true;
+  return out;
+}
+
+void PointProxy::follow_contacts(std::span<const HapticObject> objects, const Eigen::Vector3d& hip,
+                                 Leaving* leaving) noexcept {
   int32_t kept = 0;
   for (int32_t i = 0; i < count_; ++i) {
     PointContact c = contacts_[i];
@@ -276,7 +275,7 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
     if (rounds >= kMaxSearchRounds) ++stats_.search_limit_hits;
     const Eigen::Vector3d n_O = static_cast<double>(c.side) * o.mesh->normal(found);
     if ((q_O - hip_O).dot(n_O) < 0.0) {
-      leaving[n_leaving++] = c;
+      leaving->contacts[leaving->count++] = c;
       continue;
     }
     c.primitive = found;
@@ -285,58 +284,71 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
     contacts_[kept++] = c;
   }
   count_ = kept;
+}
 
-  // 2. The IHIP, then 3. new contacts where the IHIP's path crosses a face from outside.
-  Eigen::Vector3d x = combine(hip);
-  for (int pass = 0; pass < kMaxContacts && count_ < kMaxContacts; ++pass) {
-    double best_t = std::numeric_limits<double>::infinity();
-    int32_t best_object = -1;
-    int32_t best_face = -1;
-    bool best_front = true;
-    for (int32_t oi = 0; oi < static_cast<int32_t>(objects.size()); ++oi) {
-      const HapticObject& o = objects[oi];
-      if (o.mesh == nullptr) continue;
-      bool skip = false;
-      for (int32_t c = 0; c < count_; ++c) skip = skip || contacts_[c].object == oi;
-      for (int32_t r = 0; r < n_leaving; ++r) skip = skip || leaving[r].object == oi;
-      if (skip) continue;
-      const MeshDatabase::Crossing c = o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W_,
-                                                              o.pose_WO.inverse() * x, o.two_sided);
-      if (c.face >= 0 && c.t < best_t) {
-        best_t = c.t;
-        best_object = oi;
-        best_face = c.face;
-        best_front = c.from_front;
-      }
+bool PointProxy::in_contact_or_leaving(int32_t object, const Leaving& leaving) const noexcept {
+  bool found = false;
+  for (int32_t c = 0; c < count_; ++c) found = found || contacts_[c].object == object;
+  for (int32_t r = 0; r < leaving.count; ++r) found = found || leaving.contacts[r].object == object;
+  return found;
+}
+
+PointProxy::ObjectCrossing PointProxy::first_crossing(std::span<const HapticObject> objects,
+                                                      const Eigen::Vector3d& x,
+                                                      const Leaving& leaving) const noexcept {
+  ObjectCrossing best;
+  best.crossing.t = std::numeric_limits<double>::infinity();
+  for (int32_t oi = 0; oi < static_cast<int32_t>(objects.size()); ++oi) {
+    const HapticObject& o = objects[oi];
+    if (o.mesh == nullptr || in_contact_or_leaving(oi, leaving)) continue;
+    const MeshDatabase::Crossing c = o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W_,
+                                                            o.pose_WO.inverse() * x, o.two_sided);
+    if (c.face >= 0 && c.t < best.crossing.t) {
+      best.object = oi;
+      best.crossing = c;
     }
-    if (best_object < 0) break;
-    // First contact: the crossed face; the IHIP goes to its nearest point to the HIP (§4.3).
-    const HapticObject& o = objects[best_object];
-    const MeshDatabase& m = *o.mesh;
-    const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
-    const auto& v = m.face_vertices(best_face);
-    TriangleFeature feature;
-    const Eigen::Vector3d q_O =
-        closest_on_triangle(hip_O, m.position(v[0]), m.position(v[1]), m.position(v[2]), &feature);
-    PointContact c;
-    c.object = best_object;
-    c.primitive = {PrimitiveKind::kFace, best_face};
-    c.side = best_front ? 1 : -1;
-    c.point_W = o.pose_WO * q_O;
-    c.normal_W = o.pose_WO.linear() * (static_cast<double>(c.side) * m.face_normal(best_face));
-    contacts_[count_++] = c;
-    ++stats_.first_contacts;
-    x = combine(hip);
   }
-  // 4. A contact whose HIP left its object through a face shared with another object still
-  //    holds the IHIP while the others would put it below last tick's plane (the crease between
-  //    two touching organs); otherwise it is released. A textured object stays watched after
-  //    release: its bumps stand above the surface (Figure 6-5).
-  for (int32_t r = 0; r < n_leaving; ++r) {
-    const PointContact& c = leaving[r];
-    if (count_ > 0 && count_ < kMaxContacts && c.normal_W.dot(x - c.point_W) < -1e-12) {
+  return best;
+}
+
+void PointProxy::add_first_contact(const HapticObject& o, const ObjectCrossing& crossed,
+                                   const Eigen::Vector3d& hip) noexcept {
+  const MeshDatabase& m = *o.mesh;
+  const int32_t face = crossed.crossing.face;
+  const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
+  const auto& v = m.face_vertices(face);
+  TriangleFeature feature;
+  const Eigen::Vector3d q_O =
+      closest_on_triangle(hip_O, m.position(v[0]), m.position(v[1]), m.position(v[2]), &feature);
+  PointContact c;
+  c.object = crossed.object;
+  c.primitive = {PrimitiveKind::kFace, face};
+  c.side = crossed.crossing.from_front ? 1 : -1;
+  c.point_W = o.pose_WO * q_O;
+  c.normal_W = o.pose_WO.linear() * (static_cast<double>(c.side) * m.face_normal(face));
+  contacts_[count_++] = c;
+  ++stats_.first_contacts;
+}
+
+void PointProxy::add_first_contacts(std::span<const HapticObject> objects,
+                                    const Eigen::Vector3d& hip, const Leaving& leaving,
+                                    Eigen::Vector3d* x) noexcept {
+  for (int pass = 0; pass < kMaxContacts && count_ < kMaxContacts; ++pass) {
+    const ObjectCrossing crossed = first_crossing(objects, *x, leaving);
+    if (crossed.object < 0) break;
+    // First contact: the crossed face; the IHIP goes to its nearest point to the HIP (§4.3).
+    add_first_contact(objects[crossed.object], crossed, hip);
+    *x = combine(hip);
+  }
+}
+
+void PointProxy::hold_or_release(std::span<const HapticObject> objects, const Eigen::Vector3d& hip,
+                                 const Leaving& leaving, Eigen::Vector3d* x) noexcept {
+  for (int32_t r = 0; r < leaving.count; ++r) {
+    const PointContact& c = leaving.contacts[r];
+    if (count_ > 0 && count_ < kMaxContacts && c.normal_W.dot(*x - c.point_W) < -1e-12) {
       contacts_[count_++] = c;
-      x = combine(hip);
+      *x = combine(hip);
     } else {
       ++stats_.releases;
       if (objects[c.object].texture != nullptr) {
@@ -346,102 +358,139 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
       }
     }
   }
+}
+
+PointProxy::ForceSource PointProxy::contact_force_source(std::span<const HapticObject> objects,
+                                                         const Eigen::Vector3d& hip,
+                                                         PointProxyOutput* out) const noexcept {
+  ForceSource f;
+  f.law = &objects[contacts_[0].object].law;
+  for (int32_t c = 1; c < count_; ++c) {
+    const ForceLaw& l = objects[contacts_[c].object].law;
+    if (l.stiffness_n_per_m > f.law->stiffness_n_per_m) f.law = &l;
+  }
+  f.penetration = hip - ihip_W_;
+  const PointContact& first = contacts_[0];
+  const HapticObject& touched = objects[first.object];
+  f.touched = first.object;
+  const Eigen::Isometry3d pose_OW = touched.pose_WO.inverse();
+  f.contact_O = pose_OW * first.point_W;
+  f.normal_O = touched.pose_WO.linear().transpose() * first.normal_W;
+  if (count_ == 1 && touched.texture != nullptr) {
+    const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
+    f.penetration = texture_penetration(touched, f.contact_O, f.normal_O, -depth);
+  } else if (count_ == 1 && touched.shading != nullptr) {
+    // §6.1 / Figure 6-3: direction from the shaded normal, magnitude from the HIP projected
+    // along it onto the contacted plane. Creases between objects (two or more contacts) are
+    // real edges and stay sharp.
+    const Eigen::Vector3d shaded =
+        touched.pose_WO.linear() *
+        (static_cast<double>(first.side) *
+         touched.shading->normal(*touched.mesh, first.primitive, f.contact_O));
+    const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
+    f.penetration = shaded_penetration(depth, first.normal_W, shaded);
+  }
+  out->object = first.object;
+  out->primitive = first.primitive;
+  return f;
+}
+
+PointProxy::ForceSource PointProxy::hover_force_source(std::span<const HapticObject> objects,
+                                                       const Eigen::Vector3d& hip,
+                                                       PointProxyOutput* out) noexcept {
+  ForceSource f;
+  if (hover_object_ >= static_cast<int32_t>(objects.size()) ||
+      objects[hover_object_].mesh == nullptr || objects[hover_object_].texture == nullptr) {
+    hover_object_ = -1;
+    return f;
+  }
+  const HapticObject& o = objects[hover_object_];
+  const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
+  Eigen::Vector3d q_O;
+  int32_t rounds = 0;
+  hover_primitive_ = local_search(*o.mesh, hover_primitive_, hip_O, &q_O, &rounds);
+  stats_.search_iterations += rounds;
+  const Eigen::Vector3d n_O = static_cast<double>(hover_side_) * o.mesh->normal(hover_primitive_);
+  const double s = (hip_O - q_O).norm();  // above the surface: no crossing was found
+  if (s > o.texture->max_height_m()) {
+    hover_object_ = -1;
+    return f;
+  }
+  f.penetration = texture_penetration(o, q_O, n_O, s);
+  if (f.penetration.squaredNorm() > 0.0) {
+    f.law = &o.law;
+    f.touched = hover_object_;
+    f.contact_O = q_O;
+    f.normal_O = n_O;
+    out->texture_contact = true;
+    out->object = hover_object_;
+    out->primitive = hover_primitive_;
+    ++stats_.texture_only_ticks;
+  }
+  return f;
+}
+
+void PointProxy::apply_force(std::span<const HapticObject> objects, double dt, const ForceSource& f,
+                             PointProxyOutput* out) noexcept {
+  if (f.law == nullptr) {
+    prev_penetration_.setZero();
+    friction_.phase = FrictionState::Phase::kNone;
+    return;
+  }
+  const Eigen::Vector3d rate = dt > 0.0 ? Eigen::Vector3d((f.penetration - prev_penetration_) / dt)
+                                        : Eigen::Vector3d::Zero();
+  out->force_W = contact_force(*f.law, f.penetration, rate);
+  prev_penetration_ = f.penetration;
+  const HapticObject& touched = objects[f.touched];
+  if (touched.friction == nullptr) {
+    friction_.phase = FrictionState::Phase::kNone;
+    return;
+  }
+  const Eigen::Vector3d normal_W = touched.pose_WO.linear() * f.normal_O;
+  const double fn = std::max(0.0, out->force_W.dot(normal_W));
+  out->friction_W =
+      touched.pose_WO.linear() *
+      friction_step(*touched.friction, &friction_, f.touched, f.contact_O, f.normal_O, fn);
+  out->force_W += out->friction_W;
+  const double magnitude = out->force_W.norm();
+  if (magnitude > f.law->max_force_n) out->force_W *= f.law->max_force_n / magnitude;
+}
+
+PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const Eigen::Vector3d& hip,
+                                  double dt) noexcept {
+  ++stats_.steps;
+  if (!hip.allFinite()) return fault(hip);
+  if (!initialised_) reset(hip);
+
+  // 1. Contacts follow the HIP by local search. One whose HIP has left its object wants
+  //    release; it is kept aside with last tick's contact (primitive and plane).
+  Leaving leaving;
+  follow_contacts(objects, hip, &leaving);
+  // 2. The IHIP, then 3. new contacts where the IHIP's path crosses a face from outside.
+  Eigen::Vector3d x = combine(hip);
+  add_first_contacts(objects, hip, leaving, &x);
+  // 4. A contact whose HIP left its object through a face shared with another object still
+  //    holds the IHIP while the others would put it below last tick's plane (the crease between
+  //    two touching organs); otherwise it is released. A textured object stays watched after
+  //    release: its bumps stand above the surface (Figure 6-5).
+  hold_or_release(objects, hip, leaving, &x);
   ihip_W_ = x;
   if (count_ > 0) hover_object_ = -1;
   if (count_ == 0 && hover_object_ < 0) find_hover(objects, hip);
 
   // 5. Force (§4.4) from the penetration vector, with the stiffest law among the contacts;
   //    shading (§6.1) or texture (§6.3) where one object is touched; then friction (§6.2).
-  Eigen::Vector3d penetration = Eigen::Vector3d::Zero();
-  const ForceLaw* law = nullptr;
-  int32_t touched_index = -1;
-  Eigen::Vector3d contact_O = Eigen::Vector3d::Zero();
-  Eigen::Vector3d normal_O = Eigen::Vector3d::UnitY();
+  PointProxyOutput out;
+  ForceSource source;
   if (count_ > 0) {
-    law = &objects[contacts_[0].object].law;
-    for (int32_t c = 1; c < count_; ++c) {
-      const ForceLaw& l = objects[contacts_[c].object].law;
-      if (l.stiffness_n_per_m > law->stiffness_n_per_m) law = &l;
-    }
-    penetration = hip - ihip_W_;
-    const PointContact& first = contacts_[0];
-    const HapticObject& touched = objects[first.object];
-    touched_index = first.object;
-    const Eigen::Isometry3d pose_OW = touched.pose_WO.inverse();
-    contact_O = pose_OW * first.point_W;
-    normal_O = touched.pose_WO.linear().transpose() * first.normal_W;
-    if (count_ == 1 && touched.texture != nullptr) {
-      const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
-      penetration = texture_penetration(touched, contact_O, normal_O, -depth);
-    } else if (count_ == 1 && touched.shading != nullptr) {
-      // §6.1 / Figure 6-3: direction from the shaded normal, magnitude from the HIP projected
-      // along it onto the contacted plane. Creases between objects (two or more contacts) are
-      // real edges and stay sharp.
-      const Eigen::Vector3d shaded =
-          touched.pose_WO.linear() *
-          (static_cast<double>(first.side) *
-           touched.shading->normal(*touched.mesh, first.primitive, contact_O));
-      const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
-      penetration = shaded_penetration(depth, first.normal_W, shaded);
-    }
-    out.object = first.object;
-    out.primitive = first.primitive;
+    source = contact_force_source(objects, hip, &out);
   } else if (hover_object_ >= 0) {
-    if (hover_object_ >= static_cast<int32_t>(objects.size()) ||
-        objects[hover_object_].mesh == nullptr || objects[hover_object_].texture == nullptr) {
-      hover_object_ = -1;
-    } else {
-      const HapticObject& o = objects[hover_object_];
-      const Eigen::Vector3d hip_O = o.pose_WO.inverse() * hip;
-      Eigen::Vector3d q_O;
-      int32_t rounds = 0;
-      hover_primitive_ = local_search(*o.mesh, hover_primitive_, hip_O, &q_O, &rounds);
-      stats_.search_iterations += rounds;
-      const Eigen::Vector3d n_O =
-          static_cast<double>(hover_side_) * o.mesh->normal(hover_primitive_);
-      const double s = (hip_O - q_O).norm();  // above the surface: no crossing was found
-      if (s > o.texture->max_height_m()) {
-        hover_object_ = -1;
-      } else {
-        penetration = texture_penetration(o, q_O, n_O, s);
-        if (penetration.squaredNorm() > 0.0) {
-          law = &o.law;
-          touched_index = hover_object_;
-          contact_O = q_O;
-          normal_O = n_O;
-          out.texture_contact = true;
-          out.object = hover_object_;
-          out.primitive = hover_primitive_;
-          ++stats_.texture_only_ticks;
-        }
-      }
-    }
+    source = hover_force_source(objects, hip, &out);
   }
-  if (law != nullptr) {
-    const Eigen::Vector3d rate = dt > 0.0 ? Eigen::Vector3d((penetration - prev_penetration_) / dt)
-                                          : Eigen::Vector3d::Zero();
-    out.force_W = contact_force(*law, penetration, rate);
-    prev_penetration_ = penetration;
-    const HapticObject& touched = objects[touched_index];
-    if (touched.friction != nullptr) {
-      const Eigen::Vector3d normal_W = touched.pose_WO.linear() * normal_O;
-      const double fn = std::max(0.0, out.force_W.dot(normal_W));
-      out.friction_W =
-          touched.pose_WO.linear() *
-          friction_step(*touched.friction, &friction_, touched_index, contact_O, normal_O, fn);
-      out.force_W += out.friction_W;
-      const double magnitude = out.force_W.norm();
-      if (magnitude > law->max_force_n) out.force_W *= law->max_force_n / magnitude;
-    } else {
-      friction_.phase = FrictionState::Phase::kNone;
-    }
-  } else {
-    prev_penetration_.setZero();
-    friction_.phase = FrictionState::Phase::kNone;
-  }
+  apply_force(objects, dt, source, &out);
   out.ihip_W = ihip_W_;
   out.contact_count = count_;
-  if (!out.force_W.allFinite() || !out.ihip_W.allFinite()) return fault();
+  if (!out.force_W.allFinite() || !out.ihip_W.allFinite()) return fault(hip);
   return out;
 }
 

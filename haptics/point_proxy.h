@@ -27,38 +27,10 @@
 
 #include "haptics/force_law.h"
 #include "haptics/friction.h"
+#include "haptics/haptic_object.h"
 #include "haptics/mesh_database.h"
 
 namespace lap::haptics {
-
-class SegmentDatabase;
-class ShadingNormals;
-class HeightField;
-
-/// One object as the proxy sees it for one tick.
-
-struct HapticObject {
-  const MeshDatabase* mesh = nullptr;
-  Eigen::Isometry3d pose_WO = Eigen::Isometry3d::Identity();       ///< object to world, now
-  Eigen::Isometry3d prev_pose_WO = Eigen::Isometry3d::Identity();  ///< at the previous tick
-  bool two_sided = false;  ///< contact from either side (thin, open surfaces)
-  ForceLaw law;
-  /// The ray-based extension of `mesh` (chapter 5); needed by the segment proxy only.
-  const SegmentDatabase* segments = nullptr;
-  /// Force shading (§6.1) for the point proxy; nullptr: flat polygons.
-  const ShadingNormals* shading = nullptr;
-  /// Haptic texture (§6.3); nullptr: none. §6.6: shading and texture both change the shape and
-  /// are not combined: with both set the texture is rendered and shading ignored
-  /// (surface_problem() reports the combination at setup).
-  const HeightField* texture = nullptr;
-  double texture_k = 1.5;  ///< K of eq. 6-4 (1 to 2 per the thesis; smaller for sharp textures)
-  /// Stick-slip friction (§6.2); nullptr: frictionless.
-  const FrictionModel* friction = nullptr;
-};
-
-/// Setup-time check of an object's surface properties: empty when usable, else what is wrong
-/// (§6.6: shading together with a texture; an invalid friction model).
-[[nodiscard]] const char* surface_problem(const HapticObject& object);
 
 /// One contact of the proxy.
 struct PointContact {
@@ -122,15 +94,57 @@ class PointProxy {
                                    const Eigen::Vector3d& p, Eigen::Vector3d* q, int32_t* rounds);
 
  private:
-  Eigen::Vector3d combine(const Eigen::Vector3d& hip_W) const;
+  struct Leaving;      // contacts whose HIP left their object this tick (point_proxy.cpp)
+  struct ForceSource;  // what the force comes from (point_proxy.cpp)
+  /// The first face one object's IHIP path crosses (stage 3 of step()).
+  struct ObjectCrossing {
+    int32_t object = -1;  ///< -1: no object is crossed
+    MeshDatabase::Crossing crossing;
+  };
+
+  // The stages of step(), in order.
+  /// Resets the proxy after a non-finite input or result and returns the zero-force output.
+  PointProxyOutput fault(const Eigen::Vector3d& hip_W) noexcept;
+  /// Stage 1: each contact follows the HIP by local search; those whose HIP left their object
+  /// are removed and kept in *leaving.
+  void follow_contacts(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
+                       Leaving* leaving) noexcept;
+  /// Stage 3: adds a contact for each object whose face the IHIP's path crosses from outside,
+  /// nearest first, re-placing the IHIP *x after each.
+  void add_first_contacts(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
+                          const Leaving& leaving, Eigen::Vector3d* x) noexcept;
+  /// The earliest crossing of the IHIP's path to x by an object not in contact or leaving.
+  [[nodiscard]] ObjectCrossing first_crossing(std::span<const HapticObject> objects,
+                                              const Eigen::Vector3d& x,
+                                              const Leaving& leaving) const noexcept;
+  [[nodiscard]] bool in_contact_or_leaving(int32_t object, const Leaving& leaving) const noexcept;
+  /// A new contact on the crossed face, at its nearest point to the HIP (§4.3).
+  void add_first_contact(const HapticObject& o, const ObjectCrossing& crossed,
+                         const Eigen::Vector3d& hip_W) noexcept;
+  /// Stage 4: holds each leaving contact that still constrains the IHIP *x, else releases it.
+  void hold_or_release(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
+                       const Leaving& leaving, Eigen::Vector3d* x) noexcept;
+  /// Stage 5, in contact: the penetration (shaded or textured where one object is touched).
+  [[nodiscard]] ForceSource contact_force_source(std::span<const HapticObject> objects,
+                                                 const Eigen::Vector3d& hip_W,
+                                                 PointProxyOutput* out) const noexcept;
+  /// Stage 5, free of contacts near a textured object: the penetration into its bumps.
+  ForceSource hover_force_source(std::span<const HapticObject> objects,
+                                 const Eigen::Vector3d& hip_W, PointProxyOutput* out) noexcept;
+  /// Stage 5: the force law, its damping rate and friction (§6.2), clamped to the law's maximum.
+  void apply_force(std::span<const HapticObject> objects, double dt, const ForceSource& source,
+                   PointProxyOutput* out) noexcept;
+
+  /// The IHIP: the point nearest the HIP on or outside every contact's plane.
+  Eigen::Vector3d combine(const Eigen::Vector3d& hip_W) const noexcept;
   /// The textured object near the HIP while not in contact (Figure 6-5): found by the tree
   /// within the texture's height band, then followed by local search.
-  void find_hover(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W);
+  void find_hover(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W) noexcept;
   /// Penetration under the textured surface (eq. 6-4) at contact point q_O with unit outward
   /// normal n_O and nearest distance s of the HIP (negative below the surface); zero when the
   /// HIP is outside the textured surface.
   static Eigen::Vector3d texture_penetration(const HapticObject& o, const Eigen::Vector3d& q_O,
-                                             const Eigen::Vector3d& n_O, double s);
+                                             const Eigen::Vector3d& n_O, double s) noexcept;
 
   std::array<PointContact, kMaxContacts> contacts_{};
   int32_t count_ = 0;

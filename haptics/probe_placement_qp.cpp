@@ -34,6 +34,102 @@ void solve_free(const std::array<std::array<double, kN>, kN>& q, const std::arra
   }
 }
 
+// The dual's state for a primal active-set method (Goldfarb–Idnani style): multipliers λ ≥ 0,
+// the free set P of positive ones, and Q, c of the dual objective ½ λᵀ Q λ − cᵀ λ.
+struct DualActiveSet {
+  int n = 0;
+  std::array<std::array<double, kN>, kN> q{};
+  std::array<double, kN> c{};
+  std::array<double, kN> lambda{};
+  std::array<bool, kN> is_free{};
+  std::array<int, kN> free{};
+  int nf = 0;
+
+  DualActiveSet(const ProbePlacementQp& qp, const ProbePlacementQp::Vector6& x0) : n(qp.count) {
+    for (int i = 0; i < n; ++i) {
+      c[i] = qp.h[i] - qp.g[i].dot(x0);
+      for (int j = 0; j <= i; ++j) q[i][j] = q[j][i] = qp.g[i].dot(qp.g[j]);
+      q[i][i] *= 1.0 + kRidge;
+    }
+  }
+
+  // Warm start: if the guessed active set's own solution has every multiplier positive, it is a
+  // valid starting point of the method (a feasible λ solving its free subproblem).
+  bool warm_start(uint32_t warm_active) noexcept {
+    for (int i = 0; i < n; ++i) {
+      if (((warm_active >> i) & 1U) != 0U) free[nf++] = i;
+    }
+    std::array<double, kN> z{};
+    solve_free(q, c, free, nf, &z);
+    bool positive = true;
+    for (int k = 0; k < nf; ++k) positive = positive && z[free[k]] > 0.0;
+    if (!positive) {
+      nf = 0;
+      return false;
+    }
+    for (int k = 0; k < nf; ++k) {
+      lambda[free[k]] = z[free[k]];
+      is_free[free[k]] = true;
+    }
+    return true;
+  }
+
+  // The bound constraint most violated at the current λ (w, the negative gradient, above the
+  // optimality tolerance), or -1 at the optimum.
+  [[nodiscard]] int most_violated() const noexcept {
+    int best = -1;
+    double best_w = kOptimality;
+    for (int i = 0; i < n; ++i) {
+      if (is_free[i]) continue;
+      double w = c[i];
+      for (int j = 0; j < nf; ++j) w -= q[i][free[j]] * lambda[free[j]];
+      if (w > best_w) {
+        best_w = w;
+        best = i;
+      }
+    }
+    return best;
+  }
+
+  // One inner step: towards the free subproblem's solution z until the first multiplier reaches
+  // zero, binding it (and any other that got there too). True when z was reached (or nothing is
+  // left free): the inner loop is done.
+  bool step_towards_free_solution() noexcept {
+    std::array<double, kN> z{};
+    solve_free(q, c, free, nf, &z);
+    int first = -1;
+    double alpha = 1.0;
+    for (int k = 0; k < nf; ++k) {
+      const int i = free[k];
+      if (z[i] <= 0.0) {
+        const double den = lambda[i] - z[i];
+        const double t = den > 0.0 ? lambda[i] / den : 0.0;
+        if (first < 0 || t < alpha) {
+          alpha = t;
+          first = i;
+        }
+      }
+    }
+    if (first < 0) {
+      for (int k = 0; k < nf; ++k) lambda[free[k]] = z[free[k]];
+      return true;
+    }
+    int kept = 0;
+    for (int k = 0; k < nf; ++k) {
+      const int i = free[k];
+      lambda[i] += alpha * (z[i] - lambda[i]);
+      if (i == first || lambda[i] <= 0.0) {
+        lambda[i] = 0.0;
+        is_free[i] = false;
+      } else {
+        free[kept++] = i;
+      }
+    }
+    nf = kept;
+    return nf == 0;
+  }
+};
+
 }  // namespace
 
 bool ProbePlacementQp::add(const Eigen::Vector3d& n, double u, double offset) {
@@ -63,99 +159,24 @@ ProbePlacementSolution solve_probe_placement(const ProbePlacementQp& qp, const E
     out.lambda[0] = lambda;
     return out;
   }
-  std::array<std::array<double, kN>, kN> q{};
-  std::array<double, kN> c{};
-  for (int i = 0; i < n; ++i) {
-    c[i] = qp.h[i] - qp.g[i].dot(x0);
-    for (int j = 0; j <= i; ++j) q[i][j] = q[j][i] = qp.g[i].dot(qp.g[j]);
-    q[i][i] *= 1.0 + kRidge;
-  }
-  std::array<double, kN> lambda{};
-  std::array<bool, kN> is_free{};
-  std::array<int, kN> free{};
-  int nf = 0;
-  if (warm_active != 0) {
-    // Warm start: if the guessed active set's own solution has every multiplier positive, it
-    // is a valid starting point of the method (a feasible λ solving its free subproblem).
-    for (int i = 0; i < n; ++i) {
-      if (((warm_active >> i) & 1U) != 0U) free[nf++] = i;
-    }
-    std::array<double, kN> z{};
-    solve_free(q, c, free, nf, &z);
-    bool positive = true;
-    for (int k = 0; k < nf; ++k) positive = positive && z[free[k]] > 0.0;
-    if (positive) {
-      for (int k = 0; k < nf; ++k) {
-        lambda[free[k]] = z[free[k]];
-        is_free[free[k]] = true;
-      }
-      ++out.iterations;
-    } else {
-      nf = 0;
-    }
-  }
+  DualActiveSet dual(qp, x0);
+  if (warm_active != 0 && dual.warm_start(warm_active)) ++out.iterations;
   // Each outer step frees one constraint; each inner step binds at least one: the guard is
   // far above what a problem of kN constraints can need.
   int guard = 4 * kN * kN;
-  for (;;) {
-    // w: the negative gradient, how violated each constraint is at the current λ.
-    int best = -1;
-    double best_w = kOptimality;
-    for (int i = 0; i < n; ++i) {
-      if (is_free[i]) continue;
-      double w = c[i];
-      for (int j = 0; j < nf; ++j) w -= q[i][free[j]] * lambda[free[j]];
-      if (w > best_w) {
-        best_w = w;
-        best = i;
-      }
-    }
-    if (best < 0) break;
-    is_free[best] = true;
-    free[nf++] = best;
+  for (int best = dual.most_violated(); best >= 0 && out.converged; best = dual.most_violated()) {
+    dual.is_free[best] = true;
+    dual.free[dual.nf++] = best;
     for (;;) {
       if (--guard < 0) {
         out.converged = false;
         break;
       }
       ++out.iterations;
-      std::array<double, kN> z{};
-      solve_free(q, c, free, nf, &z);
-      // Step towards z until the first multiplier reaches zero, and bind it (and any other
-      // that got there too).
-      int first = -1;
-      double alpha = 1.0;
-      for (int k = 0; k < nf; ++k) {
-        const int i = free[k];
-        if (z[i] <= 0.0) {
-          const double den = lambda[i] - z[i];
-          const double t = den > 0.0 ? lambda[i] / den : 0.0;
-          if (first < 0 || t < alpha) {
-            alpha = t;
-            first = i;
-          }
-        }
-      }
-      if (first < 0) {
-        for (int k = 0; k < nf; ++k) lambda[free[k]] = z[free[k]];
-        break;
-      }
-      int kept = 0;
-      for (int k = 0; k < nf; ++k) {
-        const int i = free[k];
-        lambda[i] += alpha * (z[i] - lambda[i]);
-        if (i == first || lambda[i] <= 0.0) {
-          lambda[i] = 0.0;
-          is_free[i] = false;
-        } else {
-          free[kept++] = i;
-        }
-      }
-      nf = kept;
-      if (nf == 0) break;
+      if (dual.step_towards_free_solution()) break;
     }
-    if (!out.converged) break;
   }
+  const std::array<double, kN>& lambda = dual.lambda;
   ProbePlacementQp::Vector6 x = x0;
   for (int i = 0; i < n; ++i) {
     x += lambda[i] * qp.g[i];

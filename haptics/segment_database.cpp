@@ -23,93 +23,129 @@ int32_t find_root(std::vector<int32_t>& parent, int32_t i) {
   return i;
 }
 
+// Height of the far vertex of edge e's second face over its first face's plane, relative to its
+// distance from the edge line: the sine of the dihedral's deviation from flat (negative:
+// convex). e has two faces.
+double dihedral_sine(const MeshDatabase& mesh, int32_t e) {
+  const auto& ef = mesh.edge_faces(e);
+  const Eigen::Vector3d& n0 = mesh.face_normal(ef[0]);
+  const auto& ev = mesh.edge_vertices(e);
+  const auto& t1 = mesh.face_vertices(ef[1]);
+  int32_t far = t1[0];
+  for (int32_t v : t1) {
+    if (v != ev[0] && v != ev[1]) far = v;
+  }
+  const Eigen::Vector3d edge = mesh.position(ev[1]) - mesh.position(ev[0]);
+  const Eigen::Vector3d w = mesh.position(far) - mesh.position(ev[0]);
+  const double dist_from_line = edge.cross(w).norm() / std::max(edge.norm(), 1e-300);
+  const double height = n0.dot(w);
+  return dist_from_line > 0.0 ? height / dist_from_line : 0.0;
+}
+
+// The faces of each flat group (CSR), for the face PCPs.
+struct FlatGroupMembers {
+  std::vector<int32_t> start;  // per group, + 1
+  std::vector<int32_t> faces;  // grouped, ascending within each group
+  [[nodiscard]] std::span<const int32_t> of(int32_t g) const {
+    return {faces.data() + start[g], static_cast<size_t>(start[g + 1] - start[g])};
+  }
+};
+
+FlatGroupMembers flat_group_members(const std::vector<int32_t>& flat_group, int32_t groups) {
+  FlatGroupMembers m;
+  const auto nf = static_cast<int32_t>(flat_group.size());
+  m.start.assign(static_cast<size_t>(groups) + 1, 0);
+  for (int32_t f = 0; f < nf; ++f) ++m.start[flat_group[f] + 1];
+  std::partial_sum(m.start.begin(), m.start.end(), m.start.begin());
+  m.faces.resize(nf);
+  std::vector<int32_t> fill(m.start.begin(), m.start.end() - 1);
+  for (int32_t f = 0; f < nf; ++f) m.faces[fill[flat_group[f]]++] = f;
+  return m;
+}
+
 }  // namespace
 
 SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
                                        const SegmentDatabaseSettings& settings) {
   SegmentDatabase db;
   db.mesh_ = &mesh;
+  std::vector<int32_t> flat_forest = db.classify_edges(settings.flat_angle_rad);
+  db.number_flat_groups(&flat_forest);
+  db.link_neighbours();
+  db.list_face_pcps();
+  db.list_edge_pcps();
+  db.build_edge_tree(settings.max_leaf_edges);
+  return db;
+}
+
+// Convexity of each edge from the far vertex of its second face against the first face's
+// plane; flat edges join faces into the thesis' "faces" (the returned union-find forest).
+std::vector<int32_t> SegmentDatabase::classify_edges(double flat_angle_rad) {
+  const MeshDatabase& mesh = *mesh_;
   const int32_t nf = mesh.face_count();
   const int32_t ne = mesh.edge_count();
-
-  // Convexity of each edge from the far vertex of its second face against the first face's
-  // plane; flat edges join faces into the thesis' "faces".
-  db.contactable_.assign(ne, 0);
+  contactable_.assign(ne, 0);
   std::vector<int32_t> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
-  const double sin_flat = std::sin(settings.flat_angle_rad);
+  const double sin_flat = std::sin(flat_angle_rad);
   for (int32_t e = 0; e < ne; ++e) {
     const auto& ef = mesh.edge_faces(e);
     if (ef[1] < 0) {
-      db.contactable_[e] = 1;  // boundary: the probe can rest on it from either side
+      contactable_[e] = 1;  // boundary: the probe can rest on it from either side
       continue;
     }
-    const Eigen::Vector3d& n0 = mesh.face_normal(ef[0]);
-    const Eigen::Vector3d& n1 = mesh.face_normal(ef[1]);
-    const auto& ev = mesh.edge_vertices(e);
-    const auto& t1 = mesh.face_vertices(ef[1]);
-    int32_t far = t1[0];
-    for (int32_t v : t1) {
-      if (v != ev[0] && v != ev[1]) far = v;
-    }
-    const Eigen::Vector3d edge = mesh.position(ev[1]) - mesh.position(ev[0]);
-    const Eigen::Vector3d w = mesh.position(far) - mesh.position(ev[0]);
-    // Height of the far vertex over face 0's plane, relative to its distance from the edge line:
-    // the sine of the dihedral's deviation from flat.
-    const double dist_from_line = edge.cross(w).norm() / std::max(edge.norm(), 1e-300);
-    const double height = n0.dot(w);
-    const double sine = dist_from_line > 0.0 ? height / dist_from_line : 0.0;
+    const double sine = dihedral_sine(mesh, e);
     if (sine < -sin_flat) {
-      db.contactable_[e] = 1;  // convex
-    } else if (std::abs(sine) <= sin_flat && n0.dot(n1) > 0.0) {
+      contactable_[e] = 1;  // convex
+    } else if (std::abs(sine) <= sin_flat &&
+               mesh.face_normal(ef[0]).dot(mesh.face_normal(ef[1])) > 0.0) {
       const int32_t a = find_root(parent, ef[0]);
       const int32_t b = find_root(parent, ef[1]);
       if (a != b) parent[a] = b;
     }
   }
-  db.flat_group_.resize(nf);
-  std::vector<int32_t> group_id(nf, -1);
-  std::vector<int32_t> group_size;
-  for (int32_t f = 0; f < nf; ++f) {
-    const int32_t r = find_root(parent, f);
-    if (group_id[r] < 0) {
-      group_id[r] = db.flat_groups_++;
-      group_size.push_back(0);
-    }
-    db.flat_group_[f] = group_id[r];
-    ++group_size[group_id[r]];
-  }
+  return parent;
+}
 
-  // Figure 5-5 neighbours.
-  db.face_neighbours_.resize(nf);
+void SegmentDatabase::number_flat_groups(std::vector<int32_t>* forest) {
+  const int32_t nf = mesh_->face_count();
+  flat_group_.resize(nf);
+  std::vector<int32_t> group_id(nf, -1);
   for (int32_t f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k)
-      db.face_neighbours_[f][k] = mesh.other_face(mesh.face_edges(f)[k], f);
+    const int32_t r = find_root(*forest, f);
+    if (group_id[r] < 0) group_id[r] = flat_groups_++;
+    flat_group_[f] = group_id[r];
   }
-  db.edge_neighbours_.assign(ne, {-1, -1, -1, -1});
+}
+
+// Figure 5-5 neighbours.
+void SegmentDatabase::link_neighbours() {
+  const MeshDatabase& mesh = *mesh_;
+  const int32_t nf = mesh.face_count();
+  const int32_t ne = mesh.edge_count();
+  face_neighbours_.resize(nf);
+  for (int32_t f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) face_neighbours_[f][k] = mesh.other_face(mesh.face_edges(f)[k], f);
+  }
+  edge_neighbours_.assign(ne, {-1, -1, -1, -1});
   for (int32_t e = 0; e < ne; ++e) {
     int n = 0;
     for (int32_t f : mesh.edge_faces(e)) {
       if (f < 0) continue;
       for (int32_t g : mesh.face_edges(f)) {
-        if (g != e && n < 4) db.edge_neighbours_[e][n++] = g;
+        if (g != e && n < 4) edge_neighbours_[e][n++] = g;
       }
     }
   }
+}
 
-  // Members of each small flat group, for the face PCPs.
-  std::vector<int32_t> group_start(db.flat_groups_ + 1, 0);
-  for (int32_t f = 0; f < nf; ++f) ++group_start[db.flat_group_[f] + 1];
-  std::partial_sum(group_start.begin(), group_start.end(), group_start.begin());
-  std::vector<int32_t> group_faces(nf);
-  {
-    std::vector<int32_t> fill(group_start.begin(), group_start.end() - 1);
-    for (int32_t f = 0; f < nf; ++f) group_faces[fill[db.flat_group_[f]]++] = f;
-  }
-
-  // Face PCPs: its edges; the faces (and their edges) of its flat group, or only the flat
-  // neighbours across its edges when the group is large.
-  db.face_pcp_start_.assign(nf + 1, 0);
+// Face PCPs: its edges; the faces (and their edges) of its flat group, or only the flat
+// neighbours across its edges when the group is large.
+void SegmentDatabase::list_face_pcps() {
+  const MeshDatabase& mesh = *mesh_;
+  const int32_t nf = mesh.face_count();
+  const FlatGroupMembers members = flat_group_members(flat_group_, flat_groups_);
+  face_pcp_start_.assign(nf + 1, 0);
   std::vector<PrimitiveRef> list;
   for (int32_t f = 0; f < nf; ++f) {
     list.clear();
@@ -117,26 +153,30 @@ SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
       if (std::find(list.begin(), list.end(), p) == list.end()) list.push_back(p);
     };
     for (int32_t e : mesh.face_edges(f)) add({PrimitiveKind::kEdge, e});
-    const int32_t g = db.flat_group_[f];
-    if (group_start[g + 1] - group_start[g] <= kMaxGroupPcps) {
-      for (int32_t i = group_start[g]; i < group_start[g + 1]; ++i) {
-        const int32_t h = group_faces[i];
+    const int32_t g = flat_group_[f];
+    if (members.of(g).size() <= static_cast<size_t>(kMaxGroupPcps)) {
+      for (const int32_t h : members.of(g)) {
         if (h == f) continue;
         add({PrimitiveKind::kFace, h});
         for (int32_t e : mesh.face_edges(h)) add({PrimitiveKind::kEdge, e});
       }
     } else {
-      for (int32_t h : db.face_neighbours_[f]) {
-        if (h >= 0 && db.flat_group_[h] == g) add({PrimitiveKind::kFace, h});
+      for (int32_t h : face_neighbours_[f]) {
+        if (h >= 0 && flat_group_[h] == g) add({PrimitiveKind::kFace, h});
       }
     }
-    db.face_pcp_.insert(db.face_pcp_.end(), list.begin(), list.end());
-    db.face_pcp_start_[f + 1] = static_cast<int32_t>(db.face_pcp_.size());
+    face_pcp_.insert(face_pcp_.end(), list.begin(), list.end());
+    face_pcp_start_[f + 1] = static_cast<int32_t>(face_pcp_.size());
   }
+}
 
-  // Edge PCPs: its faces, and the contactable edges at its two vertices (where a probe resting
-  // on the edge slides next).
-  db.edge_pcp_start_.assign(ne + 1, 0);
+// Edge PCPs: its faces, and the contactable edges at its two vertices (where a probe resting
+// on the edge slides next).
+void SegmentDatabase::list_edge_pcps() {
+  const MeshDatabase& mesh = *mesh_;
+  const int32_t ne = mesh.edge_count();
+  edge_pcp_start_.assign(ne + 1, 0);
+  std::vector<PrimitiveRef> list;
   for (int32_t e = 0; e < ne; ++e) {
     list.clear();
     for (int32_t f : mesh.edge_faces(e)) {
@@ -147,34 +187,36 @@ SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
         const int c = mesh.corner_of(f, v);
         for (int32_t g : {mesh.face_edges(f)[c], mesh.face_edges(f)[(c + 2) % 3]}) {
           const PrimitiveRef p{PrimitiveKind::kEdge, g};
-          if (g != e && db.contactable_[g] != 0 &&
+          if (g != e && contactable_[g] != 0 &&
               std::find(list.begin(), list.end(), p) == list.end()) {
             list.push_back(p);
           }
         }
       });
     }
-    db.edge_pcp_.insert(db.edge_pcp_.end(), list.begin(), list.end());
-    db.edge_pcp_start_[e + 1] = static_cast<int32_t>(db.edge_pcp_.size());
+    edge_pcp_.insert(edge_pcp_.end(), list.begin(), list.end());
+    edge_pcp_start_[e + 1] = static_cast<int32_t>(edge_pcp_.size());
   }
+}
 
-  // Second tree, over the contactable edges (§5.2), split by the edges' centres.
+// Second tree, over the contactable edges (§5.2), split by the edges' centres.
+void SegmentDatabase::build_edge_tree(int32_t max_leaf_edges) {
+  const MeshDatabase& mesh = *mesh_;
   std::vector<int32_t> edges;
-  for (int32_t e = 0; e < ne; ++e) {
-    if (db.contactable_[e] != 0) edges.push_back(e);
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    if (contactable_[e] != 0) edges.push_back(e);
   }
   std::vector<int32_t> order;
-  db.edge_tree_.build(
+  edge_tree_.build(
       static_cast<int32_t>(edges.size()),
       [&](int32_t i) {
         const auto& ev = mesh.edge_vertices(edges[i]);
         return Eigen::Vector3d(0.5 * (mesh.position(ev[0]) + mesh.position(ev[1])));
       },
-      settings.max_leaf_edges, &order);
-  db.tree_edges_.resize(edges.size());
-  for (size_t k = 0; k < edges.size(); ++k) db.tree_edges_[k] = edges[order[k]];
-  db.refit_edge_tree();
-  return db;
+      max_leaf_edges, &order);
+  tree_edges_.resize(edges.size());
+  for (size_t k = 0; k < edges.size(); ++k) tree_edges_[k] = edges[order[k]];
+  refit_edge_tree();
 }
 
 void SegmentDatabase::refit_edge_tree() {

@@ -116,6 +116,16 @@ class SegmentDatabase {
   [[nodiscard]] size_t memory_bytes() const;
 
  private:
+  // The stages of build(), in order.
+  /// Marks the contactable edges; returns the faces joined across flat edges (union-find).
+  std::vector<int32_t> classify_edges(double flat_angle_rad);
+  /// Numbers the flat "faces" (the trees of the forest).
+  void number_flat_groups(std::vector<int32_t>* forest);
+  void link_neighbours();
+  void list_face_pcps();
+  void list_edge_pcps();
+  void build_edge_tree(int32_t max_leaf_edges);
+
   const MeshDatabase* mesh_ = nullptr;
   std::vector<std::array<int32_t, 3>> face_neighbours_;
   std::vector<std::array<int32_t, 4>> edge_neighbours_;

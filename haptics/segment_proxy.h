@@ -37,7 +37,7 @@
 #include <cstdint>
 #include <span>
 
-#include "haptics/point_proxy.h"
+#include "haptics/haptic_object.h"
 #include "haptics/probe_placement_qp.h"
 #include "haptics/segment_database.h"
 
@@ -143,23 +143,74 @@ class SegmentProxy {
   [[nodiscard]] Eigen::Vector3d torque_about(const Eigen::Vector3d& p_W) const;
 
  private:
-  void track(std::span<const HapticObject> objects);
+  struct SweptHit;      // the earliest hit of one swept check (segment_proxy_sweep.cpp)
+  struct ContactGroup;  // the constraints of one thesis contact (segment_proxy_response.cpp)
+
+  // The step's stages (segment_proxy.cpp): tracking the constraints, then moving the ideal
+  // probe by placements and swept checks.
+  /// Local search for every constraint against the new virtual probe (§5.3, PCPs only).
+  void track(std::span<const HapticObject> objects) noexcept;
+  /// Slides a segment–edge constraint along the contactable edges, or turns it into a point
+  /// contact where an end of the probe has reached the edge.
+  void track_edge_contact(const SegmentDatabase& sd, const Eigen::Isometry3d& inv,
+                          const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                          SegmentConstraint* c) const noexcept;
+  /// Moves the ideal probe towards the virtual probe (a_W, b_W), adding the contacts it meets.
+  void move_ideal_probe(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
+                        const Eigen::Vector3d& b_W) noexcept;
+  /// The configuration nearest the virtual probe that keeps every constraint (see the .cpp).
   void place(std::span<const HapticObject> objects, const Eigen::Vector3d& a_W,
-             const Eigen::Vector3d& b_W, Eigen::Vector3d* a, Eigen::Vector3d* b);
+             const Eigen::Vector3d& b_W, Eigen::Vector3d* a, Eigen::Vector3d* b) noexcept;
   void solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W, Eigen::Vector3d* a,
-                       Eigen::Vector3d* b);
+                       Eigen::Vector3d* b) noexcept;
+  /// Adds or updates a constraint; false when nothing changed (or the list is full).
+  bool add_constraint(const SegmentConstraint& c) noexcept;
+  void remove_constraint(int i) noexcept;
+
+  // The swept check (segment_proxy_sweep.cpp) and its cache (segment_proxy_sweep_cache.cpp).
+  /// The first contact of the motion (a0, b0) -> (a1, b1), at time *tau, as constraint *hit.
   bool sweep(std::span<const HapticObject> objects, bool first_pass, const Eigen::Vector3d& a0,
              const Eigen::Vector3d& b0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
-             double* tau, SegmentConstraint* hit);
+             double* tau, SegmentConstraint* hit) noexcept;
+  /// The motion's first part (fraction *f) against the cache; false when it does not cover it.
+  bool sweep_cached(std::span<const HapticObject> objects, const Eigen::Vector3d& a0,
+                    const Eigen::Vector3d& b0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
+                    SweptHit* first, double* f) noexcept;
+  /// The cached faces and edges within reach of the motion (a0, b0) -> (af, bf), exactly.
+  void sweep_cached_primitives(std::span<const HapticObject> objects, const Eigen::Vector3d& a0,
+                               const Eigen::Vector3d& b0, const Eigen::Vector3d& af,
+                               const Eigen::Vector3d& bf, SweptHit* first) noexcept;
+  /// The whole motion against every object through its two trees (§5.2).
+  void sweep_trees(std::span<const HapticObject> objects, bool first_pass,
+                   const Eigen::Vector3d& a0, const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
+                   const Eigen::Vector3d& b1, SweptHit* first) const noexcept;
   bool cache_covers(std::span<const HapticObject> objects, const Eigen::Vector3d& a0,
                     const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
-                    const Eigen::Vector3d& b1) const;
+                    const Eigen::Vector3d& b1) const noexcept;
   bool fill_cache(std::span<const HapticObject> objects, const Eigen::Vector3d& a,
-                  const Eigen::Vector3d& b, double ra, double rb);
-  /// Adds or updates a constraint; false when nothing changed (or the list is full).
-  bool add_constraint(const SegmentConstraint& c);
-  void respond(std::span<const HapticObject> objects, double dt, SegmentProxyOutput* out);
-  void remove_constraint(int i);
+                  const Eigen::Vector3d& b, double ra, double rb) noexcept;
+  /// Caches object k's faces within r of end point `end` at p (object frame).
+  bool cache_faces(const SegmentDatabase& sd, int32_t k, int end, const Eigen::Vector3d& p,
+                   double r, std::span<int32_t> scratch) noexcept;
+  /// Caches object k's contactable edges within reach of the probe (A, B) (object frame).
+  bool cache_edges(const SegmentDatabase& sd, int32_t k, const Eigen::Vector3d& A,
+                   const Eigen::Vector3d& B, double ra, double rb,
+                   std::span<int32_t> scratch) noexcept;
+
+  // The response (§5.4, segment_proxy_response.cpp).
+  void respond(std::span<const HapticObject> objects, double dt, SegmentProxyOutput* out) noexcept;
+  /// The constraints grouped with constraint i (those not yet *used).
+  ContactGroup gather_contact(int i, double cos_eps,
+                              std::array<bool, kMaxConstraints>* used) const noexcept;
+  /// Widens the contour [*u_a, *u_b] over the face the probe lies on within θε (Figure 5-3c).
+  void widen_over_face(std::span<const HapticObject> objects, const ContactGroup& g, double cos_eps,
+                       double* u_a, double* u_b) const noexcept;
+  /// Sets the contact's kind, equilibrium point and normal; returns a point of its plane.
+  Eigen::Vector3d find_equilibrium(const ContactGroup& g, SegmentContact* contact) const noexcept;
+  /// The contact's spring force, added to *out with its shares at the ends and its torque.
+  void apply_contact_force(std::span<const HapticObject> objects, double dt,
+                           const Eigen::Vector3d& plane_point, SegmentContact* contact,
+                           SegmentProxyOutput* out) const noexcept;
 
   // The sweep cache (a clearance certificate): every face within radius_a of end point a (and
   // radius_b of b) and every contactable edge within r(u) = (1 - u) radius_a + u radius_b of the

@@ -5,8 +5,9 @@
 /// Why flat arrays and not an OpenMesh half-edge kernel as the primary store: the half-edge kernel
 /// cannot hold the defects we must diagnose (it splits non-manifold vertices and refuses complex
 /// edges on insertion), and the haptic step wants contiguous arrays indexed by integers
-/// (STYLE.md §5). OpenMesh is used underneath for reading files and is available as a view through
-/// to_openmesh() for algorithms that need a half-edge structure on a clean mesh.
+/// (hot data flat, docs/architecture.md). OpenMesh is used underneath for reading files and is
+/// available as a view through to_openmesh() for algorithms that need a half-edge structure on a
+/// clean mesh.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

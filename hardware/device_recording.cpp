@@ -24,10 +24,15 @@ T get(const char* p) {
   return v;
 }
 
+// `file: field: message`. Without a file name the text is kept as it always printed (": ...").
+Diagnostic file_problem(const std::string& file, std::string field, std::string message) {
+  Diagnostic d = file_diagnostic(file, 0, std::move(field), std::move(message));
+  return file.empty() ? diagnostic(": " + d.to_string()) : d;
+}
+
 }  // namespace
 
-bool write_device_recording(const std::filesystem::path& file, const DeviceRecording& recording,
-                            std::string* error) {
+Status write_device_recording(const std::filesystem::path& file, const DeviceRecording& recording) {
   std::vector<char> bytes;
   bytes.reserve(kDeviceRecordingHeaderBytes +
                 recording.samples.size() * kDeviceRecordingRecordBytes);
@@ -51,24 +56,17 @@ bool write_device_recording(const std::filesystem::path& file, const DeviceRecor
     put(&bytes, static_cast<uint32_t>(r.status));
   }
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) {
-    if (error != nullptr) *error = file.string() + ": cannot write the device recording";
-    return false;
-  }
+  if (!out) return file_problem(file.string(), "", "cannot write the device recording");
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.close();
-  if (!out) {
-    if (error != nullptr) *error = file.string() + ": writing the device recording failed";
-    return false;
-  }
-  return true;
+  if (!out) return file_problem(file.string(), "", "writing the device recording failed");
+  return {};
 }
 
-std::optional<DeviceRecording> read_device_recording(const std::filesystem::path& file,
-                                                     std::string* error) {
-  auto fail = [&](const std::string& what) -> std::optional<DeviceRecording> {
-    if (error != nullptr) *error = file.string() + ": " + what;
-    return std::nullopt;
+Result<DeviceRecording> read_device_recording(const std::filesystem::path& file) {
+  auto fail = [&](const std::string& what,
+                  const std::string& field = "") -> Result<DeviceRecording> {
+    return file_problem(file.string(), field, what);
   };
   std::ifstream in(file, std::ios::binary);
   if (!in) return fail("cannot open the device recording");
@@ -88,7 +86,7 @@ std::optional<DeviceRecording> read_device_recording(const std::filesystem::path
   DeviceRecording rec;
   rec.period_s = get<double>(bytes.data() + 16);
   if (!std::isfinite(rec.period_s) || !(rec.period_s > 0.0)) {
-    return fail("period_s: expected a positive period");
+    return fail("expected a positive period", "period_s");
   }
   const size_t body = bytes.size() - kDeviceRecordingHeaderBytes;
   if (body % kDeviceRecordingRecordBytes != 0) {

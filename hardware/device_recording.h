@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// A device's inputs over a session, one sample per haptic tick, as the replay device reads
-/// them back. Binary, so that a replay feeds the very same doubles in (bit-for-bit, ARCHITECTURE
-/// `run --fast`): a 32-byte header
+/// them back. Binary, so that a replay feeds the very same doubles in (bit-for-bit, as
+/// `run --fast` promises): a 32-byte header
 ///
 ///     "LAPDEV01" | uint32 version (1) | uint32 record size (112) | double period_s | 8 reserved
 ///
@@ -13,10 +13,10 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/result.h"
 #include "hardware/haptic_device.h"
 
 namespace lap::hardware {
@@ -35,13 +35,12 @@ struct DeviceRecording {
 inline constexpr size_t kDeviceRecordingHeaderBytes = 32;
 inline constexpr size_t kDeviceRecordingRecordBytes = 112;
 
-/// Writes the recording; false and *error on failure.
-bool write_device_recording(const std::filesystem::path& file, const DeviceRecording& recording,
-                            std::string* error);
+/// Writes the recording; a diagnostic naming the file on failure.
+[[nodiscard]] Status write_device_recording(const std::filesystem::path& file,
+                                            const DeviceRecording& recording);
 
 /// Reads a recording and checks it: header, whole records, ticks 0, 1, 2, ... in order, finite
-/// values, known status codes. Errors name the file and the record.
-[[nodiscard]] std::optional<DeviceRecording> read_device_recording(
-    const std::filesystem::path& file, std::string* error);
+/// values, known status codes. Diagnostics name the file and the record.
+[[nodiscard]] Result<DeviceRecording> read_device_recording(const std::filesystem::path& file);
 
 }  // namespace lap::hardware

@@ -3,14 +3,12 @@
 namespace lap::hardware {
 namespace {
 
-std::optional<DeviceSpec> parse_arm_spec(std::string_view text, std::string_view full,
-                                         std::string* error) {
+Result<DeviceSpec> parse_arm_spec(std::string_view text, std::string_view full) {
   const size_t colon = text.find(':');
   const std::string_view head = text.substr(0, colon);
   const std::string_view tail = colon == std::string_view::npos ? "" : text.substr(colon + 1);
-  auto fail = [&](const std::string& why) -> std::optional<DeviceSpec> {
-    if (error != nullptr) *error = "device '" + std::string(full) + "': " + why;
-    return std::nullopt;
+  auto fail = [&](const std::string& why) -> Result<DeviceSpec> {
+    return diagnostic("device '" + std::string(full) + "': " + why);
   };
   if (head == "simulated") {
     if (colon != std::string_view::npos) return fail("'simulated' takes no argument");
@@ -29,13 +27,13 @@ std::optional<DeviceSpec> parse_arm_spec(std::string_view text, std::string_view
 
 }  // namespace
 
-std::optional<DeviceSpec> parse_device_spec(std::string_view full, std::string* error) {
+Result<DeviceSpec> parse_device_spec(std::string_view full) {
   constexpr std::string_view kGripper = "+gripper";
   const bool gripper =
       full.size() > kGripper.size() && full.substr(full.size() - kGripper.size()) == kGripper;
   const std::string_view text = gripper ? full.substr(0, full.size() - kGripper.size()) : full;
-  auto spec = parse_arm_spec(text, full, error);
-  if (spec) spec->usb_gripper = gripper;
+  Result<DeviceSpec> spec = parse_arm_spec(text, full);
+  if (spec.ok()) spec->usb_gripper = gripper;
   return spec;
 }
 

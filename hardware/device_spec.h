@@ -1,13 +1,14 @@
 #pragma once
 /// \file
-/// The device specifications accepted on the command line (ARCHITECTURE.md `run --left DEV`):
+/// The device specifications accepted on the command line (docs/architecture.md `run --left DEV`):
 /// `simulated`, `scripted:FILE`, `replay:FILE`, `phantom` or `phantom:NAME`, each optionally
 /// followed by `+gripper`: the actuated USB gripper on the arm's end gives the jaw opening and
 /// renders the squeeze (thesis Figure 7-9).
 
-#include <optional>
 #include <string>
 #include <string_view>
+
+#include "core/result.h"
 
 namespace lap::hardware {
 
@@ -21,8 +22,7 @@ struct DeviceSpec {
   bool usb_gripper = false;  ///< `+gripper`: the actuated gripper over USB
 };
 
-/// Parses DEV; on failure returns nullopt and sets *error to what was expected.
-[[nodiscard]] std::optional<DeviceSpec> parse_device_spec(std::string_view text,
-                                                          std::string* error);
+/// Parses DEV; on failure a diagnostic saying what was expected.
+[[nodiscard]] Result<DeviceSpec> parse_device_spec(std::string_view text);
 
 }  // namespace lap::hardware

@@ -6,14 +6,11 @@
 
 namespace lap::hardware {
 
-bool GripperEmulator::open(std::string* error) {
+Status GripperEmulator::open() {
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (!controls_.plugged) {
-    if (error != nullptr) *error = "no actuated gripper found (USB 1209:4c54, emulated)";
-    return false;
-  }
+  if (!controls_.plugged) return diagnostic("no actuated gripper found (USB 1209:4c54, emulated)");
   open_ = true;
-  return true;
+  return {};
 }
 
 void GripperEmulator::close() {
@@ -57,9 +54,8 @@ TransferResult GripperEmulator::read(std::span<uint8_t> buffer, int timeout_ms, 
 TransferResult GripperEmulator::write(std::span<const uint8_t> bytes, int /*timeout_ms*/) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!controls_.plugged || !open_) return TransferResult::kNoDevice;
-  std::string why;
-  if (auto c = gripper::decode_command(bytes, &why)) {
-    last_command_ = *c;
+  if (const Result<gripper::CommandReport> c = gripper::decode_command(bytes); c.ok()) {
+    last_command_ = c.value();
   }
   return TransferResult::kOk;
 }

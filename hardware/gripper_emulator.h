@@ -25,7 +25,7 @@ class GripperEmulator final : public UsbTransport {
     int timeouts = 0;           ///< the next n reads time out
   };
 
-  bool open(std::string* error) override;
+  Status open() override;
   void close() override;
   TransferResult read(std::span<uint8_t> buffer, int timeout_ms, size_t* received) override;
   TransferResult write(std::span<const uint8_t> bytes, int timeout_ms) override;

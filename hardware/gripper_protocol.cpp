@@ -20,11 +20,9 @@ uint32_t get32(const uint8_t* p) {
          (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
 }
 
-bool check(std::span<const uint8_t> b, size_t size, uint8_t id, const char* what,
-           std::string* error) {
-  auto fail = [&](const std::string& why) {
-    if (error != nullptr) *error = std::string(what) + ": " + why;
-    return false;
+Status check(std::span<const uint8_t> b, size_t size, uint8_t id, const char* what) {
+  auto fail = [&](const std::string& why) -> Status {
+    return diagnostic(std::string(what) + ": " + why);
   };
   if (b.size() != size) {
     return fail("expected " + std::to_string(size) + " bytes, got " + std::to_string(b.size()));
@@ -41,7 +39,7 @@ bool check(std::span<const uint8_t> b, size_t size, uint8_t id, const char* what
     std::snprintf(buf, sizeof(buf), "CRC 0x%04x does not match the contents (0x%04x)", got, want);
     return fail(buf);
   }
-  return true;
+  return {};
 }
 
 }  // namespace
@@ -80,8 +78,10 @@ std::array<uint8_t, kCommandReportBytes> encode(const CommandReport& r) {
   return b;
 }
 
-std::optional<StateReport> decode_state(std::span<const uint8_t> b, std::string* error) {
-  if (!check(b, kStateReportBytes, kStateReportId, "state report", error)) return std::nullopt;
+Result<StateReport> decode_state(std::span<const uint8_t> b) {
+  if (Status s = check(b, kStateReportBytes, kStateReportId, "state report"); !s.ok()) {
+    return s.diagnostics();
+  }
   StateReport r;
   r.flags = b[1];
   r.sequence = get16(&b[2]);
@@ -91,9 +91,9 @@ std::optional<StateReport> decode_state(std::span<const uint8_t> b, std::string*
   return r;
 }
 
-std::optional<CommandReport> decode_command(std::span<const uint8_t> b, std::string* error) {
-  if (!check(b, kCommandReportBytes, kCommandReportId, "command report", error)) {
-    return std::nullopt;
+Result<CommandReport> decode_command(std::span<const uint8_t> b) {
+  if (Status s = check(b, kCommandReportBytes, kCommandReportId, "command report"); !s.ok()) {
+    return s.diagnostics();
   }
   CommandReport r;
   r.motor_enabled = (b[1] & 1) != 0;

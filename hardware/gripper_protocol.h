@@ -9,9 +9,9 @@
 
 #include <array>
 #include <cstdint>
-#include <optional>
 #include <span>
-#include <string>
+
+#include "core/result.h"
 
 namespace lap::hardware::gripper {
 
@@ -58,11 +58,14 @@ struct GripperCalibration {
 [[nodiscard]] std::array<uint8_t, kStateReportBytes> encode(const StateReport& r);
 [[nodiscard]] std::array<uint8_t, kCommandReportBytes> encode(const CommandReport& r);
 
-/// Parses a state report; nullopt and *error (what was wrong) for a malformed one.
-[[nodiscard]] std::optional<StateReport> decode_state(std::span<const uint8_t> bytes,
-                                                      std::string* error);
-[[nodiscard]] std::optional<CommandReport> decode_command(std::span<const uint8_t> bytes,
-                                                          std::string* error);
+// Decoding runs on the gripper's USB I/O thread (UsbGripper::io_loop) and in the emulator, never
+// on the haptic thread (UsbGripper::read only takes a triple buffer). A valid report allocates
+// nothing (an ok Result holds no diagnostics); a malformed one builds its message.
+
+/// Parses a state report; a diagnostic saying what was wrong for a malformed one.
+[[nodiscard]] Result<StateReport> decode_state(std::span<const uint8_t> bytes);
+/// Parses a command report; a diagnostic saying what was wrong for a malformed one.
+[[nodiscard]] Result<CommandReport> decode_command(std::span<const uint8_t> bytes);
 
 /// Opening angle [rad] from counts, clamped to [0, max_opening_rad].
 [[nodiscard]] double opening_rad(const GripperCalibration& c, int32_t counts);

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// One interface for every device that drives a tool (ARCHITECTURE.md, hardware/): a PHANToM-class
-/// arm with an actuated gripper on its end (thesis §7.5, Figures 7-9 and 7-10), the simulated,
-/// scripted and replay devices that stand in for it.
+/// One interface for every device that drives a tool (docs/architecture.md, hardware/): a
+/// PHANToM-class arm with an actuated gripper on its end (thesis §7.5, Figures 7-9 and 7-10), the
+/// simulated, scripted and replay devices that stand in for it.
 ///
 /// Devices report in the world frame, in metres: a driver converts its own units and frame
 /// (OpenHaptics reports millimetres) before the sample leaves it. read() and write() are called
@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+
+#include "core/result.h"
 
 namespace lap::hardware {
 
@@ -62,8 +64,8 @@ class HapticDevice {
   HapticDevice& operator=(HapticDevice&&) = delete;
   virtual ~HapticDevice() = default;
 
-  /// Set-up: opens the device. On failure returns false and says why in *error.
-  virtual bool start(std::string* error) = 0;
+  /// Set-up: opens the device; on failure, diagnostics that say why.
+  virtual Status start() = 0;
   /// Zero force, then release the device. Safe to call twice.
   virtual void stop() = 0;
 

@@ -36,34 +36,28 @@ LibusbTransport::~LibusbTransport() {
   if (impl_->context != nullptr) libusb_exit(impl_->context);
 }
 
-bool LibusbTransport::open(std::string* error) {
+Status LibusbTransport::open() {
   close();
   if (impl_->context == nullptr && libusb_init(&impl_->context) != LIBUSB_SUCCESS) {
     impl_->context = nullptr;
-    if (error != nullptr) *error = "libusb could not start";
-    return false;
+    return diagnostic("libusb could not start");
   }
   impl_->handle =
       libusb_open_device_with_vid_pid(impl_->context, gripper::kVendorId, gripper::kProductId);
   if (impl_->handle == nullptr) {
-    if (error != nullptr) {
-      *error =
-          "no actuated gripper found (USB 1209:4c54); is it plugged in, and may this user "
-          "open it (udev rule in hardware/README.md)?";
-    }
-    return false;
+    return diagnostic(
+        "no actuated gripper found (USB 1209:4c54); is it plugged in, and may this user "
+        "open it (udev rule in hardware/README.md)?");
   }
   libusb_set_auto_detach_kernel_driver(impl_->handle, 1);
   const int rc = libusb_claim_interface(impl_->handle, gripper::kInterface);
   if (rc != LIBUSB_SUCCESS) {
-    if (error != nullptr) {
-      *error = std::string("the gripper's interface could not be claimed: ") + libusb_strerror(rc);
-    }
     libusb_close(impl_->handle);
     impl_->handle = nullptr;
-    return false;
+    return diagnostic(std::string("the gripper's interface could not be claimed: ") +
+                      libusb_strerror(rc));
   }
-  return true;
+  return {};
 }
 
 void LibusbTransport::close() {

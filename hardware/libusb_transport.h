@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// UsbTransport over libusb-1.0 for the actuated gripper (gripper_protocol.h's ids and
-/// endpoints). The only file in the project that includes libusb (ARCHITECTURE.md).
+/// endpoints). The only file in the project that includes libusb (docs/architecture.md).
 
 #include <memory>
 
@@ -18,7 +18,7 @@ class LibusbTransport final : public UsbTransport {
   LibusbTransport(LibusbTransport&&) = delete;
   LibusbTransport& operator=(LibusbTransport&&) = delete;
 
-  bool open(std::string* error) override;
+  Status open() override;
   void close() override;
   TransferResult read(std::span<uint8_t> buffer, int timeout_ms, size_t* received) override;
   TransferResult write(std::span<const uint8_t> bytes, int timeout_ms) override;

@@ -11,7 +11,7 @@ Api::~Api() {
   if (handle != nullptr) dlclose(handle);
 }
 
-std::shared_ptr<Api> load_api(const std::string& library, std::string* error) {
+Result<std::shared_ptr<Api>> load_api(const std::string& library) {
   static std::mutex mutex;
   static std::map<std::string, std::weak_ptr<Api>> loaded;
   const std::lock_guard<std::mutex> lock(mutex);
@@ -20,13 +20,10 @@ std::shared_ptr<Api> load_api(const std::string& library, std::string* error) {
   api->handle = dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (api->handle == nullptr) {
     const char* why = dlerror();
-    if (error != nullptr) {
-      *error = "OpenHaptics' HD library (" + library + ") could not be loaded (" +
-               (why != nullptr ? why : "not found") +
-               "). Install OpenHaptics for Linux and the Touch/PHANToM device driver from "
-               "3D Systems";
-    }
-    return nullptr;
+    return diagnostic("OpenHaptics' HD library (" + library + ") could not be loaded (" +
+                      (why != nullptr ? why : "not found") +
+                      "). Install OpenHaptics for Linux and the Touch/PHANToM device driver "
+                      "from 3D Systems");
   }
   bool ok = true;
   std::string missing;
@@ -54,11 +51,8 @@ std::shared_ptr<Api> load_api(const std::string& library, std::string* error) {
   bind(&api->hdStartScheduler, "hdStartScheduler");
   bind(&api->hdStopScheduler, "hdStopScheduler");
   if (!ok) {
-    if (error != nullptr) {
-      *error = library + " lacks HD API functions (" + missing +
-               "): expected OpenHaptics 3.x's libHD.so";
-    }
-    return nullptr;
+    return diagnostic(library + " lacks HD API functions (" + missing +
+                      "): expected OpenHaptics 3.x's libHD.so");
   }
   loaded[library] = api;
   return api;

@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "core/result.h"
+
 namespace lap::hardware::hd {
 
 using HHD = unsigned int;
@@ -72,8 +74,7 @@ struct Api {
 };
 
 /// Loads `library` (a name dlopen searches for, or a path) once per process and path; the
-/// devices share it. nullptr and *error (naming what to install or the missing symbol) on
-/// failure.
-[[nodiscard]] std::shared_ptr<Api> load_api(const std::string& library, std::string* error);
+/// devices share it. On failure, a diagnostic naming what to install or the missing symbols.
+[[nodiscard]] Result<std::shared_ptr<Api>> load_api(const std::string& library);
 
 }  // namespace lap::hardware::hd

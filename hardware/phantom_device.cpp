@@ -23,14 +23,14 @@ PhantomDevice::PhantomDevice(PhantomSettings settings)
 
 PhantomDevice::~PhantomDevice() { stop(); }
 
-bool PhantomDevice::start(std::string* error) {
-  auto fail = [&](const std::string& why) {
-    if (error != nullptr) *error = label_ + ": " + why;
-    return false;
-  };
-  std::string why;
-  api_ = hd::load_api(settings_.library, &why);
-  if (!api_) return fail(why);
+Status PhantomDevice::start() {
+  auto fail = [&](const std::string& why) -> Status { return diagnostic(label_ + ": " + why); };
+  Result<std::shared_ptr<hd::Api>> loaded = hd::load_api(settings_.library);
+  if (!loaded.ok()) {
+    api_.reset();
+    return fail(loaded.message());
+  }
+  api_ = std::move(loaded).value();
   const hd::Api& a = *api_;
   (void)a.hdGetError();  // clear anything pending
   hhd_ = a.hdInitDevice(settings_.device_name.empty() ? nullptr : settings_.device_name.c_str());
@@ -75,7 +75,7 @@ bool PhantomDevice::start(std::string* error) {
   zero_force_.store(false);
   last_count_ = 0;
   stale_ = 0;
-  return true;
+  return {};
 }
 
 void PhantomDevice::stop() {

@@ -41,7 +41,7 @@ class PhantomDevice final : public HapticDevice {
   PhantomDevice(PhantomDevice&&) = delete;
   PhantomDevice& operator=(PhantomDevice&&) = delete;
 
-  bool start(std::string* error) override;
+  Status start() override;
   void stop() override;
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
   DeviceStatus write(const DeviceCommand& command) noexcept override;

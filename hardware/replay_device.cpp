@@ -7,12 +7,11 @@ namespace lap::hardware {
 ReplayDevice::ReplayDevice(DeviceRecording recording, std::string name, const DeviceLimits& limits)
     : InputDevice(std::move(name), limits), recording_(std::move(recording)) {}
 
-bool ReplayDevice::start(std::string* error) {
+Status ReplayDevice::start() {
   if (recording_.samples.empty()) {
-    if (error != nullptr) *error = std::string(name()) + ": the recording has no samples";
-    return false;
+    return diagnostic(std::string(name()) + ": the recording has no samples");
   }
-  return true;
+  return {};
 }
 
 DeviceStatus ReplayDevice::read(int64_t tick, double /*period_s*/, DeviceSample* out) noexcept {

@@ -13,7 +13,7 @@ class ReplayDevice final : public InputDevice {
  public:
   ReplayDevice(DeviceRecording recording, std::string name, const DeviceLimits& limits = {});
 
-  bool start(std::string* error) override;
+  Status start() override;
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
 
  private:

@@ -8,13 +8,12 @@ ScriptedDevice::ScriptedDevice(ScriptedTrajectory trajectory, std::string name,
                                const DeviceLimits& limits)
     : InputDevice(std::move(name), limits), trajectory_(std::move(trajectory)) {}
 
-bool ScriptedDevice::start(std::string* error) {
+Status ScriptedDevice::start() {
   if (trajectory_.keyframes.empty()) {
-    if (error != nullptr) *error = std::string(name()) + ": the trajectory has no keyframes";
-    return false;
+    return diagnostic(std::string(name()) + ": the trajectory has no keyframes");
   }
   cursor_ = 0;
-  return true;
+  return {};
 }
 
 DeviceStatus ScriptedDevice::read(int64_t tick, double period_s, DeviceSample* out) noexcept {

@@ -13,7 +13,7 @@ class ScriptedDevice final : public InputDevice {
  public:
   ScriptedDevice(ScriptedTrajectory trajectory, std::string name, const DeviceLimits& limits = {});
 
-  bool start(std::string* error) override;
+  Status start() override;
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
 
   [[nodiscard]] const ScriptedTrajectory& trajectory() const { return trajectory_; }

@@ -31,6 +31,14 @@ std::vector<std::string_view> split(std::string_view line) {
   return fields;
 }
 
+// `file:line: field: message`. Without a file name the text is kept as it always printed
+// (":line: ...").
+Diagnostic file_problem(const std::string& file, int line, std::string field, std::string message) {
+  Diagnostic d = file_diagnostic(file, line, std::move(field), std::move(message));
+  if (!file.empty()) return d;
+  return diagnostic((line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + d.to_string());
+}
+
 constexpr const char* kFieldNames[] = {"time_s", "x_m", "y_m", "z_m",         "qw",
                                        "qx",     "qy",  "qz",  "gripper_rad", "buttons"};
 
@@ -67,17 +75,16 @@ void ScriptedTrajectory::sample(double t, size_t* cursor, DeviceSample* out) con
   out->velocity_W = (k1.position_W - k0.position_W) / span;
 }
 
-std::optional<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
-                                                            const std::string& source,
-                                                            std::string* error) {
+Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
+                                                     const std::string& source) {
   ScriptedTrajectory tr;
   std::istringstream in(text);
   std::string line;
   int line_no = 0;
   bool first_content = true;
-  auto fail = [&](const std::string& what) -> std::optional<ScriptedTrajectory> {
-    if (error != nullptr) *error = source + ":" + std::to_string(line_no) + ": " + what;
-    return std::nullopt;
+  auto fail = [&](const std::string& what,
+                  const std::string& field = "") -> Result<ScriptedTrajectory> {
+    return file_problem(source, line_no, field, what);
   };
   while (std::getline(in, line)) {
     ++line_no;
@@ -106,27 +113,27 @@ std::optional<ScriptedTrajectory> parse_scripted_trajectory(const std::string& t
     double x[10] = {};
     for (size_t k = 0; k < f.size(); ++k) {
       if (!parse_double(f[k], &x[k])) {
-        return fail(std::string(kFieldNames[k]) + ": expected a finite number, got '" +
-                    std::string(f[k]) + "'");
+        return fail("expected a finite number, got '" + std::string(f[k]) + "'", kFieldNames[k]);
       }
     }
     Keyframe kf;
     kf.time_s = x[0];
     kf.position_W = {x[1], x[2], x[3]};
     const Eigen::Quaterniond q(x[4], x[5], x[6], x[7]);
-    if (!(q.norm() > 1e-12)) return fail("qw,qx,qy,qz: expected a non-zero quaternion");
+    if (!(q.norm() > 1e-12)) return fail("expected a non-zero quaternion", "qw,qx,qy,qz");
     kf.orientation_W = q.normalized();
     kf.gripper_angle_rad = x[8];
     if (f.size() == 10) {
       if (x[9] < 0.0 || x[9] > 4294967295.0 || x[9] != std::floor(x[9])) {
-        return fail("buttons: expected a whole number from 0 to 4294967295");
+        return fail("expected a whole number from 0 to 4294967295", "buttons");
       }
       kf.buttons = static_cast<uint32_t>(x[9]);
     }
-    if (kf.time_s < 0.0) return fail("time_s: expected a time >= 0");
+    if (kf.time_s < 0.0) return fail("expected a time >= 0", "time_s");
     if (!tr.keyframes.empty() && !(kf.time_s > tr.keyframes.back().time_s)) {
-      return fail("time_s: expected times to increase, " + std::string(f[0]) +
-                  " does not follow the previous keyframe");
+      return fail("expected times to increase, " + std::string(f[0]) +
+                      " does not follow the previous keyframe",
+                  "time_s");
     }
     tr.keyframes.push_back(kf);
   }
@@ -137,16 +144,12 @@ std::optional<ScriptedTrajectory> parse_scripted_trajectory(const std::string& t
   return tr;
 }
 
-std::optional<ScriptedTrajectory> load_scripted_trajectory(const std::filesystem::path& file,
-                                                           std::string* error) {
+Result<ScriptedTrajectory> load_scripted_trajectory(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    if (error != nullptr) *error = file.string() + ": cannot open the trajectory file";
-    return std::nullopt;
-  }
+  if (!in) return file_problem(file.string(), 0, "", "cannot open the trajectory file");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return parse_scripted_trajectory(ss.str(), file.string(), error);
+  return parse_scripted_trajectory(ss.str(), file.string());
 }
 
 }  // namespace lap::hardware

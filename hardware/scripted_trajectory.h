@@ -13,10 +13,10 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/result.h"
 #include "hardware/haptic_device.h"
 
 namespace lap::hardware {
@@ -40,13 +40,12 @@ struct ScriptedTrajectory {
   void sample(double t, size_t* cursor, DeviceSample* out) const;
 };
 
-/// Parses the CSV text; on failure returns nullopt and says `source:line: problem` in *error.
-[[nodiscard]] std::optional<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
-                                                                          const std::string& source,
-                                                                          std::string* error);
+/// Parses the CSV text; on failure a diagnostic at `source:line` naming the field.
+[[nodiscard]] Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
+                                                                   const std::string& source);
 
 /// Reads and parses a trajectory file.
-[[nodiscard]] std::optional<ScriptedTrajectory> load_scripted_trajectory(
-    const std::filesystem::path& file, std::string* error);
+[[nodiscard]] Result<ScriptedTrajectory> load_scripted_trajectory(
+    const std::filesystem::path& file);
 
 }  // namespace lap::hardware

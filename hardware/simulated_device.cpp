@@ -8,9 +8,9 @@ SimulatedDevice::SimulatedDevice(const SimulatedInput& home, std::string name,
                                  const DeviceLimits& limits)
     : InputDevice(std::move(name), limits), input_(home) {}
 
-bool SimulatedDevice::start(std::string* /*error*/) {
+Status SimulatedDevice::start() {
   has_last_ = false;
-  return true;
+  return {};
 }
 
 DeviceStatus SimulatedDevice::read(int64_t tick, double period_s, DeviceSample* out) noexcept {

@@ -21,7 +21,7 @@ class SimulatedDevice final : public InputDevice {
  public:
   SimulatedDevice(const SimulatedInput& home, std::string name, const DeviceLimits& limits = {});
 
-  bool start(std::string* error) override;
+  Status start() override;
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
 
   /// UI thread (one writer): where the tool should be now.

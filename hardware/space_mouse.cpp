@@ -7,16 +7,13 @@
 
 namespace lap::hardware {
 
-std::unique_ptr<SpaceMouse> SpaceMouse::open(std::string* error, const std::string& library) {
+Result<std::unique_ptr<SpaceMouse>> SpaceMouse::open(const std::string& library) {
   void* handle = dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* why = dlerror();
-    if (error != nullptr) {
-      *error = "no 3D mouse: " + library + " could not be loaded (" +
-               (why != nullptr ? why : "not found") +
-               "); install libspnav0 and spacenavd (apt-get install libspnav0 spacenavd)";
-    }
-    return nullptr;
+    return diagnostic("no 3D mouse: " + library + " could not be loaded (" +
+                      (why != nullptr ? why : "not found") +
+                      "); install libspnav0 and spacenavd (apt-get install libspnav0 spacenavd)");
   }
   SpnavApi api;
   // NOLINTBEGIN(*-reinterpret-cast): dlsym returns untyped addresses
@@ -25,26 +22,19 @@ std::unique_ptr<SpaceMouse> SpaceMouse::open(std::string* error, const std::stri
   api.poll_event = reinterpret_cast<int (*)(SpnavEvent*)>(dlsym(handle, "spnav_poll_event"));
   // NOLINTEND(*-reinterpret-cast)
   if (api.open == nullptr || api.close == nullptr || api.poll_event == nullptr) {
-    if (error != nullptr) {
-      *error = "no 3D mouse: " + library +
-               " lacks spnav_open, spnav_close or spnav_poll_event (expected libspnav)";
-    }
     dlclose(handle);
-    return nullptr;
+    return diagnostic("no 3D mouse: " + library +
+                      " lacks spnav_open, spnav_close or spnav_poll_event (expected libspnav)");
   }
-  return open_with(api, error, handle);
+  return open_with(api, handle);
 }
 
-std::unique_ptr<SpaceMouse> SpaceMouse::open_with(const SpnavApi& api, std::string* error,
-                                                  void* handle) {
+Result<std::unique_ptr<SpaceMouse>> SpaceMouse::open_with(const SpnavApi& api, void* handle) {
   if (api.open() == -1) {
-    if (error != nullptr) {
-      *error =
-          "no 3D mouse: spacenavd is not running (start it: systemctl start spacenavd), or no "
-          "3D mouse is plugged in";
-    }
     if (handle != nullptr) dlclose(handle);
-    return nullptr;
+    return diagnostic(
+        "no 3D mouse: spacenavd is not running (start it: systemctl start spacenavd), or no "
+        "3D mouse is plugged in");
   }
   return std::unique_ptr<SpaceMouse>(new SpaceMouse(api, handle));
 }

@@ -16,6 +16,8 @@
 #include <memory>
 #include <string>
 
+#include "core/result.h"
+
 namespace lap::hardware {
 
 /// spnav_event as libspnav lays it out (spnav.h): a motion or a button record.
@@ -54,13 +56,11 @@ struct SpaceMouseState {
 
 class SpaceMouse {
  public:
-  /// Connects to spacenavd through `library`. nullptr and *error naming what to install or
-  /// start when the library or the daemon is missing.
-  static std::unique_ptr<SpaceMouse> open(std::string* error,
-                                          const std::string& library = "libspnav.so.0");
+  /// Connects to spacenavd through `library`; a diagnostic naming what to install or start
+  /// when the library or the daemon is missing.
+  static Result<std::unique_ptr<SpaceMouse>> open(const std::string& library = "libspnav.so.0");
   /// The same with given functions (tests; the handle, if any, is closed with the mouse).
-  static std::unique_ptr<SpaceMouse> open_with(const SpnavApi& api, std::string* error,
-                                               void* handle = nullptr);
+  static Result<std::unique_ptr<SpaceMouse>> open_with(const SpnavApi& api, void* handle = nullptr);
   ~SpaceMouse();
   SpaceMouse(const SpaceMouse&) = delete;
   SpaceMouse& operator=(const SpaceMouse&) = delete;

@@ -35,11 +35,9 @@ void UsbGripper::set_error(DeviceStatus status, const std::string& why) {
   last_error_ = why;
 }
 
-bool UsbGripper::start(std::string* error) {
-  std::string why;
-  if (!transport_->open(&why)) {
-    if (error != nullptr) *error = "gripper: " + why;
-    return false;
+Status UsbGripper::start() {
+  if (const Status opened = transport_->open(); !opened.ok()) {
+    return diagnostic("gripper: " + opened.message());
   }
   status_.store(static_cast<uint8_t>(DeviceStatus::kDisconnected));
   running_.store(true);
@@ -52,15 +50,12 @@ bool UsbGripper::start(std::string* error) {
   if (status_.load() != static_cast<uint8_t>(DeviceStatus::kOk)) {
     const std::string detail = last_error();
     stop();
-    if (error != nullptr) {
-      *error =
-          "gripper: " + (detail.empty() ? "no valid state report within " +
-                                              std::to_string(settings_.start_timeout_ms) + " ms"
-                                        : detail);
-    }
-    return false;
+    return diagnostic("gripper: " + (detail.empty()
+                                         ? "no valid state report within " +
+                                               std::to_string(settings_.start_timeout_ms) + " ms"
+                                         : detail));
   }
-  return true;
+  return {};
 }
 
 void UsbGripper::stop() {
@@ -88,8 +83,7 @@ void UsbGripper::io_loop() {
         continue;
       }
       last_attempt = Clock::now();
-      std::string why;
-      if (!transport_->open(&why)) continue;
+      if (!transport_->open().ok()) continue;
       connected = true;
       ++reconnects_;
       last_report = Clock::now();
@@ -97,34 +91,11 @@ void UsbGripper::io_loop() {
     size_t got = 0;
     const TransferResult r = transport_->read(buffer, settings_.read_timeout_ms, &got);
     switch (r) {
-      case TransferResult::kOk: {
-        std::string why;
-        const auto report =
-            gripper::decode_state(std::span<const uint8_t>(buffer).first(got), &why);
-        if (!report) {
-          ++malformed_;
-          if (++bad_run > settings_.max_bad_reports) {
-            set_error(DeviceStatus::kError,
-                      std::to_string(bad_run) + " malformed reports in a row (" + why + ")");
-          }
-          break;
+      case TransferResult::kOk:
+        if (take_report(std::span<const uint8_t>(buffer).first(got), &bad_run)) {
+          last_report = Clock::now();
         }
-        bad_run = 0;
-        last_report = Clock::now();
-        if ((report->flags & gripper::kFlagCalibrated) == 0) {
-          set_error(DeviceStatus::kError,
-                    "not calibrated: close the handle fully once so the jaws home");
-        } else if ((report->flags & gripper::kFlagMotorFault) != 0) {
-          set_error(DeviceStatus::kError, "the motor reports a fault");
-        } else if ((report->flags & gripper::kFlagOverTemperature) != 0) {
-          set_error(DeviceStatus::kError, "the motor is too hot");
-        } else {
-          opening_.publish(gripper::opening_rad(settings_.calibration, report->encoder_counts));
-          status_.store(static_cast<uint8_t>(DeviceStatus::kOk));
-        }
-        ++reports_;  // after the status, so start() sees the report's verdict
         break;
-      }
       case TransferResult::kTimeout:
         ++timeouts_;
         break;
@@ -146,20 +117,50 @@ void UsbGripper::io_loop() {
       set_error(DeviceStatus::kDisconnected,
                 "no state report for " + std::to_string(settings_.stale_after_ms) + " ms");
     }
-    gripper::CommandReport c;
-    c.motor_enabled = true;
-    c.sequence = ++sequence;
-    c.squeeze_mn = gripper::squeeze_mn(settings_.calibration, squeeze_.latest());
-    const TransferResult w = transport_->write(gripper::encode(c), settings_.write_timeout_ms);
-    if (w == TransferResult::kStall) {
-      ++stalls_;
-      (void)transport_->clear_stall(gripper::kEndpointOut);
-    } else if (w == TransferResult::kNoDevice) {
-      set_error(DeviceStatus::kDisconnected, "unplugged");
-      transport_->close();
-      connected = false;
-    }
+    connected = send_squeeze(&sequence);
   }
+}
+
+bool UsbGripper::take_report(std::span<const uint8_t> bytes, int* bad_run) {
+  const Result<gripper::StateReport> report = gripper::decode_state(bytes);
+  if (!report.ok()) {
+    ++malformed_;
+    if (++*bad_run > settings_.max_bad_reports) {
+      set_error(DeviceStatus::kError, std::to_string(*bad_run) + " malformed reports in a row (" +
+                                          report.message() + ")");
+    }
+    return false;
+  }
+  *bad_run = 0;
+  if ((report->flags & gripper::kFlagCalibrated) == 0) {
+    set_error(DeviceStatus::kError, "not calibrated: close the handle fully once so the jaws home");
+  } else if ((report->flags & gripper::kFlagMotorFault) != 0) {
+    set_error(DeviceStatus::kError, "the motor reports a fault");
+  } else if ((report->flags & gripper::kFlagOverTemperature) != 0) {
+    set_error(DeviceStatus::kError, "the motor is too hot");
+  } else {
+    opening_.publish(gripper::opening_rad(settings_.calibration, report->encoder_counts));
+    status_.store(static_cast<uint8_t>(DeviceStatus::kOk));
+  }
+  ++reports_;  // after the status, so start() sees the report's verdict
+  return true;
+}
+
+bool UsbGripper::send_squeeze(uint16_t* sequence) {
+  gripper::CommandReport c;
+  c.motor_enabled = true;
+  c.sequence = ++*sequence;
+  c.squeeze_mn = gripper::squeeze_mn(settings_.calibration, squeeze_.latest());
+  const TransferResult w = transport_->write(gripper::encode(c), settings_.write_timeout_ms);
+  if (w == TransferResult::kStall) {
+    ++stalls_;
+    (void)transport_->clear_stall(gripper::kEndpointOut);
+  } else if (w == TransferResult::kNoDevice) {
+    set_error(DeviceStatus::kDisconnected, "unplugged");
+    transport_->close();
+    return false;
+  }
+  return true;
 }
 
 DeviceStatus UsbGripper::read(double* opening_rad) noexcept {
@@ -187,13 +188,13 @@ ArmWithGripper::ArmWithGripper(std::unique_ptr<HapticDevice> arm,
   limits_.max_squeeze_n = gripper_->settings().calibration.max_squeeze_n;
 }
 
-bool ArmWithGripper::start(std::string* error) {
-  if (!arm_->start(error)) return false;
-  if (!gripper_->start(error)) {
+Status ArmWithGripper::start() {
+  if (Status s = arm_->start(); !s.ok()) return s;
+  if (Status s = gripper_->start(); !s.ok()) {
     arm_->stop();
-    return false;
+    return s;
   }
-  return true;
+  return {};
 }
 
 void ArmWithGripper::stop() {

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 
@@ -52,8 +53,8 @@ class UsbGripper {
   UsbGripper(UsbGripper&&) = delete;
   UsbGripper& operator=(UsbGripper&&) = delete;
 
-  /// Opens the device and waits for its first valid report. false and *error otherwise.
-  bool start(std::string* error);
+  /// Opens the device and waits for its first valid report; a diagnostic otherwise.
+  Status start();
   /// Zero squeeze, motor off, then close.
   void stop();
 
@@ -68,6 +69,10 @@ class UsbGripper {
 
  private:
   void io_loop();
+  /// The I/O thread's stages: a state report taken in (true when it was well formed), the
+  /// squeeze command sent (false when the device is gone).
+  bool take_report(std::span<const uint8_t> bytes, int* bad_run);
+  bool send_squeeze(uint16_t* sequence);
   void set_error(DeviceStatus status, const std::string& why);
 
   std::unique_ptr<UsbTransport> transport_;
@@ -88,7 +93,7 @@ class UsbGripper {
 class ArmWithGripper final : public HapticDevice {
  public:
   ArmWithGripper(std::unique_ptr<HapticDevice> arm, std::unique_ptr<UsbGripper> gripper);
-  bool start(std::string* error) override;
+  Status start() override;
   void stop() override;
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
   DeviceStatus write(const DeviceCommand& command) noexcept override;

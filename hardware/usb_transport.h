@@ -9,6 +9,8 @@
 #include <span>
 #include <string>
 
+#include "core/result.h"
+
 namespace lap::hardware {
 
 enum class TransferResult : uint8_t {
@@ -28,8 +30,8 @@ class UsbTransport {
   UsbTransport& operator=(UsbTransport&&) = delete;
   virtual ~UsbTransport() = default;
 
-  /// Finds and claims the device; false and *error when it is not there.
-  virtual bool open(std::string* error) = 0;
+  /// Finds and claims the device; a diagnostic when it is not there.
+  virtual Status open() = 0;
   virtual void close() = 0;
   /// One interrupt IN transfer into `buffer`; *received bytes arrived.
   virtual TransferResult read(std::span<uint8_t> buffer, int timeout_ms, size_t* received) = 0;

@@ -173,14 +173,16 @@ double catheter_gravity_energy(const CatheterModel& model, const CatheterState& 
 
 namespace {
 
-// One linearly implicit backward-Euler step; external forces are read, not cleared.
-bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+void add_rhs(CatheterState* state, int i, const Vec3& f) noexcept {
+  for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += f(c);
+}
+
+// Each particle's own terms: mass, gravity, drag, its anchor (a grasp) and its contact with a
+// surface, into its diagonal block and the right-hand side f − dt K v.
+void assemble_particle_terms(const CatheterModel& model, CatheterState* state, double dt) noexcept {
   const int n = model.particle_count();
-  const int dofs = 3 * n;
-  auto& x = state->positions;
-  auto& v = state->velocities;
-  std::fill(state->band.begin(), state->band.end(), 0.0);
-  // rhs accumulates f − dt K v, per particle.
+  const auto& x = state->positions;
+  const auto& v = state->velocities;
   for (int i = 0; i < n; ++i) {
     const Vec3 f = state->external_force[i] + model.mass_of(i) * model.settings().gravity_m_per_s2 -
                    model.settings().drag_n_s_per_m * v[i];
@@ -207,13 +209,16 @@ bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) 
     }
     add_block(&state->band, i, i, block);
   }
-  auto add_rhs = [&](int i, const Vec3& f) {
-    for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += f(c);
-  };
+}
+
+// Stretch springs and their damping between neighbours. False for a zero-length segment.
+bool assemble_stretch(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const int n = model.particle_count();
+  const auto& x = state->positions;
+  const auto& v = state->velocities;
   const double kl = model.stretch_stiffness();
   const double cl = model.settings().stretch_damping_n_s_per_m;
   const double l0 = model.rest_length_m();
-  // Stretch springs and their damping.
   for (int i = 0; i + 1 < n; ++i) {
     const Vec3 e = x[i + 1] - x[i];
     const double l = e.norm();
@@ -222,32 +227,47 @@ bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) 
     const Mat3 tt = t * t.transpose();
     const Vec3 dv = v[i + 1] - v[i];
     const Vec3 f = (kl * (l - l0) + cl * dv.dot(t)) * t;  // on i, towards i + 1 when stretched
-    add_rhs(i, f);
-    add_rhs(i + 1, -f);
+    add_rhs(state, i, f);
+    add_rhs(state, i + 1, -f);
     const Mat3 k = kl * tt + kl * std::max(0.0, 1.0 - l0 / l) * (Mat3::Identity() - tt);
     const Mat3 a = dt * dt * k + dt * cl * tt;  // the coupling's share of M + dt D + dt² K
     add_block(&state->band, i, i, a);
     add_block(&state->band, i + 1, i + 1, a);
     add_block(&state->band, i + 1, i, -a);
     const Vec3 kv = k * (v[i + 1] - v[i]);  // −dt K v for this spring
-    add_rhs(i, dt * kv);
-    add_rhs(i + 1, -dt * kv);
+    add_rhs(state, i, dt * kv);
+    add_rhs(state, i + 1, -dt * kv);
   }
-  // Bending: E = ½ k_b |r|², f = −k_b Jᵀ r, K ≈ k_b Jᵀ J (Gauss–Newton).
+  return true;
+}
+
+// Bending: E = ½ k_b |r|², f = −k_b Jᵀ r, K ≈ k_b Jᵀ J (Gauss–Newton).
+void assemble_bending(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const int n = model.particle_count();
+  const auto& x = state->positions;
+  const auto& v = state->velocities;
   const double kb = model.bending_stiffness();
   for (int i = 1; i + 1 < n; ++i) {
     const BendTerm b = bend_term(x[i - 1], x[i], x[i + 1]);
     const std::array<const Mat3*, 3> j = {&b.j0, &b.j1, &b.j2};
     const Vec3 jv = b.j0 * v[i - 1] + b.j1 * v[i] + b.j2 * v[i + 1];
     for (int p = 0; p < 3; ++p) {
-      add_rhs(i - 1 + p, -kb * (j[p]->transpose() * b.r) - dt * kb * (j[p]->transpose() * jv));
+      add_rhs(state, i - 1 + p,
+              -kb * (j[p]->transpose() * b.r) - dt * kb * (j[p]->transpose() * jv));
       for (int q = 0; q <= p; ++q) {
         add_block(&state->band, i - 1 + p, i - 1 + q, dt * dt * kb * j[p]->transpose() * *j[q]);
       }
     }
   }
-  for (double& r : state->rhs) r *= dt;
-  // Fixed particles: Δv = −v (they stop), decoupled from the rest.
+}
+
+// Fixed particles: Δv = −v (they stop), decoupled from the rest. The coupling of a free row to a
+// fixed one carries the fixed particle's known Δv = −v: with the fixed particles at rest (v = 0)
+// that is nothing, which is how clamps are used.
+void clamp_fixed_particles(const CatheterModel& model, CatheterState* state) noexcept {
+  const int n = model.particle_count();
+  const int dofs = 3 * n;
+  const auto& v = state->velocities;
   for (int i = 0; i < n; ++i) {
     if (state->fixed[i] == 0) continue;
     for (int c = 0; c < 3; ++c) {
@@ -260,9 +280,22 @@ bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) 
       state->rhs[row] = -v[i](c);
     }
   }
-  // The coupling of a free row to a fixed one carries the fixed particle's known Δv = −v: with
-  // the fixed particles at rest (v = 0) that is nothing, which is how clamps are used.
-  if (!band_cholesky_solve(&state->band, &state->rhs, dofs)) return false;
+}
+
+// One linearly implicit backward-Euler step; external forces are read, not cleared. Its stages:
+// assemble (M + dt D + dt² K) Δv = dt (f − dt K v) in the band, clamp the fixed particles, solve,
+// integrate.
+bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const int n = model.particle_count();
+  std::fill(state->band.begin(), state->band.end(), 0.0);
+  assemble_particle_terms(model, state, dt);
+  if (!assemble_stretch(model, state, dt)) return false;
+  assemble_bending(model, state, dt);
+  for (double& r : state->rhs) r *= dt;
+  clamp_fixed_particles(model, state);
+  if (!band_cholesky_solve(&state->band, &state->rhs, 3 * n)) return false;
+  auto& x = state->positions;
+  auto& v = state->velocities;
   for (int i = 0; i < n; ++i) {
     const Vec3 dv = Eigen::Map<const Vec3>(state->rhs.data() + static_cast<ptrdiff_t>(3) * i);
     const Vec3 v1 = v[i] + dv;

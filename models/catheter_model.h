@@ -20,7 +20,7 @@
 /// only removes energy. The system is block-banded (each particle meets two neighbours each
 /// side), solved by a banded Cholesky in pre-sized arrays: O(n), no allocation.
 ///
-/// Model (immutable) apart from state (per instance), STYLE.md §2.
+/// Model (immutable) apart from state (per instance), as in MuJoCo's mjModel and mjData.
 
 #include <Eigen/Core>
 #include <cstdint>

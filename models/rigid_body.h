@@ -13,8 +13,8 @@
 /// keeps its angular momentum to rounding at any step, and its kinetic energy error stays small
 /// and bounded (figures in the tests).
 ///
-/// Model (immutable) apart from state (per instance), STYLE.md §2. The step allocates nothing and
-/// never throws.
+/// Model (immutable) apart from state (per instance), as in MuJoCo's mjModel and mjData. The step
+/// allocates nothing and never throws.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

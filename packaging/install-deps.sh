@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git clang-format clang-tidy
-  # libraries (see ARCHITECTURE.md for which folder may use which)
+  # libraries (see docs/architecture.md for which folder may use which)
   libeigen3-dev libopenmesh-dev libspectra-dev
   libyaml-cpp-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libsqlite3-dev
   libusb-1.0-0-dev

@@ -17,6 +17,13 @@ cmake --preset release -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON
 cmake --build --preset release --parallel "$jobs"
 stage "Release tests"
 ctest --preset release --parallel "$jobs"
+# A newcomer's clone has no ../shared beside it: the benchmarks fall back to generated organs and
+# the tests that read the real scans skip. Proved here on every run with an empty folder.
+stage "Release tests without ../shared (benchmarks and real-mesh tests, LAP_SHARED_DIR empty)"
+no_shared="$(mktemp -d)"
+LAP_SHARED_DIR="$no_shared" ctest --preset release --parallel "$jobs" \
+  -R '^bench\.|RealCleanMesh|RealDefectiveMesh|RealOrganMeshes|RealLiver'
+rmdir "$no_shared"
 
 if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   stage "ASan + UBSan build"
@@ -38,6 +45,6 @@ if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/hardware_tests \
     --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*:Phantom*'
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/sim_tests \
-    --gtest_filter='Session*:*SessionWatchdog*:TrocarTool*'
+    --gtest_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*'
 fi
 stage "all passed"

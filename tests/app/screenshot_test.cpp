@@ -12,7 +12,7 @@
 #include <set>
 
 #include "hardware/device_recording.h"
-#include "sim/scene.h"
+#include "sim/setup/scene.h"
 #include "tests/test_support.h"
 
 namespace lap::test {
@@ -140,11 +140,10 @@ TEST(Screenshot, TheSessionIsSavedForReviewWhenItEnds) {
                   (source_dir() / "scenarios/default.yaml").string() + " --screenshot " +
                   (dir.path() / "shot.png").string() + " --frames 20 --record " + rec.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::string why;
   int64_t samples = -1;
   for (const char* side : {"left.lapdev", "right.lapdev"}) {
-    const auto recording = hardware::read_device_recording(rec / side, &why);
-    ASSERT_TRUE(recording.has_value()) << why;
+    const auto recording = hardware::read_device_recording(rec / side);
+    ASSERT_TRUE(recording.ok()) << recording.message();
     EXPECT_GT(recording->samples.size(), 10U) << side;
     if (samples >= 0) {
       EXPECT_EQ(static_cast<int64_t>(recording->samples.size()), samples);
@@ -181,11 +180,10 @@ TEST(Screenshot, ASavedSessionPlaysBackInTheWindow) {
                   second.string() + " --quit-after 1.0");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* side : {"left.lapdev", "right.lapdev"}) {
-    std::string why;
-    const auto a = hardware::read_device_recording(first / side, &why);
-    ASSERT_TRUE(a.has_value()) << why;
-    const auto b = hardware::read_device_recording(second / side, &why);
-    ASSERT_TRUE(b.has_value()) << why;
+    const auto a = hardware::read_device_recording(first / side);
+    ASSERT_TRUE(a.ok()) << a.message();
+    const auto b = hardware::read_device_recording(second / side);
+    ASSERT_TRUE(b.ok()) << b.message();
     ASSERT_GT(b->samples.size(), 300U) << side;
     ASSERT_LE(b->samples.size(), a->samples.size()) << side;
     for (size_t k = 0; k < b->samples.size(); ++k) {

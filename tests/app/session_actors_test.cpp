@@ -15,7 +15,7 @@
 
 #include "app/tool_actors.h"
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 
 namespace lap::app {
 namespace {

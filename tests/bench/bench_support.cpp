@@ -5,21 +5,43 @@
 #include <map>
 #include <stdexcept>
 
-#include "haptics/mesh_generators.h"
-#include "sim/mesh_loader.h"
+#include "haptics/setup/mesh_generators.h"
+#include "sim/setup/mesh_loader.h"
 
 namespace lap::bench {
 
-std::vector<haptics::TriangleMesh> openhelp_organs() {
+namespace {
+
+OrganSet load_organ_set() {
   const char* env = std::getenv("LAP_SHARED_DIR");
   const std::filesystem::path dir =
       std::filesystem::path(env != nullptr ? env : LAP_SHARED_DIR) / "meshes";
-  std::vector<haptics::TriangleMesh> organs;
+  OrganSet set;
+  set.openhelp = true;
+  set.label = "OpenHELP meshes";
   for (const char* f : {"liver_openhelp.stl", "stomach_openhelp.stl", "duodenum_openhelp.stl"}) {
-    if (!std::filesystem::exists(dir / f)) return {};
-    organs.push_back(sim::load_mesh(dir / f, {0.001, 0.0}));  // the scans are in millimetres
+    if (!std::filesystem::exists(dir / f)) {
+      set.openhelp = false;
+      break;
+    }
+    // The scans are in millimetres.
+    set.meshes.push_back(sim::load_mesh(dir / f, {0.001, 0.0}).value());
   }
-  return organs;
+  if (!set.openhelp) {
+    set.label = "generated stand-ins (no OpenHELP meshes in " + dir.string() + ")";
+    set.meshes = {haptics::make_stand_in_liver(), haptics::make_stand_in_gallbladder(),
+                  haptics::make_uv_sphere(0.05, 80, 120)};
+    set.meshes[2].transform(Eigen::Affine3d(Eigen::Translation3d(0.15, 0.0, 0.0)));
+  }
+  for (const haptics::TriangleMesh& m : set.meshes) set.triangles += m.triangle_count();
+  return set;
+}
+
+}  // namespace
+
+const OrganSet& organ_set() {
+  static const OrganSet set = load_organ_set();
+  return set;
 }
 
 StepTimer::StepTimer(size_t capacity) : samples_(capacity, 0.0) {}

@@ -58,9 +58,18 @@ struct TableObject {
 };
 TableObject& table_4_1_scene(int64_t triangles);
 
-/// The OpenHELP liver, stomach and duodenum from ../shared/meshes (or $LAP_SHARED_DIR/meshes),
-/// in metres, in that order; empty when any of them is absent.
-std::vector<haptics::TriangleMesh> openhelp_organs();
+/// Three organs for the benchmarks that want real anatomy: the OpenHELP liver, stomach and
+/// duodenum from ../shared/meshes (or $LAP_SHARED_DIR/meshes), in metres, in that order. A clone
+/// without that folder gets the project's generated stand-ins instead (liver, gallbladder and a
+/// sphere for the stomach), so every benchmark still runs; `label` says which set was used and
+/// the benchmarks put it in their output.
+struct OrganSet {
+  std::vector<haptics::TriangleMesh> meshes;
+  bool openhelp = false;
+  std::string label;  ///< "OpenHELP meshes" or "generated stand-ins (...)"
+  int64_t triangles = 0;
+};
+const OrganSet& organ_set();
 
 /// Radius of the spheres [m]; the cube is 10 cm.
 constexpr double kSphereRadius = 0.05;

@@ -1,13 +1,13 @@
 // BM_ModelStep (issue 6): one step of the session's modelling thread over the OpenHELP liver,
-// stomach and duodenum under local deformation and the stand-in duct as the modal shell, with the
-// 64-particle catheter lying on the liver (its contacts), grasped by one tool's jaws, the other
-// tool pressing into each organ. The step is the tissue world's (sim::TissueWorld: grasps,
-// contacts, catheter, dents, duct modes), its deformations published, and the proxies' next copy
-// of the surfaces taking them up (sim::HapticSurfaces: normals, face and edge trees refitted
-// where the surfaces moved, the liver's force-shading normals) — everything the session's
-// modelling thread does per tick. Target: median <= 200 us. The two parts are also timed apart
-// in the same run (world_median_ns, takeup_median_ns). BM_ModelStepSlidingDent: the same with
-// tool 0's dent moving every tick.
+// stomach and duodenum (the generated stand-ins where those meshes are absent; the label says
+// which) under local deformation and the stand-in duct as the modal shell, with the 64-particle
+// catheter lying on the liver (its contacts), grasped by one tool's jaws, the other tool pressing
+// into each organ. The step is the tissue world's (sim::TissueWorld: grasps, contacts, catheter,
+// dents, duct modes), its deformations published, and the proxies' next copy of the surfaces taking
+// them up (sim::HapticSurfaces: normals, face and edge trees refitted where the surfaces moved, the
+// liver's force-shading normals) — everything the session's modelling thread does per tick. Target:
+// median <= 200 us. The two parts are also timed apart in the same run (world_median_ns,
+// takeup_median_ns). BM_ModelStepSlidingDent: the same with tool 0's dent moving every tick.
 
 #include <benchmark/benchmark.h>
 
@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "haptics/shading_normals.h"
 #include "models/catheter_model.h"
 #include "models/local_deformation.h"
 #include "models/modal_shell.h"
-#include "sim/haptic_surfaces.h"
-#include "sim/tissue_world.h"
+#include "sim/runtime/haptic_surfaces.h"
+#include "sim/runtime/tissue_world.h"
 #include "tests/bench/bench_support.h"
 
 namespace lap::bench {
@@ -30,22 +30,20 @@ namespace {
 
 // ticks_per_face: how long tool 0's dent stays on one face before it moves to the next.
 void model_step(benchmark::State& state, int64_t ticks_per_face) {
-  // The scene: the three OpenHELP organs under local deformation and the stand-in duct as the
+  // The scene: the three organs under local deformation and the stand-in duct as the
   // modal shell, exactly as the session's modelling loop builds them (sim::TissueWorld).
   sim::Scene scene;
-  for (haptics::TriangleMesh& mesh : openhelp_organs()) {
+  const OrganSet& organs = organ_set();
+  for (const haptics::TriangleMesh& mesh : organs.meshes) {
     sim::Organ o;
-    o.name = "openhelp_" + std::to_string(scene.organs.size());
-    o.mesh = std::move(mesh);
+    o.name = "organ_" + std::to_string(scene.organs.size());
+    o.mesh = mesh;
     o.model = models::ModelKind::kLocal;
     o.material.stiffness_n_per_m = 300.0;
     o.material.damping_n_s_per_m = 0.5;
     scene.organs.push_back(std::move(o));
   }
-  if (scene.organs.size() < 3) {
-    state.SkipWithError("the OpenHELP meshes are not in ../shared/meshes");
-    return;
-  }
+  state.SetLabel(organs.label);
   const Eigen::AlignedBox3d liver = [&] {
     Eigen::AlignedBox3d b;
     for (const Eigen::Vector3d& p : scene.organs[0].mesh.positions) b.extend(p);
@@ -63,7 +61,7 @@ void model_step(benchmark::State& state, int64_t ticks_per_face) {
   ws.catheter_start_W =
       Eigen::Vector3d(liver.min().x(), liver.max().y() - 0.001, liver.center().z());
   ws.catheter_direction_W = Eigen::Vector3d::UnitX();
-  std::unique_ptr<sim::TissueWorld> world = sim::TissueWorld::build(scene, ws, nullptr);
+  std::unique_ptr<sim::TissueWorld> world = sim::TissueWorld::build(scene, ws, nullptr).value();
   // The proxies' copy of the surfaces (sim::HapticSurfaces), as the session builds it; the liver
   // force-shaded as in the default scenario (crease 40 degrees).
   std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs;
@@ -85,8 +83,8 @@ void model_step(benchmark::State& state, int64_t ticks_per_face) {
   sim::HapticSurfaces surfaces(db_ptrs, segment_ptrs, shading);
   std::vector<sim::SurfaceDeformation> published = world->make_deformations();
 
-  // Tool 0 presses 0.5-1.5 N into each OpenHELP organ at a point sliding across its faces; tool 1's
-  // jaws close on the catheter's particle 40 and hold it.
+  // Tool 0 presses 0.5-1.5 N into each of the three organs at a point sliding across its faces;
+  // tool 1's jaws close on the catheter's particle 40 and hold it.
   std::array<sim::ToolModelInput, 2> tools{};
   tools[0].valid = true;
   tools[0].jaws.hinge_W = Eigen::Vector3d(1.0, 1.0, 1.0);  // far away: no grasp

@@ -8,11 +8,11 @@
 #include <memory>
 #include <random>
 
-#include "haptics/brute_force_reference.h"
 #include "haptics/mesh_database.h"
 #include "haptics/point_proxy.h"
 #include "haptics/segment_triangle.h"
 #include "tests/bench/bench_support.h"
+#include "tests/support/brute_force_reference.h"
 
 namespace lap::bench {
 namespace {

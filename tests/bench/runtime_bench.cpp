@@ -20,11 +20,11 @@
 #include <thread>
 
 #include "hardware/scripted_device.h"
-#include "sim/device_factory.h"
-#include "sim/loop_stats.h"
-#include "sim/realtime_thread.h"
-#include "sim/scenario_loader.h"
-#include "sim/session.h"
+#include "sim/runtime/loop_stats.h"
+#include "sim/runtime/realtime_thread.h"
+#include "sim/runtime/session.h"
+#include "sim/setup/device_factory.h"
+#include "sim/setup/scenario_loader.h"
 
 #ifdef LAP_BENCH_RENDERING
 #include <vtkLight.h>
@@ -99,12 +99,12 @@ void run_runtime(benchmark::State& state, bool isolate_by_default, const Graphic
     rs.isolate_haptic_processor =
         isolate != nullptr ? std::string(isolate) == "1" : isolate_by_default;
     state.counters["isolated"] = rs.isolate_haptic_processor ? 1.0 : 0.0;
-    std::string error;
-    auto session = sim::Session::create(r.scene, std::move(d), rs, &error);
-    if (!session) {
-      state.SkipWithError(error.c_str());
+    auto created = sim::Session::create(r.scene, std::move(d), rs);
+    if (!created.ok()) {
+      state.SkipWithError(created.message().c_str());
       return;
     }
+    const std::unique_ptr<sim::Session> session = std::move(created).value();
     std::atomic<bool> done{false};
     int64_t frames = 0;
     std::thread graphics_thread([&] { graphics(*session, done, &frames); });

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
+#include "haptics/setup/mesh_generators.h"
 #include "haptics/shading_normals.h"
 #include "tests/test_support.h"
 

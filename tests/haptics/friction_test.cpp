@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
+#include "haptics/setup/mesh_generators.h"
 
 namespace lap::haptics {
 namespace {

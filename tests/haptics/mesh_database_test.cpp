@@ -5,13 +5,13 @@
 #include <random>
 #include <set>
 
-#include "haptics/brute_force_reference.h"
 #include "haptics/closest_point.h"
 #include "haptics/corner_angle.h"
-#include "haptics/mesh_generators.h"
-#include "haptics/mesh_repair.h"
 #include "haptics/segment_database.h"
 #include "haptics/segment_triangle.h"
+#include "haptics/setup/mesh_generators.h"
+#include "haptics/setup/mesh_repair.h"
+#include "tests/support/brute_force_reference.h"
 
 namespace lap::haptics {
 namespace {

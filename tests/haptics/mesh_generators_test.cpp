@@ -1,10 +1,10 @@
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "haptics/mesh_validation.h"
+#include "haptics/setup/mesh_validation.h"
 
 namespace lap::haptics {
 namespace {

@@ -1,8 +1,8 @@
-#include "haptics/mesh_repair.h"
+#include "haptics/setup/mesh_repair.h"
 
 #include <gtest/gtest.h>
 
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "tests/test_support.h"
 
 namespace lap::haptics {

@@ -1,10 +1,10 @@
-#include "haptics/mesh_validation.h"
+#include "haptics/setup/mesh_validation.h"
 
 #include <gtest/gtest.h>
 
 #include <limits>
 
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "tests/test_support.h"
 
 namespace lap::haptics {

@@ -1,6 +1,6 @@
-// STYLE.md §1: the haptic step allocates nothing after warm-up. Proven with a counting
-// operator new over thousands of steps that make and lose contact, slide, touch two objects at
-// once, and refit a deforming mesh.
+// The step allocates nothing: the haptic step allocates nothing after warm-up. Proven with a
+// counting operator new over thousands of steps that make and lose contact, slide, touch two
+// objects at once, and refit a deforming mesh.
 
 #include <gtest/gtest.h>
 
@@ -11,10 +11,10 @@
 #include "haptics/image_height_field.h"
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
 #include "haptics/procedural_textures.h"
 #include "haptics/segment_proxy.h"
+#include "haptics/setup/mesh_generators.h"
 #include "haptics/shading_normals.h"
 #include "tests/support/counting_allocator.h"
 

@@ -19,13 +19,13 @@
 #include <random>
 #include <set>
 
-#include "haptics/brute_force_reference.h"
 #include "haptics/closest_point.h"
-#include "haptics/mesh_generators.h"
-#include "haptics/mesh_repair.h"
 #include "haptics/point_proxy.h"
 #include "haptics/segment_triangle.h"
-#include "sim/mesh_loader.h"
+#include "haptics/setup/mesh_generators.h"
+#include "haptics/setup/mesh_repair.h"
+#include "sim/setup/mesh_loader.h"
+#include "tests/support/brute_force_reference.h"
 #include "tests/test_support.h"
 
 namespace lap::haptics {
@@ -319,7 +319,7 @@ TEST(PointProxyRandom, RealOrganMeshes) {
   for (const auto& [file, repair] : files) {
     Shape s;
     s.name = file;
-    s.mesh = sim::load_mesh(test::shared_meshes_dir() / file, {0.001, 0.0});
+    s.mesh = sim::load_mesh(test::shared_meshes_dir() / file, {0.001, 0.0}).value();
     if (repair) repair_mesh(s.mesh);
     s.ticks = 80000 / kScale;
     s.sample_every = 5;

@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "haptics/brute_force_reference.h"
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
+#include "tests/support/brute_force_reference.h"
 
 namespace lap::haptics {
 namespace {

@@ -19,10 +19,10 @@
 #include <random>
 #include <string>
 
-#include "haptics/brute_force_reference.h"
-#include "haptics/mesh_repair.h"
 #include "haptics/segment_proxy.h"
-#include "sim/mesh_loader.h"
+#include "haptics/setup/mesh_repair.h"
+#include "sim/setup/mesh_loader.h"
+#include "tests/support/brute_force_reference.h"
 #include "tests/test_support.h"
 
 namespace lap::haptics {
@@ -176,7 +176,7 @@ TEST(SegmentProxyRandom, RealOrganMeshes) {
   int64_t total = 0;
   uint32_t seed = 400;
   for (const auto& [file, repair] : files) {
-    TriangleMesh mesh = sim::load_mesh(test::shared_meshes_dir() / file, {0.001, 0.0});
+    TriangleMesh mesh = sim::load_mesh(test::shared_meshes_dir() / file, {0.001, 0.0}).value();
     if (repair) repair_mesh(mesh);
     const Counts c = run_mesh(mesh, 200000 / kScale, seed++);
     std::printf(

@@ -9,11 +9,12 @@
 #include <random>
 #include <vector>
 
-#include "haptics/brute_force_reference.h"
 #include "haptics/closest_point.h"
 #include "haptics/laparoscopic_gripper.h"
-#include "haptics/mesh_generators.h"
+#include "haptics/point_proxy.h"
 #include "haptics/segment_segment.h"
+#include "haptics/setup/mesh_generators.h"
+#include "tests/support/brute_force_reference.h"
 
 namespace lap::haptics {
 namespace {

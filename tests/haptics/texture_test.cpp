@@ -12,9 +12,9 @@
 
 #include "haptics/friction.h"
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
 #include "haptics/procedural_textures.h"
+#include "haptics/setup/mesh_generators.h"
 #include "haptics/shading_normals.h"
 #include "haptics/texture_force.h"
 #include "tests/test_support.h"

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "tests/test_support.h"
 
 namespace lap::haptics {

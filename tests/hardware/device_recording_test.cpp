@@ -41,15 +41,15 @@ fs::path temp_file(const std::string& name) {
 TEST(DeviceRecording, RoundTripsBitForBitAndReplaysIt) {
   const DeviceRecording r = make_recording(100);
   const fs::path f = temp_file("roundtrip.lapdev");
-  std::string error;
-  ASSERT_TRUE(write_device_recording(f, r, &error)) << error;
+  const Status written = write_device_recording(f, r);
+  ASSERT_TRUE(written.ok()) << written.message();
   EXPECT_EQ(fs::file_size(f), kDeviceRecordingHeaderBytes + 100 * kDeviceRecordingRecordBytes);
-  auto back = read_device_recording(f, &error);
-  ASSERT_TRUE(back.has_value()) << error;
+  const Result<DeviceRecording> back = read_device_recording(f);
+  ASSERT_TRUE(back.ok()) << back.message();
   ASSERT_EQ(back->samples.size(), 100U);
   EXPECT_EQ(back->period_s, 0.001);
-  ReplayDevice replay(*back, "left");
-  ASSERT_TRUE(replay.start(&error));
+  ReplayDevice replay(back.value(), "left");
+  ASSERT_TRUE(replay.start().ok());
   for (int i = 0; i < 100; ++i) {
     DeviceSample s;
     const DeviceStatus st = replay.read(i, 0.001, &s);
@@ -70,34 +70,41 @@ TEST(DeviceRecording, RoundTripsBitForBitAndReplaysIt) {
 
 TEST(DeviceRecording, TruncatedAndForeignFilesAreClearErrors) {
   const fs::path f = temp_file("bad.lapdev");
-  std::string error;
-  ASSERT_TRUE(write_device_recording(f, make_recording(10), &error));
+  ASSERT_TRUE(write_device_recording(f, make_recording(10)).ok());
   fs::resize_file(f, kDeviceRecordingHeaderBytes + 3 * kDeviceRecordingRecordBytes + 5);
-  EXPECT_FALSE(read_device_recording(f, &error).has_value());
-  EXPECT_EQ(error, f.string() + ": ends inside record 3 (5 stray bytes): the file is truncated");
+  Result<DeviceRecording> loaded = read_device_recording(f);
+  EXPECT_FALSE(loaded.ok());
+  EXPECT_EQ(loaded.message(),
+            f.string() + ": ends inside record 3 (5 stray bytes): the file is truncated");
 
   { std::ofstream(f, std::ios::binary | std::ios::trunc) << "hello, not a recording at all....."; }
-  EXPECT_FALSE(read_device_recording(f, &error).has_value());
-  EXPECT_EQ(error,
+  loaded = read_device_recording(f);
+  EXPECT_FALSE(loaded.ok());
+  EXPECT_EQ(loaded.message(),
             f.string() + ": not a laptrainer device recording (expected the header 'LAPDEV01')");
 
   // Records out of order.
   DeviceRecording r = make_recording(4);
   r.samples[2].tick = 7;
-  ASSERT_TRUE(write_device_recording(f, r, &error));
-  EXPECT_FALSE(read_device_recording(f, &error).has_value());
-  EXPECT_EQ(error, f.string() +
-                       ": record 2: tick 7: expected tick 2 (records are one per tick, in order)");
+  ASSERT_TRUE(write_device_recording(f, r).ok());
+  loaded = read_device_recording(f);
+  EXPECT_FALSE(loaded.ok());
+  EXPECT_EQ(
+      loaded.message(),
+      f.string() + ": record 2: tick 7: expected tick 2 (records are one per tick, in order)");
 
   // A non-finite value.
   r = make_recording(4);
   r.samples[1].sample.position_W.y() = std::numeric_limits<double>::quiet_NaN();
-  ASSERT_TRUE(write_device_recording(f, r, &error));
-  EXPECT_FALSE(read_device_recording(f, &error).has_value());
-  EXPECT_NE(error.find("record 1: expected finite values"), std::string::npos) << error;
+  ASSERT_TRUE(write_device_recording(f, r).ok());
+  loaded = read_device_recording(f);
+  EXPECT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.message().find("record 1: expected finite values"), std::string::npos)
+      << loaded.message();
 
-  EXPECT_FALSE(read_device_recording(temp_file("missing.lapdev"), &error).has_value());
-  EXPECT_NE(error.find("cannot open the device recording"), std::string::npos);
+  loaded = read_device_recording(temp_file("missing.lapdev"));
+  EXPECT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.message().find("cannot open the device recording"), std::string::npos);
   fs::remove(f);
 }
 

@@ -50,8 +50,9 @@ TEST(PhantomDeviceNoLibrary, SaysWhatToInstall) {
   PhantomSettings s;
   s.library = "/nonexistent/libHD.so";
   PhantomDevice dev(s);
-  std::string error;
-  EXPECT_FALSE(dev.start(&error));
+  const Status started = dev.start();
+  EXPECT_FALSE(started.ok());
+  const std::string error = started.message();
   EXPECT_NE(
       error.find("phantom: OpenHaptics' HD library (/nonexistent/libHD.so) could not be loaded"),
       std::string::npos)
@@ -63,8 +64,8 @@ TEST(PhantomDeviceNoLibrary, SaysWhatToInstall) {
 
 TEST_F(PhantomDeviceTest, ReadsMillimetresAsMetresInTheWorldAndSendsForcesInTheDeviceFrame) {
   PhantomDevice dev(fake_settings());
-  std::string error;
-  ASSERT_TRUE(dev.start(&error)) << error;
+  const Status started = dev.start();
+  ASSERT_TRUE(started.ok()) << started.message();
   EXPECT_EQ(dev.limits().max_force_n, 3.3);
   EXPECT_NEAR(dev.limits().max_stiffness_n_per_m, 2310.0, 1e-9);
   EXPECT_EQ(fake.force_output_enabled(0), true);
@@ -91,9 +92,10 @@ TEST_F(PhantomDeviceTest, ReadsMillimetresAsMetresInTheWorldAndSendsForcesInTheD
 TEST_F(PhantomDeviceTest, TwoDevicesByName) {
   PhantomDevice left(fake_settings("Left Device"));
   PhantomDevice right(fake_settings("Right Device"));
-  std::string error;
-  ASSERT_TRUE(left.start(&error)) << error;
-  ASSERT_TRUE(right.start(&error)) << error;
+  const Status left_started = left.start();
+  ASSERT_TRUE(left_started.ok()) << left_started.message();
+  const Status right_started = right.start();
+  ASSERT_TRUE(right_started.ok()) << right_started.message();
   DeviceCommand a;
   a.force_W = {0, 1.0, 0};
   DeviceCommand b;
@@ -103,7 +105,9 @@ TEST_F(PhantomDeviceTest, TwoDevicesByName) {
   EXPECT_TRUE(eventually([&] { return fake.force(0).y() == 1.0 && fake.force(1).y() == -2.0; }))
       << fake.force(0).transpose() << " / " << fake.force(1).transpose();
   PhantomDevice missing(fake_settings("Missing Device"));
-  EXPECT_FALSE(missing.start(&error));
+  const Status missing_started = missing.start();
+  EXPECT_FALSE(missing_started.ok());
+  const std::string error = missing_started.message();
   EXPECT_NE(error.find("phantom:Missing Device: hdInitDevice failed (HD error 0x0300"),
             std::string::npos)
       << error;
@@ -112,15 +116,16 @@ TEST_F(PhantomDeviceTest, TwoDevicesByName) {
 TEST_F(PhantomDeviceTest, RefusesAnUncalibratedDeviceSayingWhatToDo) {
   fake.set_calibration(0x5002);
   PhantomDevice dev(fake_settings());
-  std::string error;
-  EXPECT_FALSE(dev.start(&error));
-  EXPECT_EQ(error, "phantom: needs calibration: put the stylus in its inkwell, then start again");
+  const Status started = dev.start();
+  EXPECT_FALSE(started.ok());
+  EXPECT_EQ(started.message(),
+            "phantom: needs calibration: put the stylus in its inkwell, then start again");
 }
 
 TEST_F(PhantomDeviceTest, AServoErrorIsAnErrorAndAnUnpluggedDeviceIsLost) {
   PhantomDevice dev(fake_settings());
-  std::string error;
-  ASSERT_TRUE(dev.start(&error)) << error;
+  const Status started = dev.start();
+  ASSERT_TRUE(started.ok()) << started.message();
   wait_ms(10);
   DeviceSample s;
   EXPECT_EQ(dev.read(0, 0.001, &s), DeviceStatus::kOk);

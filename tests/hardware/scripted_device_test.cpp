@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "hardware/scripted_trajectory.h"
 
@@ -18,22 +19,21 @@ const char* const kScript =
     "0.030, 0.01, 0.1, 0.02, 0, 0, 0, 1, 0.5, 3\n";
 
 ScriptedTrajectory parse_ok(const std::string& text) {
-  std::string error;
-  auto t = parse_scripted_trajectory(text, "test.csv", &error);
-  EXPECT_TRUE(t.has_value()) << error;
-  return t.value_or(ScriptedTrajectory{});
+  Result<ScriptedTrajectory> t = parse_scripted_trajectory(text, "test.csv");
+  EXPECT_TRUE(t.ok()) << t.message();
+  return t.ok() ? std::move(t).value() : ScriptedTrajectory{};
 }
 
 std::string parse_error(const std::string& text) {
-  std::string error;
-  EXPECT_FALSE(parse_scripted_trajectory(text, "bad.csv", &error).has_value());
-  return error;
+  const Result<ScriptedTrajectory> t = parse_scripted_trajectory(text, "bad.csv");
+  EXPECT_FALSE(t.ok());
+  return t.message();
 }
 
 TEST(ScriptedTrajectory, ReproducesEveryKeyframeExactlyAtItsTick) {
   ScriptedDevice dev(parse_ok(kScript), "left");
-  std::string error;
-  ASSERT_TRUE(dev.start(&error)) << error;
+  const Status started = dev.start();
+  ASSERT_TRUE(started.ok()) << started.message();
   const double dt = 0.001;
   DeviceSample s;
   // Ticks 0, 10 and 30 fall on the keyframes: the very values of the file.
@@ -49,8 +49,7 @@ TEST(ScriptedTrajectory, ReproducesEveryKeyframeExactlyAtItsTick) {
 
 TEST(ScriptedTrajectory, InterpolatesLinearlyAndBySlerpBetweenKeyframes) {
   ScriptedDevice dev(parse_ok(kScript), "left");
-  std::string error;
-  ASSERT_TRUE(dev.start(&error));
+  ASSERT_TRUE(dev.start().ok());
   const double dt = 0.001;
   DeviceSample s;
   for (int64_t tick = 0; tick <= 30; ++tick) {
@@ -74,8 +73,7 @@ TEST(ScriptedTrajectory, InterpolatesLinearlyAndBySlerpBetweenKeyframes) {
 
 TEST(ScriptedTrajectory, HoldsTheLastKeyframeAndSaysItFinished) {
   ScriptedDevice dev(parse_ok(kScript), "left");
-  std::string error;
-  ASSERT_TRUE(dev.start(&error));
+  ASSERT_TRUE(dev.start().ok());
   DeviceSample s;
   EXPECT_EQ(dev.read(31, 0.001, &s), DeviceStatus::kFinished);
   EXPECT_EQ(s.position_W, Eigen::Vector3d(0.01, 0.1, 0.02));
@@ -101,9 +99,9 @@ TEST(ScriptedTrajectory, BadFilesNameTheLineAndTheField) {
   EXPECT_EQ(parse_error("0,0,0,nan,1,0,0,0,0\n"),
             "bad.csv:1: z_m: expected a finite number, got 'nan'");
   EXPECT_EQ(parse_error("# nothing\n"), "bad.csv:1: expected at least one keyframe");
-  std::string error;
-  EXPECT_FALSE(load_scripted_trajectory("/nonexistent/path.csv", &error).has_value());
-  EXPECT_EQ(error, "/nonexistent/path.csv: cannot open the trajectory file");
+  const Result<ScriptedTrajectory> missing = load_scripted_trajectory("/nonexistent/path.csv");
+  EXPECT_FALSE(missing.ok());
+  EXPECT_EQ(missing.message(), "/nonexistent/path.csv: cannot open the trajectory file");
 }
 
 }  // namespace

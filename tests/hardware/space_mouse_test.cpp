@@ -6,7 +6,9 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
+#include <utility>
 
 namespace lap::hardware {
 namespace {
@@ -37,8 +39,9 @@ struct Fake {
 };
 
 TEST(SpaceMouse, WithoutTheLibraryItSaysWhatToInstall) {
-  std::string error;
-  EXPECT_EQ(SpaceMouse::open(&error, "/nonexistent/libspnav.so.0"), nullptr);
+  const Result<std::unique_ptr<SpaceMouse>> mouse = SpaceMouse::open("/nonexistent/libspnav.so.0");
+  EXPECT_FALSE(mouse.ok());
+  const std::string error = mouse.message();
   EXPECT_NE(error.find("libspnav0"), std::string::npos) << error;
   EXPECT_NE(error.find("spacenavd"), std::string::npos) << error;
 }
@@ -47,9 +50,9 @@ TEST(SpaceMouse, WithoutTheDaemonItSaysToStartIt) {
   const Fake fake;
   ASSERT_NE(fake.set_daemon, nullptr);
   fake.set_daemon(0);
-  std::string error;
-  EXPECT_EQ(SpaceMouse::open(&error, LAP_FAKE_SPNAV), nullptr);
-  EXPECT_NE(error.find("spacenavd is not running"), std::string::npos) << error;
+  const Result<std::unique_ptr<SpaceMouse>> mouse = SpaceMouse::open(LAP_FAKE_SPNAV);
+  EXPECT_FALSE(mouse.ok());
+  EXPECT_NE(mouse.message().find("spacenavd is not running"), std::string::npos) << mouse.message();
   fake.set_daemon(1);
 }
 
@@ -57,9 +60,10 @@ TEST(SpaceMouse, WithoutTheDaemonItSaysToStartIt) {
 // further; the mapping's signs applied. Buttons 0 and 1 close and open the jaws.
 TEST(SpaceMouse, ThePuckSteersTheToolTip) {
   const Fake fake;
-  std::string error;
-  auto mouse = SpaceMouse::open(&error, LAP_FAKE_SPNAV);
-  ASSERT_NE(mouse, nullptr) << error;
+  Result<std::unique_ptr<SpaceMouse>> opened = SpaceMouse::open(LAP_FAKE_SPNAV);
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  std::unique_ptr<SpaceMouse> mouse = std::move(opened).value();
+  ASSERT_NE(mouse, nullptr);
   EXPECT_EQ(fake.open_count(), 1);
   SpaceMouseMapping m;
   m.axis_sign = Eigen::Vector3d(1.0, 1.0, -1.0);
@@ -89,9 +93,10 @@ TEST(SpaceMouse, ThePuckSteersTheToolTip) {
 // at a time; a puck that goes quiet stops the tool.
 TEST(SpaceMouse, BadEventsFloodsAndSilenceAreHandled) {
   const Fake fake;
-  std::string error;
-  auto mouse = SpaceMouse::open(&error, LAP_FAKE_SPNAV);
-  ASSERT_NE(mouse, nullptr) << error;
+  Result<std::unique_ptr<SpaceMouse>> opened = SpaceMouse::open(LAP_FAKE_SPNAV);
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  std::unique_ptr<SpaceMouse> mouse = std::move(opened).value();
+  ASSERT_NE(mouse, nullptr);
   fake.motion(100, 0, 0, 0, 0, 0);
   fake.raw(7);
   fake.button(1, 40);

@@ -28,9 +28,8 @@ TEST(GripperProtocol, ReportsRoundTripAndMalformedOnesAreNamed) {
   s.motor_current_ma = -300;
   s.device_time_ms = 4242;
   auto bytes = gripper::encode(s);
-  std::string why;
-  auto back = gripper::decode_state(bytes, &why);
-  ASSERT_TRUE(back.has_value()) << why;
+  const Result<gripper::StateReport> back = gripper::decode_state(bytes);
+  ASSERT_TRUE(back.ok()) << back.message();
   EXPECT_EQ(back->sequence, 65535);
   EXPECT_EQ(back->encoder_counts, -123456);
   EXPECT_EQ(back->motor_current_ma, -300);
@@ -41,24 +40,30 @@ TEST(GripperProtocol, ReportsRoundTripAndMalformedOnesAreNamed) {
   EXPECT_EQ(bytes[3], 0xFF);
 
   bytes[6] ^= 1;
-  EXPECT_FALSE(gripper::decode_state(bytes, &why).has_value());
-  EXPECT_NE(why.find("state report: CRC"), std::string::npos) << why;
-  EXPECT_FALSE(gripper::decode_state(std::span<const uint8_t>(bytes).first(9), &why).has_value());
-  EXPECT_EQ(why, "state report: expected 16 bytes, got 9");
+  const Result<gripper::StateReport> corrupt = gripper::decode_state(bytes);
+  EXPECT_FALSE(corrupt.ok());
+  EXPECT_NE(corrupt.message().find("state report: CRC"), std::string::npos) << corrupt.message();
+  const Result<gripper::StateReport> short_report =
+      gripper::decode_state(std::span<const uint8_t>(bytes).first(9));
+  EXPECT_FALSE(short_report.ok());
+  EXPECT_EQ(short_report.message(), "state report: expected 16 bytes, got 9");
   gripper::CommandReport c;
   c.motor_enabled = true;
   c.sequence = 7;
   c.squeeze_mn = 1500;
   auto cb = gripper::encode(c);
-  EXPECT_FALSE(gripper::decode_state(std::span<const uint8_t>(cb), &why).has_value());
-  EXPECT_EQ(why, "state report: expected 16 bytes, got 8");
-  auto cback = gripper::decode_command(cb, &why);
-  ASSERT_TRUE(cback.has_value()) << why;
+  const Result<gripper::StateReport> command_as_state =
+      gripper::decode_state(std::span<const uint8_t>(cb));
+  EXPECT_FALSE(command_as_state.ok());
+  EXPECT_EQ(command_as_state.message(), "state report: expected 16 bytes, got 8");
+  const Result<gripper::CommandReport> cback = gripper::decode_command(cb);
+  ASSERT_TRUE(cback.ok()) << cback.message();
   EXPECT_EQ(cback->squeeze_mn, 1500);
   EXPECT_TRUE(cback->motor_enabled);
   cb[0] = 0x07;
-  EXPECT_FALSE(gripper::decode_command(cb, &why).has_value());
-  EXPECT_EQ(why, "command report: expected report id 0x02, got 0x07");
+  const Result<gripper::CommandReport> wrong_id = gripper::decode_command(cb);
+  EXPECT_FALSE(wrong_id.ok());
+  EXPECT_EQ(wrong_id.message(), "command report: expected report id 0x02, got 0x07");
 }
 
 TEST(GripperProtocol, UnitConversionsClamp) {
@@ -102,8 +107,8 @@ TEST(UsbGripper, ReportsTheOpeningAndSendsTheSqueezeInMillinewtons) {
   GripperEmulator::Controls c;
   c.encoder_counts = 400;
   Rig rig(c);
-  std::string error;
-  ASSERT_TRUE(rig.gripper->start(&error)) << error;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
   double opening = 0.0;
   EXPECT_EQ(rig.gripper->read(&opening), DeviceStatus::kOk);
   EXPECT_DOUBLE_EQ(opening, 0.4);
@@ -127,8 +132,8 @@ TEST(UsbGripper, ReportsTheOpeningAndSendsTheSqueezeInMillinewtons) {
 
 TEST(UsbGripper, DropsAMalformedReportButAStreamOfThemIsAnError) {
   Rig rig;
-  std::string error;
-  ASSERT_TRUE(rig.gripper->start(&error)) << error;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
   GripperEmulator::Controls c = rig.emu->controls();
   c.malformed_reports = 3;
   rig.emu->set(c);
@@ -145,8 +150,8 @@ TEST(UsbGripper, DropsAMalformedReportButAStreamOfThemIsAnError) {
 
 TEST(UsbGripper, ClearsAStalledEndpointAndGoesOn) {
   Rig rig;
-  std::string error;
-  ASSERT_TRUE(rig.gripper->start(&error)) << error;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
   GripperEmulator::Controls c = rig.emu->controls();
   c.stall_in = true;
   rig.emu->set(c);
@@ -159,8 +164,8 @@ TEST(UsbGripper, ClearsAStalledEndpointAndGoesOn) {
 
 TEST(UsbGripper, UnpluggedMidSessionIsLostThenReconnects) {
   Rig rig;
-  std::string error;
-  ASSERT_TRUE(rig.gripper->start(&error)) << error;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
   GripperEmulator::Controls c = rig.emu->controls();
   c.plugged = false;
   rig.emu->set(c);
@@ -177,8 +182,8 @@ TEST(UsbGripper, UnpluggedMidSessionIsLostThenReconnects) {
 
 TEST(UsbGripper, SilenceIsALostDevice) {
   Rig rig;
-  std::string error;
-  ASSERT_TRUE(rig.gripper->start(&error)) << error;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
   GripperEmulator::Controls c = rig.emu->controls();
   c.timeouts = 1000;
   rig.emu->set(c);
@@ -192,14 +197,17 @@ TEST(UsbGripper, StartRefusesAMissingOrUncalibratedGripper) {
   GripperEmulator::Controls c;
   c.plugged = false;
   Rig missing(c);
-  std::string error;
-  EXPECT_FALSE(missing.gripper->start(&error));
-  EXPECT_EQ(error, "gripper: no actuated gripper found (USB 1209:4c54, emulated)");
+  const Status missing_started = missing.gripper->start();
+  EXPECT_FALSE(missing_started.ok());
+  EXPECT_EQ(missing_started.message(),
+            "gripper: no actuated gripper found (USB 1209:4c54, emulated)");
   c.plugged = true;
   c.calibrated = false;
   Rig uncalibrated(c);
-  EXPECT_FALSE(uncalibrated.gripper->start(&error));
-  EXPECT_EQ(error, "gripper: not calibrated: close the handle fully once so the jaws home");
+  const Status uncalibrated_started = uncalibrated.gripper->start();
+  EXPECT_FALSE(uncalibrated_started.ok());
+  EXPECT_EQ(uncalibrated_started.message(),
+            "gripper: not calibrated: close the handle fully once so the jaws home");
 }
 
 TEST(ArmWithGripper, TakesThePoseFromTheArmAndTheOpeningFromTheGripper) {
@@ -210,8 +218,8 @@ TEST(ArmWithGripper, TakesThePoseFromTheArmAndTheOpeningFromTheGripper) {
   Rig rig(c);
   GripperEmulator* emu = rig.emu;
   ArmWithGripper tool(std::make_unique<ScriptedDevice>(t, "arm"), std::move(rig.gripper));
-  std::string error;
-  ASSERT_TRUE(tool.start(&error)) << error;
+  const Status started = tool.start();
+  ASSERT_TRUE(started.ok()) << started.message();
   EXPECT_EQ(tool.name(), "arm+gripper");
   DeviceSample s;
   EXPECT_EQ(tool.read(0, 0.001, &s), DeviceStatus::kOk);

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "haptics/closest_point.h"
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "models/modal_shell.h"
 
 namespace lap::models {

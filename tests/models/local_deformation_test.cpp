@@ -10,9 +10,9 @@
 #include <random>
 #include <set>
 
-#include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
-#include "sim/mesh_loader.h"
+#include "haptics/setup/mesh_generators.h"
+#include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
 namespace lap::models {
@@ -187,8 +187,8 @@ TEST(LocalDeformation, BadInputIsRefusedOrIgnoredSafely) {
 TEST(LocalDeformation, RealLiverAgainstBruteForce) {
   LAP_REQUIRE_SHARED_MESHES();
   const auto dir = test::shared_meshes_dir();
-  const haptics::MeshDatabase db =
-      haptics::MeshDatabase::build(sim::load_mesh(dir / "liver_openhelp.stl", {0.001, 0.0}));
+  const haptics::MeshDatabase db = haptics::MeshDatabase::build(
+      sim::load_mesh(dir / "liver_openhelp.stl", {0.001, 0.0}).value());
   LocalDeformationSettings settings;
   settings.radius_m = 0.02;
   const LocalDeformationModel model = LocalDeformationModel::build(db, settings);

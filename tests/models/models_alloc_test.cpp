@@ -1,5 +1,6 @@
-// STYLE.md §1 for the models: after setup, their steps allocate nothing (counting operator new
-// over 1,000 steps each, with contacts, clamps and the catheter's energy guard at work).
+// The step allocates nothing for the models: after setup, their steps allocate nothing (counting
+// operator new over 1,000 steps each, with contacts, clamps and the catheter's energy guard at
+// work).
 
 #include <gtest/gtest.h>
 
@@ -7,7 +8,7 @@
 #include <vector>
 
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "models/catheter_contacts.h"
 #include "models/catheter_grasp.h"
 #include "models/catheter_model.h"

@@ -1,4 +1,4 @@
-// The command-line contracts in ARCHITECTURE.md, exercised on the built binaries.
+// The command-line contracts in docs/architecture.md, exercised on the built binaries.
 
 #include <gtest/gtest.h>
 

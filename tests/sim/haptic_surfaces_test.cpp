@@ -4,7 +4,7 @@
 // checked against databases built afresh over that surface (vertex normals, first contacts), its
 // edge tree's boxes containing their edges, and its shading normals equal to a fresh build's.
 
-#include "sim/haptic_surfaces.h"
+#include "sim/runtime/haptic_surfaces.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "hardware/triple_buffer.h"
 
 namespace lap::sim {

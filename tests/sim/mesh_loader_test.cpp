@@ -1,13 +1,12 @@
-#include "sim/mesh_loader.h"
+#include "sim/setup/mesh_loader.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <fstream>
 
-#include "haptics/mesh_generators.h"
-#include "haptics/mesh_validation.h"
-#include "sim/load_error.h"
+#include "haptics/setup/mesh_generators.h"
+#include "haptics/setup/mesh_validation.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -63,7 +62,7 @@ TEST(MeshLoader, ObjWithQuadsIsFannedIntoTriangles) {
       dir.write("cube.obj",
                 "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
                 "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
-  const TriangleMesh m = load_mesh(file);
+  const TriangleMesh m = load_mesh(file).value();
   EXPECT_EQ(m.triangle_count(), 12);
   EXPECT_EQ(m.vertex_count(), 8);
   EXPECT_TRUE(haptics::validate_mesh(m).clean());
@@ -72,7 +71,7 @@ TEST(MeshLoader, ObjWithQuadsIsFannedIntoTriangles) {
 
 TEST(MeshLoader, ObjWithScaleFromMillimetres) {
   TempDir dir;
-  const TriangleMesh m = load_mesh(dir.write("t.obj", kTetraObj), {0.001, 0.0});
+  const TriangleMesh m = load_mesh(dir.write("t.obj", kTetraObj), {0.001, 0.0}).value();
   expect_unit_tetrahedron(m, 0.001);
 }
 
@@ -82,7 +81,7 @@ TEST(MeshLoader, ObjTextureCoordinatesAreRead) {
       dir.write("t.obj",
                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
                 "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 1/1 4/4 3/3\nf 2/2 3/3 4/4\n");
-  const TriangleMesh m = load_mesh(file);
+  const TriangleMesh m = load_mesh(file).value();
   ASSERT_EQ(m.uvs.size(), 4U);
   EXPECT_TRUE(m.uvs[1].isApprox(Eigen::Vector2d(1, 0)));
   EXPECT_TRUE(m.uvs[3].isApprox(Eigen::Vector2d(0.5, 0.5)));
@@ -90,18 +89,18 @@ TEST(MeshLoader, ObjTextureCoordinatesAreRead) {
 
 TEST(MeshLoader, StlAsciiIsWelded) {
   TempDir dir;
-  expect_unit_tetrahedron(load_mesh(dir.write("t.stl", stl_ascii(test::tetrahedron()))));
+  expect_unit_tetrahedron(load_mesh(dir.write("t.stl", stl_ascii(test::tetrahedron()))).value());
 }
 
 TEST(MeshLoader, StlBinaryIsWelded) {
   TempDir dir;
-  expect_unit_tetrahedron(load_mesh(dir.write("t.stl", stl_binary(test::tetrahedron()))));
+  expect_unit_tetrahedron(load_mesh(dir.write("t.stl", stl_binary(test::tetrahedron()))).value());
 }
 
 TEST(MeshLoader, StlBinaryOfALargerMeshRoundTrips) {
   TempDir dir;
   const TriangleMesh s = haptics::make_uv_sphere(0.04, 12, 24);
-  const TriangleMesh m = load_mesh(dir.write("s.stl", stl_binary(s)));
+  const TriangleMesh m = load_mesh(dir.write("s.stl", stl_binary(s))).value();
   EXPECT_EQ(m.triangle_count(), s.triangle_count());
   EXPECT_EQ(m.vertex_count(), s.vertex_count());
   EXPECT_NEAR(m.signed_volume(), s.signed_volume(), 1e-6 * s.signed_volume());  // float storage
@@ -114,7 +113,7 @@ TEST(MeshLoader, PlyAscii) {
                               "property float y\nproperty float z\nelement face 4\n"
                               "property list uchar int vertex_indices\nend_header\n"
                               "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
-  expect_unit_tetrahedron(load_mesh(file));
+  expect_unit_tetrahedron(load_mesh(file).value());
 }
 
 TEST(MeshLoader, PlyBinaryLittleEndian) {
@@ -134,7 +133,7 @@ TEST(MeshLoader, PlyBinaryLittleEndian) {
     s.push_back(3);
     for (int32_t v : tri) s.append(reinterpret_cast<const char*>(&v), 4);
   }
-  expect_unit_tetrahedron(load_mesh(dir.write("t.ply", s)));
+  expect_unit_tetrahedron(load_mesh(dir.write("t.ply", s)).value());
 }
 
 TEST(MeshLoader, Off) {
@@ -142,14 +141,14 @@ TEST(MeshLoader, Off) {
   const auto file = dir.write("t.off",
                               "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
                               "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
-  expect_unit_tetrahedron(load_mesh(file));
+  expect_unit_tetrahedron(load_mesh(file).value());
 }
 
 TEST(MeshLoader, SaveObjRoundTrip) {
   TempDir dir;
   const TriangleMesh s = haptics::make_uv_sphere(0.04, 10, 20);
-  save_obj(s, dir.path() / "s.obj");
-  const TriangleMesh m = load_mesh(dir.path() / "s.obj");
+  ASSERT_TRUE(save_obj(s, dir.path() / "s.obj").ok());
+  const TriangleMesh m = load_mesh(dir.path() / "s.obj").value();
   ASSERT_EQ(m.vertex_count(), s.vertex_count());
   EXPECT_EQ(m.triangles, s.triangles);
   for (int32_t v = 0; v < s.vertex_count(); ++v) {
@@ -159,12 +158,9 @@ TEST(MeshLoader, SaveObjRoundTrip) {
 }
 
 void expect_load_error(const std::filesystem::path& file, const std::string& expected) {
-  try {
-    (void)load_mesh(file);
-    FAIL() << "expected LoadError for " << file;
-  } catch (const LoadError& e) {
-    EXPECT_EQ(std::string(e.what()), expected);
-  }
+  const Result<TriangleMesh> r = load_mesh(file);
+  ASSERT_FALSE(r.ok()) << "expected a load error for " << file;
+  EXPECT_EQ(r.message(), expected);
 }
 
 TEST(MeshLoaderErrors, MissingFile) {
@@ -200,23 +196,24 @@ TEST(MeshLoaderErrors, TruncatedBinaryStlDoesNotCrash) {
   std::string s = stl_binary(haptics::make_uv_sphere(1.0, 6, 12));
   s.resize(s.size() / 2);
   const auto f = dir.write("m.stl", s);
-  try {
-    const TriangleMesh m = load_mesh(f);
+  const Result<TriangleMesh> r = load_mesh(f);
+  if (r.ok()) {
+    const TriangleMesh& m = r.value();
     // If the reader accepts a prefix, what it returns must at least be self-consistent.
     for (const auto& t : m.triangles) {
       for (int32_t v : t) EXPECT_LT(v, m.vertex_count());
     }
     EXPECT_FALSE(haptics::validate_mesh(m).clean());
-  } catch (const LoadError& e) {
-    EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos);
+  } else {
+    EXPECT_NE(r.message().find(f.string()), std::string::npos);
   }
 }
 
 TEST(MeshLoaderErrors, BadScale) {
   TempDir dir;
   const auto f = dir.write("t.obj", kTetraObj);
-  EXPECT_THROW((void)load_mesh(f, {0.0, 0.0}), LoadError);
-  EXPECT_THROW((void)load_mesh(f, {std::nan(""), 0.0}), LoadError);
+  EXPECT_FALSE(load_mesh(f, {0.0, 0.0}).ok());
+  EXPECT_FALSE(load_mesh(f, {std::nan(""), 0.0}).ok());
 }
 
 }  // namespace

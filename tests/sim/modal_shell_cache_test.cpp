@@ -1,7 +1,7 @@
 // The duct's modes: the default duct's precomputation time, and the on-disk cache (hit, key
 // change, corrupt file, unwritable directory).
 
-#include "sim/modal_shell_cache.h"
+#include "sim/setup/modal_shell_cache.h"
 
 #include <gtest/gtest.h>
 

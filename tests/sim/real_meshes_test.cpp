@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "haptics/mesh_repair.h"
-#include "haptics/mesh_validation.h"
-#include "sim/mesh_loader.h"
+#include "haptics/setup/mesh_repair.h"
+#include "haptics/setup/mesh_validation.h"
+#include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -27,7 +27,7 @@ class RealCleanMesh : public ::testing::TestWithParam<CleanCase> {};
 TEST_P(RealCleanMesh, LoadsClosedOrientedAndOutwardInMetres) {
   LAP_REQUIRE_SHARED_MESHES();
   const CleanCase c = GetParam();
-  const TriangleMesh m = load_mesh(test::shared_meshes_dir() / c.file, {0.001, 0.0});
+  const TriangleMesh m = load_mesh(test::shared_meshes_dir() / c.file, {0.001, 0.0}).value();
   EXPECT_EQ(m.triangle_count(), c.triangles);
   const MeshDiagnostics d = validate_mesh(m);
   EXPECT_TRUE(d.clean()) << c.file;
@@ -55,7 +55,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealCleanMesh,
 TEST(RealDefectiveMesh, LiverSofaEnvIsDiagnosedExactly) {
   LAP_REQUIRE_SHARED_MESHES();
   const TriangleMesh m =
-      load_mesh(test::shared_meshes_dir() / "liver_sofaenv_glt.stl", {0.001, 0.0});
+      load_mesh(test::shared_meshes_dir() / "liver_sofaenv_glt.stl", {0.001, 0.0}).value();
   EXPECT_EQ(m.triangle_count(), 28716);
   const MeshDiagnostics d = validate_mesh(m);
   EXPECT_FALSE(d.clean());
@@ -80,7 +80,8 @@ TEST(RealDefectiveMesh, LiverSofaEnvIsDiagnosedExactly) {
 
 TEST(RealDefectiveMesh, LiverSofaEnvRepairsIntoAClosedOrientedMesh) {
   LAP_REQUIRE_SHARED_MESHES();
-  TriangleMesh m = load_mesh(test::shared_meshes_dir() / "liver_sofaenv_glt.stl", {0.001, 0.0});
+  TriangleMesh m =
+      load_mesh(test::shared_meshes_dir() / "liver_sofaenv_glt.stl", {0.001, 0.0}).value();
   const double area_before = m.surface_area();
   const haptics::MeshRepairReport r = repair_mesh(m);
   EXPECT_EQ(r.removed_fragments, 25);

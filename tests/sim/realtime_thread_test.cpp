@@ -2,7 +2,7 @@
 // thread of the process may run there, threads started afterwards included; released, they all
 // may again.
 
-#include "sim/realtime_thread.h"
+#include "sim/runtime/realtime_thread.h"
 
 #include <gtest/gtest.h>
 #include <pthread.h>
@@ -30,8 +30,8 @@ TEST(RealtimeThread, TheIsolatedProcessorIsKeptFromEveryOtherThreadUntilReleased
   std::atomic<bool> checked{false};
   bool haptic_pinned = false;
   std::thread haptic([&] {
-    std::string why;
-    const int c = isolate_calling_thread(&why);
+    const Result<int> isolated = isolate_calling_thread();
+    const int c = isolated.ok() ? isolated.value() : -1;
     cpu_set_t mine;
     CPU_ZERO(&mine);
     (void)pthread_getaffinity_np(pthread_self(), sizeof mine, &mine);

@@ -1,4 +1,4 @@
-#include "sim/scenario_loader.h"
+#include "sim/setup/scenario_loader.h"
 
 #include <gtest/gtest.h>
 

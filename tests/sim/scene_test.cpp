@@ -1,9 +1,9 @@
-#include "sim/scene.h"
+#include "sim/setup/scene.h"
 
 #include <gtest/gtest.h>
 
-#include "haptics/mesh_generators.h"
-#include "sim/mesh_loader.h"
+#include "haptics/setup/mesh_generators.h"
+#include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -32,7 +32,7 @@ TEST(Scene, CommittedAssetsAreWhatTheGeneratorsMake) {
       {"gallbladder.obj", haptics::make_stand_in_gallbladder()},
       {"cystic_duct.obj", haptics::make_stand_in_cystic_duct()}};
   for (const auto& [file, generated] : cases) {
-    const haptics::TriangleMesh m = load_mesh(test::source_dir() / "assets/meshes" / file);
+    const haptics::TriangleMesh m = load_mesh(test::source_dir() / "assets/meshes" / file).value();
     ASSERT_EQ(m.vertex_count(), generated.vertex_count()) << file;
     EXPECT_EQ(m.triangles, generated.triangles) << file;
     double worst = 0.0;
@@ -45,7 +45,9 @@ TEST(Scene, CommittedAssetsAreWhatTheGeneratorsMake) {
 
 TEST(Scene, TransformPlacesTheMeshAndKeepsItOutward) {
   test::TempDir dir;
-  save_obj(haptics::make_box(Eigen::Vector3d(0.02, 0.02, 0.02), 2), dir.path() / "box.obj");
+  ASSERT_TRUE(
+      save_obj(haptics::make_box(Eigen::Vector3d(0.02, 0.02, 0.02), 2), dir.path() / "box.obj")
+          .ok());
   const auto file = dir.write("s.yaml", R"(version: 1
 name: moved box
 organs:
@@ -65,7 +67,7 @@ TEST(Scene, DefectiveMeshIsAProblemUnlessRepairIsAsked) {
   test::TempDir dir;
   haptics::TriangleMesh open_box = haptics::make_box(Eigen::Vector3d(0.02, 0.02, 0.02), 1);
   open_box.triangles.pop_back();
-  save_obj(open_box, dir.path() / "open.obj");
+  ASSERT_TRUE(save_obj(open_box, dir.path() / "open.obj").ok());
   const std::string text = R"(version: 1
 name: open box
 organs:

@@ -1,4 +1,4 @@
-#include "sim/session.h"
+#include "sim/runtime/session.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,6 @@
 #include <limits>
 #include <thread>
 
-#include "haptics/brute_force_reference.h"
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/segment_database.h"
 #include "hardware/device_recording.h"
@@ -17,8 +16,10 @@
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
 #include "hardware/usb_gripper.h"
-#include "sim/device_factory.h"
-#include "sim/trocar_tool.h"
+#include "sim/report/session_report.h"
+#include "sim/runtime/trocar_tool.h"
+#include "sim/setup/device_factory.h"
+#include "tests/support/brute_force_reference.h"
 #include "tests/support/counting_allocator.h"
 #include "tests/support/fake_hd_control.h"
 #include "tests/test_support.h"
@@ -96,8 +97,8 @@ TEST(ToolOnOrgans, NoForceOnceTheToolIsClearOfEveryOrgan) {
   g.shaft_length_m = spec->shaft_length_m;
   haptics::LaparoscopicGripper gripper(g);
   hardware::ScriptedDevice device(push_in(scene, 0), "left");
-  std::string error;
-  ASSERT_TRUE(device.start(&error)) << error;
+  const Status started = device.start();
+  ASSERT_TRUE(started.ok()) << started.message();
   Eigen::Vector3d axis = (scene.bounds().center() - trocar.port_W).normalized();
   const double dt = 0.001;
   const int64_t kStride = 5 * test::kSanitizerDivisor;
@@ -150,7 +151,7 @@ class FaultyDevice final : public hardware::HapticDevice {
   enum class Fault { kNone, kNaN, kError, kDisconnect, kStall };
   FaultyDevice(hardware::ScriptedTrajectory t, Fault fault, int64_t at)
       : inner_(std::move(t), "faulty"), fault_(fault), at_(at) {}
-  bool start(std::string* e) override { return inner_.start(e); }
+  Status start() override { return inner_.start(); }
   void stop() override {}
   DeviceStatus read(int64_t tick, double dt, hardware::DeviceSample* out) noexcept override {
     const DeviceStatus st = inner_.read(tick, dt, out);
@@ -220,9 +221,9 @@ std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
   const Scene& scene = default_scene();
   Devices d =
       with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
-  std::string error;
-  auto s = Session::create(scene, std::move(d), rs, &error);
-  EXPECT_NE(s, nullptr) << error;
+  auto s_created = Session::create(scene, std::move(d), rs);
+  EXPECT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   return s;
 }
 
@@ -246,23 +247,115 @@ TEST(Session, AReplayReproducesTheRecordedSessionBitForBit) {
   const SessionMetrics m = original->run();
   const fs::path dir =
       fs::temp_directory_path() / ("laptrainer_replay_" + std::to_string(::getpid()));
-  std::string error;
-  ASSERT_TRUE(original->write_recording(dir.string(), &error)) << error;
+  const Status written = original->write_recording(dir.string());
+  ASSERT_TRUE(written.ok()) << written.message();
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> d;
   for (int side = 0; side < 2; ++side) {
-    auto rec =
-        hardware::read_device_recording(dir / (side == 0 ? "left.lapdev" : "right.lapdev"), &error);
-    ASSERT_TRUE(rec.has_value()) << error;
+    auto rec = hardware::read_device_recording(dir / (side == 0 ? "left.lapdev" : "right.lapdev"));
+    ASSERT_TRUE(rec.ok()) << rec.message();
     d[static_cast<size_t>(side)] =
-        std::make_unique<hardware::ReplayDevice>(std::move(*rec), "replay");
+        std::make_unique<hardware::ReplayDevice>(std::move(rec).value(), "replay");
   }
-  auto replay = Session::create(default_scene(), std::move(d), fast(2.5), &error);
-  ASSERT_NE(replay, nullptr) << error;
+  auto replay_created = Session::create(default_scene(), std::move(d), fast(2.5));
+  ASSERT_TRUE(replay_created.ok()) << replay_created.message();
+  auto replay = std::move(replay_created).value();
   const SessionMetrics r = replay->run();
   EXPECT_EQ(r.haptic.ticks(), m.haptic.ticks());
   EXPECT_EQ(r.state_hash, m.state_hash);
   fs::remove_all(dir);
 }
+
+// The session's fixed model is shared, never changed: two sessions built from one model and
+// run side by side, each on its own thread, end in the same state as one built alone.
+TEST(Session, TwoSessionsFromOneModelRunSideBySideToTheSameState) {
+  const Scene& scene = default_scene();
+  auto devices = [&] {
+    return with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
+  };
+  Devices first = devices();
+  const auto model =
+      SessionModel::build(scene, fast(2.5), {describe(*first[0]), describe(*first[1])});
+  ASSERT_TRUE(model.ok()) << model.message();
+  auto a = Session::create(model.value(), std::move(first));
+  auto b = Session::create(model.value(), devices());
+  ASSERT_TRUE(a.ok()) << a.message();
+  ASSERT_TRUE(b.ok()) << b.message();
+  EXPECT_EQ(&a.value()->model(), &b.value()->model());
+  SessionMetrics ma;
+  SessionMetrics mb;
+  std::thread ta([&] { ma = a.value()->run(); });
+  std::thread tb([&] { mb = b.value()->run(); });
+  ta.join();
+  tb.join();
+  const SessionMetrics alone = scripted_session(fast(2.5))->run();
+  EXPECT_EQ(ma.haptic.ticks(), 2002);
+  EXPECT_GT(ma.max_force_sent_n, 0.05);  // the tools pressed on tissue
+  EXPECT_EQ(ma.state_hash, mb.state_hash);
+  EXPECT_EQ(ma.state_hash, alone.state_hash);
+}
+
+// A session model is built for its devices' limits: a device with others is refused.
+TEST(Session, ADeviceWithOtherLimitsThanTheModelsIsRefused) {
+  const Scene& scene = default_scene();
+  Devices d =
+      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
+  DeviceDescription left = describe(*d[0]);
+  left.limits.max_force_n *= 2.0;
+  const auto model = SessionModel::build(scene, fast(1.0), {left, describe(*d[1])});
+  ASSERT_TRUE(model.ok()) << model.message();
+  const auto s = Session::create(model.value(), std::move(d));
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("other limits than the session model was built for"),
+            std::string::npos)
+      << s.message();
+}
+
+// A model that meets a non-finite value is a fault like a haptic one: zero force from the next
+// haptic tick on (the modelling step runs after the haptic tick it belongs to), the session
+// paused, the model named; nothing recorded is lost.
+class SessionModelFault : public ::testing::TestWithParam<ModelFaultKind> {};
+
+TEST_P(SessionModelFault, ZeroForceWithinOneTickPausedAndTheModelNamed) {
+  const Scene& scene = default_scene();
+  const int64_t at = kPressingTick - kPressingTick % 5;  // a modelling step's tick (200 Hz)
+  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* dev = left.get();
+  auto created = Session::create(scene, with_left(scene, std::move(left)), fast(2.5));
+  ASSERT_TRUE(created.ok()) << created.message();
+  auto s = std::move(created).value();
+  s->inject_model_fault(at, GetParam());
+  const SessionMetrics m = s->run();
+  ASSERT_GT(dev->commands[at].force_W.norm(), 0.0) << "the fault must hit a pressing tool";
+  for (size_t t = at + 1; t < dev->commands.size(); ++t) {
+    ASSERT_EQ(dev->commands[t].force_W, Eigen::Vector3d::Zero()) << t;
+  }
+  EXPECT_TRUE(m.paused);
+  ASSERT_FALSE(m.events.empty());
+  EXPECT_EQ(m.events[0].tick, at + 1);
+  EXPECT_EQ(m.events[0].reason, WatchdogReason::kModelFault);
+  EXPECT_EQ(m.events[0].model_fault.kind, GetParam());
+  const int32_t organ = m.events[0].model_fault.organ;
+  if (GetParam() == ModelFaultKind::kCatheter) {
+    EXPECT_EQ(organ, -1);
+  } else {
+    ASSERT_GE(organ, 0);
+    const std::string name = scene.organs[static_cast<size_t>(organ)].name;
+    EXPECT_EQ(scene.organs[static_cast<size_t>(organ)].model,
+              GetParam() == ModelFaultKind::kModalShell ? models::ModelKind::kModalShell
+                                                        : models::ModelKind::kLocal)
+        << name;
+  }
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+  const std::string json = metrics_json(m, "default.yaml", true);
+  EXPECT_NE(json.find("\"model\": \"" + std::string(to_string(GetParam())) + "\""),
+            std::string::npos)
+      << json;
+}
+
+INSTANTIATE_TEST_SUITE_P(EachModel, SessionModelFault,
+                         ::testing::Values(ModelFaultKind::kCatheter,
+                                           ModelFaultKind::kLocalDeformation,
+                                           ModelFaultKind::kModalShell));
 
 struct FaultCase {
   FaultyDevice::Fault fault;
@@ -277,9 +370,9 @@ TEST_P(SessionWatchdog, ZeroForceOnTheTickPausedAndNothingLost) {
   auto left = logged(scene, GetParam().fault, at);
   FaultyDevice* dev = left.get();
   Devices d = with_left(scene, std::move(left));
-  std::string error;
-  auto s = Session::create(scene, std::move(d), fast(2.5), &error);
-  ASSERT_NE(s, nullptr) << error;
+  auto s_created = Session::create(scene, std::move(d), fast(2.5));
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   const SessionMetrics m = s->run();
   ASSERT_GT(dev->commands[at - 1].force_W.norm(), 0.0) << "the fault must hit a pressing tool";
   EXPECT_EQ(dev->commands[at].force_W, Eigen::Vector3d::Zero());
@@ -321,9 +414,9 @@ TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
   auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
   FaultyDevice* dev = left.get();
   Devices d = with_left(scene, std::move(left));
-  std::string error;
-  auto s = Session::create(scene, std::move(d), fast(2.5), &error);
-  ASSERT_NE(s, nullptr);
+  auto s_created = Session::create(scene, std::move(d), fast(2.5));
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   s->inject_lateness(kPressingTick, 0.0025);  // 2.5 periods late
   const SessionMetrics m = s->run();
   ASSERT_FALSE(m.events.empty());
@@ -343,9 +436,9 @@ TEST(Session, ResumeRampsForcesBackInAfterAPause) {
   Devices d = with_left(scene, std::move(left));
   RuntimeSettings rs = fast(2.5);
   rs.resume_ramp_s = 0.1;
-  std::string error;
-  auto s = Session::create(scene, std::move(d), rs, &error);
-  ASSERT_NE(s, nullptr);
+  auto s_created = Session::create(scene, std::move(d), rs);
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   s->inject_lateness(1200, 0.01);
   s->resume();  // a resume before the pause does nothing
   // Resume on the next tick after the pause, from "another thread" (the flag is atomic).
@@ -399,9 +492,9 @@ TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
   RuntimeSettings rs;
   rs.duration_s = 0.5;
   rs.realtime_priority = false;
-  std::string error;
-  auto s = Session::create(scene, std::move(d), rs, &error);
-  ASSERT_NE(s, nullptr);
+  auto s_created = Session::create(scene, std::move(d), rs);
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   const SessionMetrics m = s->run();
   EXPECT_EQ(m.haptic.ticks(), 500);
   EXPECT_GT(m.model.ticks(), 10);
@@ -435,9 +528,9 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
                          Eigen::Isometry3d::Identity();
     Devices d = with_left(scene, std::make_unique<hardware::PhantomDevice>(ps));
     const RuntimeSettings rs = device_fault_run(0.6);
-    std::string error;
-    auto s = Session::create(scene, std::move(d), rs, &error);
-    ASSERT_NE(s, nullptr) << error;
+    auto s_created = Session::create(scene, std::move(d), rs);
+    ASSERT_TRUE(s_created.ok()) << s_created.message();
+    auto s = std::move(s_created).value();
     // Swing the handle so the tip goes 4 cm into the liver (the axis through the liver's
     // middle, 16 cm in), then fail while the arm is pushing.
     const Eigen::Vector3d port = scene.scenario.trocars[0].position_m;
@@ -503,9 +596,9 @@ TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
       std::move(arm), std::make_unique<hardware::UsbGripper>(std::move(emulator)));
   Devices d = with_left(scene, std::move(left));
   const RuntimeSettings rs = device_fault_run(1.8);
-  std::string error;
-  auto s = Session::create(scene, std::move(d), rs, &error);
-  ASSERT_NE(s, nullptr) << error;
+  auto s_created = Session::create(scene, std::move(d), rs);
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   std::thread fault([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     hardware::GripperEmulator::Controls f = emu->controls();
@@ -534,9 +627,9 @@ TEST(Session, WarnsOfTissueStifferThanADeviceRendersStably) {
   soft.max_stiffness_n_per_m = 250.0;  // the liver is 300 N/m, the gallbladder 200
   Devices d =
       with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left", soft));
-  std::string error;
-  auto s = Session::create(scene, std::move(d), fast(0.01), &error);
-  ASSERT_NE(s, nullptr) << error;
+  auto s_created = Session::create(scene, std::move(d), fast(0.01));
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
   const SessionMetrics m = s->run();
   ASSERT_EQ(m.warnings.size(), 1U);
   EXPECT_NE(m.warnings[0].find("liver: stiffness 300"), std::string::npos) << m.warnings[0];
@@ -545,21 +638,25 @@ TEST(Session, WarnsOfTissueStifferThanADeviceRendersStably) {
 
 TEST(Session, BadSettingsAndScenesAreClearErrors) {
   const Scene& scene = default_scene();
-  std::string error;
   RuntimeSettings rs;
   rs.model_rate_hz = 5000.0;
   Devices d =
       with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
-  EXPECT_EQ(Session::create(scene, std::move(d), rs, &error), nullptr);
-  EXPECT_EQ(error, "rates: expected 0 < model rate <= haptic rate");
+  auto bad_rates = Session::create(scene, std::move(d), rs);
+  EXPECT_FALSE(bad_rates.ok());
+  EXPECT_EQ(bad_rates.message(), "rates: expected 0 < model rate <= haptic rate");
   Scene no_tools = scene;
   no_tools.scenario.tools.clear();
   d = with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
-  EXPECT_EQ(Session::create(no_tools, std::move(d), RuntimeSettings{}, &error), nullptr);
+  auto toolless = Session::create(no_tools, std::move(d), RuntimeSettings{});
+  EXPECT_FALSE(toolless.ok());
+  std::string error = toolless.message();
   EXPECT_NE(error.find("tools: expected a left tool"), std::string::npos) << error;
   // No OpenHaptics on the library path (the fake is loaded by its full path only).
   hardware::DeviceSpec phantom{hardware::DeviceKind::kPhantom, ""};
-  EXPECT_EQ(make_device(phantom, scene, 0, &error), nullptr);
+  auto no_phantom = make_device(phantom, scene, 0);
+  EXPECT_FALSE(no_phantom.ok());
+  error = no_phantom.message();
   EXPECT_NE(error.find("phantom: OpenHaptics' HD library (libHD.so) could not be loaded"),
             std::string::npos)
       << error;

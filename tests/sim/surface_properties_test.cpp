@@ -11,13 +11,12 @@
 
 #include "haptics/image_height_field.h"
 #include "haptics/mesh_database.h"
-#include "haptics/mesh_generators.h"
 #include "haptics/point_proxy.h"
-#include "sim/height_image_loader.h"
-#include "sim/load_error.h"
-#include "sim/mesh_loader.h"
-#include "sim/organ_surface.h"
-#include "sim/scene.h"
+#include "haptics/setup/mesh_generators.h"
+#include "sim/setup/height_image_loader.h"
+#include "sim/setup/mesh_loader.h"
+#include "sim/setup/organ_surface.h"
+#include "sim/setup/scene.h"
 #include "tests/support/png_writer.h"
 #include "tests/test_support.h"
 
@@ -35,12 +34,8 @@ std::vector<double> ramp(int w, int h) {
 }
 
 std::string error_of(const std::filesystem::path& file) {
-  try {
-    (void)load_height_image(file);
-  } catch (const LoadError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  const Result<haptics::HeightImage> r = load_height_image(file);
+  return r.ok() ? "(no error)" : r.message();
 }
 
 // A ramp along u over one tile of 10 mm mapped on the plane z = 0: dh/dx is constant.
@@ -71,7 +66,7 @@ TEST(ImageTexture, EightBitPngRampGivesTheExpectedGradient) {
   // 52 columns: grey 5 x / 255 is exact in 8 bits, so the filtered ramp is exact too
   // (Catmull-Rom reproduces linear data; central differences of a linear field are exact).
   test::write_grey_png(dir.path() / "ramp8.png", 52, 16, 8, ramp(52, 16));
-  const haptics::HeightImage image = load_height_image(dir.path() / "ramp8.png");
+  const haptics::HeightImage image = load_height_image(dir.path() / "ramp8.png").value();
   ASSERT_EQ(image.width, 52);
   ASSERT_EQ(image.height, 16);
   expect_ramp_gradient(image, 1e-5);
@@ -81,7 +76,7 @@ TEST(ImageTexture, SixteenBitPngRampGivesTheExpectedGradient) {
   test::TempDir dir;
   // 86 columns: 65535 / 85 = 771 levels per column, exact in 16 bits.
   test::write_grey_png(dir.path() / "ramp16.png", 86, 8, 16, ramp(86, 8));
-  const haptics::HeightImage image = load_height_image(dir.path() / "ramp16.png");
+  const haptics::HeightImage image = load_height_image(dir.path() / "ramp16.png").value();
   ASSERT_EQ(image.width, 86);
   EXPECT_FLOAT_EQ(image.at(85, 0), 1.0F);
   EXPECT_NEAR(image.at(33, 5), 33.0 / 85.0, 1e-7);
@@ -91,7 +86,7 @@ TEST(ImageTexture, SixteenBitPngRampGivesTheExpectedGradient) {
 TEST(ImageTexture, GreyJpegRampGivesTheExpectedGradient) {
   // tests/data/README.md: grey 5 x, one component, quality 100.
   const haptics::HeightImage image =
-      load_height_image(test::source_dir() / "tests/data/ramp_grey_52x16.jpg");
+      load_height_image(test::source_dir() / "tests/data/ramp_grey_52x16.jpg").value();
   ASSERT_EQ(image.width, 52);
   ASSERT_EQ(image.height, 16);
   expect_ramp_gradient(image, 0.03);  // lossy coding: about a grey level of error per texel
@@ -255,7 +250,9 @@ organs:
 )";
 
 std::filesystem::path write_box_scenario(test::TempDir& dir, const std::string& texture) {
-  save_obj(haptics::make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 4), dir.path() / "box.obj");
+  EXPECT_TRUE(
+      save_obj(haptics::make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 4), dir.path() / "box.obj")
+          .ok());
   std::string text = kBoxScenario;
   text.replace(text.find("%KIND%"), 6, texture);
   return dir.write("s.yaml", text);
@@ -358,7 +355,9 @@ TEST(SurfaceProperties, BadSurfaceFieldsAreReportedWithFileLineAndField) {
   EXPECT_NE(all.find("expected plane, cylinder, sphere or box, got 'cone'"), std::string::npos)
       << all;
   // §6.6: shading with a texture.
-  save_obj(haptics::make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 4), dir.path() / "box.obj");
+  ASSERT_TRUE(
+      save_obj(haptics::make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 4), dir.path() / "box.obj")
+          .ok());
   const auto file = dir.write("both.yaml", R"(version: 1
 name: both
 organs:

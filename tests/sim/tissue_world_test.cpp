@@ -3,7 +3,7 @@
 // tool's push denting an organ by its share of the penetration, the duct pushed and grasped, and
 // a fast session whose organs deform under the scripted tools.
 
-#include "sim/tissue_world.h"
+#include "sim/runtime/tissue_world.h"
 
 #include <gtest/gtest.h>
 
@@ -14,11 +14,11 @@
 #include <random>
 #include <set>
 
-#include "haptics/mesh_generators.h"
+#include "haptics/setup/mesh_generators.h"
 #include "hardware/scripted_device.h"
-#include "sim/device_factory.h"
-#include "sim/duct_fit.h"
-#include "sim/session.h"
+#include "sim/runtime/session.h"
+#include "sim/setup/device_factory.h"
+#include "sim/setup/duct_fit.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -112,7 +112,7 @@ struct LiverWorld {
 
 std::unique_ptr<LiverWorld> liver_world() {
   auto w = std::make_unique<LiverWorld>();
-  w->world = TissueWorld::build(default_scene(), world_settings(w->cache.path()), nullptr);
+  w->world = TissueWorld::build(default_scene(), world_settings(w->cache.path()), nullptr).value();
   w->liver = organ_named(default_scene(), "liver");
   if (w->liver >= 0) w->db = haptics::MeshDatabase::build(w->world->surface(w->liver));
   return w;
@@ -223,7 +223,7 @@ TEST(TissueWorld, ThreeSegmentsOnOneSpotDentItWithoutOvershootingTheTool) {
 TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
   const Scene& scene = default_scene();
   const test::TempDir cache;
-  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr);
+  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr).value();
   const int32_t duct = world->duct_organ();
   ASSERT_EQ(duct, organ_named(scene, "cystic_duct"));
   EXPECT_TRUE(world->two_sided(duct));
@@ -275,9 +275,9 @@ TEST(TissueWorld, AFastSessionDeformsTheOrgansItsToolsPress) {
   RuntimeSettings rs;
   rs.fast = true;
   rs.duration_s = 2.0;
-  std::string error;
-  auto session = Session::create(scene, std::move(devices), rs, &error);
-  ASSERT_NE(session, nullptr) << error;
+  auto created = Session::create(scene, std::move(devices), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  auto session = std::move(created).value();
   (void)session->run();
   const ModelSnapshot& m = session->graphics_model();
   int32_t moved = 0;

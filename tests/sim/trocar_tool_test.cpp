@@ -1,4 +1,4 @@
-#include "sim/trocar_tool.h"
+#include "sim/runtime/trocar_tool.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,216 @@
+// The segment proxy's response (§5.4): the constraints grouped into the thesis' contacts, each
+// contact's equilibrium point and spring force, and the forces distributed to the two ends.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "haptics/force_law.h"
+#include "haptics/segment_contact_geometry.h"
+#include "haptics/segment_proxy.h"
+
+namespace lap::haptics {
+namespace {
+
+// The part [u0, u1] of the probe (a, b, object frame) whose projection on face f's plane lies on
+// f's flat "face" (f and the faces among its PCPs): the contour points A and B of Figure 5-13c.
+// Returns false when no part does.
+bool portion_on_face(const SegmentDatabase& sd, int32_t f, const Eigen::Vector3d& a,
+                     const Eigen::Vector3d& b, double* u0, double* u1) {
+  const MeshDatabase& m = sd.mesh();
+  const Eigen::Vector3d& n = m.face_normal(f);
+  double lo = 2.0;
+  double hi = -1.0;
+  auto clip = [&](int32_t g) {
+    const auto& v = m.face_vertices(g);
+    double t0 = 0.0;
+    double t1 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = m.position(v[k]);
+      const Eigen::Vector3d inward = n.cross(m.position(v[(k + 1) % 3]) - p);  // in-plane
+      const double g0 = inward.dot(a - p);
+      const double g1 = inward.dot(b - a);
+      if (g1 == 0.0) {
+        if (g0 < 0.0) return;
+      } else {
+        const double t = -g0 / g1;
+        if (g1 > 0.0) {
+          t0 = std::max(t0, t);
+        } else {
+          t1 = std::min(t1, t);
+        }
+      }
+    }
+    if (t0 > t1) return;
+    lo = std::min(lo, t0);
+    hi = std::max(hi, t1);
+  };
+  clip(f);
+  for (const PrimitiveRef& p : sd.face_pcps(f)) {
+    if (p.kind == PrimitiveKind::kFace) clip(p.index);
+  }
+  if (lo > hi) return false;
+  *u0 = lo;
+  *u1 = hi;
+  return true;
+}
+
+// The face a contact lies on when the probe is within θε of its plane: the end point's face,
+// or the edge face whose normal the contact normal has taken (the α/β clamp). -1: none.
+int32_t face_of_contact(const MeshDatabase& m, const SegmentConstraint& c, double cos_eps) {
+  if (c.feature.kind == PrimitiveKind::kFace) return c.feature.index;
+  if (c.feature.kind == PrimitiveKind::kEdge) {
+    for (int32_t f : m.edge_faces(c.feature.index)) {
+      if (f >= 0 && m.face_normal(f).dot(c.normal_O) >= cos_eps) return f;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+// One thesis contact: the constraints of one object whose normals agree within θε (member[0,
+// count)); ia and ib are those with the smallest and the largest u, the contour's ends.
+struct SegmentProxy::ContactGroup {
+  std::array<int, kMaxConstraints> member{};
+  int count = 0;
+  int ia = 0;
+  int ib = 0;
+};
+
+// §5.4: group the constraints into the thesis' contacts, find each one's equilibrium point and
+// spring force, and distribute the forces to the two ends.
+void SegmentProxy::respond(std::span<const HapticObject> objects, double dt,
+                           SegmentProxyOutput* out) noexcept {
+  contact_count_ = 0;
+  const double cos_eps = std::cos(settings_.theta_epsilon_rad);
+  std::array<bool, kMaxConstraints> used{};
+  for (int i = 0; i < constraint_count_; ++i) {
+    if (used[i]) continue;
+    const ContactGroup group = gather_contact(i, cos_eps, &used);
+    const SegmentConstraint& ca = constraints_[group.ia];
+    SegmentContact& contact = contacts_[contact_count_++];
+    contact.object = ca.object;
+    contact.primitive = ca.feature;
+    contact.theta_rad = 0.0;
+    contact.u_a = ca.u;
+    contact.u_b = constraints_[group.ib].u;
+    widen_over_face(objects, group, cos_eps, &contact.u_a, &contact.u_b);
+    const Eigen::Vector3d plane_point = find_equilibrium(group, &contact);
+    apply_contact_force(objects, dt, plane_point, &contact, out);
+    const bool hold = contact.kind == SegmentContactKind::kSegmentFace &&
+                      std::abs(contact.theta_rad) < settings_.theta_epsilon_rad &&
+                      contact.depth_m > 0.0;
+    for (int k = 0; k < group.count; ++k) constraints_[group.member[k]].face_hold = hold;
+  }
+  out->ideal_a_W = ideal_a_;
+  out->ideal_b_W = ideal_b_;
+  out->contact_count = contact_count_;
+}
+
+SegmentProxy::ContactGroup SegmentProxy::gather_contact(
+    int i, double cos_eps, std::array<bool, kMaxConstraints>* used) const noexcept {
+  ContactGroup g;
+  g.member[g.count++] = i;
+  (*used)[i] = true;
+  for (int j = i + 1; j < constraint_count_; ++j) {
+    if (!(*used)[j] && constraints_[j].object == constraints_[i].object &&
+        constraints_[j].normal_W.dot(constraints_[i].normal_W) >= cos_eps) {
+      g.member[g.count++] = j;
+      (*used)[j] = true;
+    }
+  }
+  g.ia = g.member[0];
+  g.ib = g.member[0];
+  for (int k = 1; k < g.count; ++k) {
+    if (constraints_[g.member[k]].u < constraints_[g.ia].u) g.ia = g.member[k];
+    if (constraints_[g.member[k]].u > constraints_[g.ib].u) g.ib = g.member[k];
+  }
+  return g;
+}
+
+// A probe lying within θε of the contacted face touches the whole part of it over the face
+// (Figure 5-3c), even where no constraint was needed to hold it there.
+void SegmentProxy::widen_over_face(std::span<const HapticObject> objects, const ContactGroup& g,
+                                   double cos_eps, double* u_a, double* u_b) const noexcept {
+  const HapticObject& o = objects[constraints_[g.ia].object];
+  const MeshDatabase& m = o.segments->mesh();
+  const Eigen::Isometry3d inv = o.pose_WO.inverse();
+  const Eigen::Vector3d ia_O = inv * ideal_a_;
+  const Eigen::Vector3d ib_O = inv * ideal_b_;
+  // θ is measured on the virtual probe (the ideal one is held on the face).
+  const Eigen::Vector3d dir_O =
+      o.pose_WO.linear().transpose() * (virtual_b_ - virtual_a_).normalized();
+  const double sin_eps = std::sin(settings_.theta_epsilon_rad);
+  for (int k = 0; k < g.count; ++k) {
+    const int32_t f = face_of_contact(m, constraints_[g.member[k]], cos_eps);
+    if (f < 0 || std::abs(m.face_normal(f).dot(dir_O)) > sin_eps) continue;
+    double u0 = 0.0;
+    double u1 = 0.0;
+    if (portion_on_face(*o.segments, f, ia_O, ib_O, &u0, &u1)) {
+      *u_a = std::min(*u_a, u0);
+      *u_b = std::max(*u_b, u1);
+    }
+  }
+}
+
+// The contact's kind and equilibrium point: the contact point for point–polygon and
+// segment–edge contacts; for a segment–face contact (a contour [u_a, u_b] of some length), eq.
+// 5-2 from the probe's angle θ to the face.
+Eigen::Vector3d SegmentProxy::find_equilibrium(const ContactGroup& g,
+                                               SegmentContact* contact) const noexcept {
+  const SegmentConstraint& ca = constraints_[g.ia];
+  const SegmentConstraint& cb = constraints_[g.ib];
+  const double u_a = contact->u_a;
+  const double u_b = contact->u_b;
+  double u_eq = ca.u;
+  Eigen::Vector3d normal = ca.normal_W;
+  Eigen::Vector3d plane_point = ca.point_W;
+  if (u_b - u_a <= 1e-12) {
+    contact->kind =
+        ca.at_end ? SegmentContactKind::kPointPolygon : SegmentContactKind::kSegmentEdge;
+  } else {
+    contact->kind = SegmentContactKind::kSegmentFace;
+    normal = (ca.normal_W + cb.normal_W).normalized();
+    // θ: the virtual probe's angle to the face, positive when A is the deeper end (eq. 5-2).
+    const Eigen::Vector3d span =
+        lerp(virtual_a_, virtual_b_, u_b) - lerp(virtual_a_, virtual_b_, u_a);
+    const double len = span.norm();
+    const double sine = len > 0.0 ? std::clamp(normal.dot(span) / len, -1.0, 1.0) : 0.0;
+    contact->theta_rad = std::asin(sine);
+    const double r = std::clamp(contact->theta_rad / settings_.theta_epsilon_rad, -1.0, 1.0);
+    u_eq = 0.5 * (u_a + u_b) + r * 0.5 * (u_a - u_b);  // eq. 5-2, as fractions of L
+    // The face plane through the constraint points (all on it within the skin).
+    plane_point = ca.point_W + normal.dot(cb.point_W - ca.point_W) * 0.5 * normal;
+  }
+  contact->u_equilibrium = u_eq;
+  contact->normal_W = normal;
+  return plane_point;
+}
+
+// The contact's spring along its normal from the penetration of the virtual probe at the
+// equilibrium point (below the plane through plane_point), split to the two ends.
+void SegmentProxy::apply_contact_force(std::span<const HapticObject> objects, double dt,
+                                       const Eigen::Vector3d& plane_point, SegmentContact* contact,
+                                       SegmentProxyOutput* out) const noexcept {
+  const double u_eq = contact->u_equilibrium;
+  const Eigen::Vector3d& normal = contact->normal_W;
+  const Eigen::Vector3d x_virtual = lerp(virtual_a_, virtual_b_, u_eq);
+  const double depth = normal.dot(plane_point - x_virtual);
+  const Eigen::Vector3d velocity =
+      (lerp(virtual_a_, virtual_b_, u_eq) - lerp(prev_virtual_a_, prev_virtual_b_, u_eq)) / dt;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  if (depth > 0.0) {
+    force =
+        contact_force(objects[contact->object].law, -depth * normal, normal.dot(velocity) * normal);
+  }
+  contact->depth_m = depth;
+  contact->point_W = lerp(ideal_a_, ideal_b_, u_eq);
+  contact->force_W = force;
+  out->force_W += force;
+  out->force_a_W += (1.0 - u_eq) * force;  // eq. 5-1 / 5-4 / 5-5: the lever rule
+  out->force_b_W += u_eq * force;
+  out->torque_W += (x_virtual - virtual_b_).cross(force);  // eq. 5-3
+}
+
+}  // namespace lap::haptics

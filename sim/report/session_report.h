@@ -1,0 +1,32 @@
+#pragma once
+/// \file
+/// What a finished session leaves for review (instructors, `run --record`, the app's saved
+/// sessions): its metrics as JSON (loop statistics, watchdog events, device states, warnings,
+/// the state hash), and the folder that holds them beside the recorded inputs.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/result.h"
+#include "sim/runtime/session.h"
+
+namespace lap::sim {
+
+/// One loop's statistics (LoopStats) as a JSON object: ticks, rate, jitter quantiles [us], missed
+/// deadlines, overruns, step times [us].
+[[nodiscard]] nlohmann::ordered_json loop_json(const LoopStats& stats);
+
+/// The session's metrics as a JSON object (what `laptrainer-cli run` prints), keys in the order
+/// written.
+[[nodiscard]] nlohmann::ordered_json metrics_to_json(const SessionMetrics& m,
+                                                     const std::string& scenario, bool fast);
+/// The same, as indented text.
+[[nodiscard]] std::string metrics_json(const SessionMetrics& m, const std::string& scenario,
+                                       bool fast);
+
+/// Writes the session's recorded inputs (left.lapdev, right.lapdev) and `metrics_json` as
+/// metrics.json into `dir` (created if missing); diagnostics name the file on failure.
+[[nodiscard]] Status save_session(const Session& session, const SessionMetrics& m,
+                                  const std::string& scenario, bool fast, const std::string& dir);
+
+}  // namespace lap::sim

@@ -1,0 +1,525 @@
+#include "sim/runtime/session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include "sim/runtime/realtime_thread.h"
+
+namespace lap::sim {
+namespace {
+
+constexpr uint64_t kFnvPrime = 1099511628211ULL;
+
+void hash_bytes(uint64_t* h, const void* data, size_t n) noexcept {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < n; ++i) {
+    *h ^= p[i];
+    *h *= kFnvPrime;
+  }
+}
+
+void hash_vector(uint64_t* h, const Eigen::Vector3d& v) noexcept {
+  hash_bytes(h, v.data(), 3 * sizeof(double));
+}
+
+models::JawFrame jaw_frame(const haptics::GripperPose& pose) {
+  models::JawFrame j;
+  j.hinge_W = pose.hinge_W;
+  j.rotation_WJ.col(0) = pose.open_dir_W;
+  j.rotation_WJ.col(1) = pose.shaft_dir_W;
+  j.rotation_WJ.col(2) = pose.open_dir_W.cross(pose.shaft_dir_W);
+  j.opening_rad = pose.opening_rad;
+  return j;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::string_view to_string(WatchdogReason reason) {
+  switch (reason) {
+    case WatchdogReason::kOverrun:
+      return "haptic tick overran";
+    case WatchdogReason::kNonFinite:
+      return "non-finite force";
+    case WatchdogReason::kDeviceDisconnected:
+      return "device disconnected";
+    case WatchdogReason::kDeviceError:
+      return "device error";
+    case WatchdogReason::kModelFault:
+      return "model fault";
+  }
+  return "unknown";
+}
+
+Result<std::unique_ptr<Session>> Session::create(
+    const Scene& scene, std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices,
+    const RuntimeSettings& settings) {
+  std::array<DeviceDescription, 2> described;
+  for (size_t side = 0; side < 2; ++side) {
+    if (devices[side] == nullptr) {
+      return diagnostic("no device for the " + std::string(side == 0 ? "left" : "right") + " tool");
+    }
+    described[side] = describe(*devices[side]);
+  }
+  Result<std::shared_ptr<const SessionModel>> model =
+      SessionModel::build(scene, settings, described);
+  if (!model.ok()) return model.diagnostics();
+  return create(std::move(model).value(), std::move(devices));
+}
+
+Result<std::unique_ptr<Session>> Session::create(
+    std::shared_ptr<const SessionModel> model,
+    std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices) {
+  std::unique_ptr<Session> s(new Session());
+  s->model_ = std::move(model);
+  const SessionModel& m = *s->model_;
+  const SessionTiming& timing = m.timing();
+  s->haptic_stats_ = LoopStats(timing.dt_s);
+  s->model_stats_ = LoopStats(timing.model_dt_s);
+  s->warnings_ = m.notes();
+
+  // The tools: their devices (with the limits the model was built for), at their ports.
+  for (size_t side = 0; side < 2; ++side) {
+    const char* name = side == 0 ? "left" : "right";
+    Tool& tool = s->tools_[side];
+    tool.device = std::move(devices[side]);
+    if (tool.device == nullptr)
+      return diagnostic("no device for the " + std::string(name) + " tool");
+    const hardware::DeviceLimits& want = m.tool(side).device.limits;
+    const hardware::DeviceLimits& have = tool.device->limits();
+    if (have.max_force_n != want.max_force_n || have.max_torque_nm != want.max_torque_nm ||
+        have.max_squeeze_n != want.max_squeeze_n ||
+        have.max_stiffness_n_per_m != want.max_stiffness_n_per_m ||
+        have.max_force_rate_n_per_s != want.max_force_rate_n_per_s ||
+        !have.workspace_W.isApprox(want.workspace_W)) {
+      return diagnostic(std::string(tool.device->name()) + ": the " + name +
+                        " tool's device has other limits than the session model was built for");
+    }
+    tool.gripper = haptics::LaparoscopicGripper(m.tool(side).gripper);
+    tool.limiter = hardware::CommandLimiter(have);
+    tool.axis_W = m.tool(side).initial_axis_W;
+  }
+
+  // The tissue's state, and the proxies' surfaces: three copies of the model's rest databases
+  // for the modelling thread to keep up to date and hand to the haptic thread
+  // (haptic_surfaces.h).
+  s->world_ = TissueWorld::create(m.tissue_ptr());
+  {
+    const std::vector<const haptics::MeshDatabase*> dbs = m.rest_databases();
+    const std::vector<const haptics::SegmentDatabase*> sds = m.rest_segment_databases();
+    const std::vector<const haptics::ShadingNormals*> shading = m.rest_shading();
+    std::array<std::unique_ptr<HapticSurfaces>, 3> copies;
+    for (auto& c : copies) c = std::make_unique<HapticSurfaces>(dbs, sds, shading);
+    s->surfaces_to_haptic_.reset(std::move(copies));
+  }
+  s->objects_ = m.objects();
+  s->surfaces_to_haptic_.read()->point(s->objects_);
+
+  ModelSnapshot m0;
+  m0.catheter = s->world_->catheter().positions;
+  m0.organs = s->world_->make_deformations();
+  s->model_to_haptic_.reset(m0);
+  s->model_to_graphics_.reset(m0);
+
+  // Recording and event space for the whole duration (the haptic loop never allocates).
+  for (hardware::DeviceRecording& r : s->recordings_) {
+    r.period_s = timing.dt_s;
+    r.samples.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
+  }
+  s->events_.reserve(1024);
+
+  for (Tool& tool : s->tools_) {
+    if (Status started = tool.device->start(); !started.ok()) {
+      return diagnostic(std::string(tool.device->name()) + ": " + started.message());
+    }
+    tool.started = true;
+  }
+  return s;
+}
+
+Session::~Session() {
+  for (Tool& tool : tools_) {
+    if (tool.started && tool.device) tool.device->stop();
+  }
+}
+
+void Session::trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault) noexcept {
+  // A fault that lasts (a device still unplugged: the same fault tick after tick) is one
+  // event, not one per tick; a fault that comes back later is a new one.
+  const bool repeat = paused_.load(std::memory_order_relaxed) && !events_.empty() &&
+                      events_.back().tool == tool && events_.back().reason == reason &&
+                      tick <= last_trip_tick_ + 1;
+  last_trip_tick_ = tick;
+  if (repeat) {
+    gain_ = 0.0;
+    return;
+  }
+  if (events_.size() < events_.capacity()) {
+    events_.push_back({tick, tool, reason, fault});
+  } else {
+    ++events_dropped_;
+  }
+  paused_.store(true, std::memory_order_relaxed);
+  gain_ = 0.0;
+}
+
+// One haptic tick (§7.6), in its stages: the watchdog's checks and the newest model, each tool
+// read and put through its trocar with its proxies' wrench, the commands limited and sent, the
+// snapshots published.
+void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
+  const ModelSnapshot& model = take_up_model(tick, lateness_s);
+  HapticSnapshot& snap = to_model_.write_slot();
+  snap.tick = tick;
+  std::array<hardware::DeviceCommand, 2> wanted{};
+  for (size_t i = 0; i < 2; ++i) {
+    ToolKinematics k;
+    if (!read_tool(i, tick, &k)) continue;  // keep the tool where it was
+    wanted[i] = tool_command(i, k, model, &snap.tools[i], tick);
+  }
+  send_commands(tick, wanted, snap);
+  publish_haptic(snap, lateness_s);
+}
+
+// Resume, the overrun check, a model's fault, and the surfaces as the modelling loop last
+// deformed them (already refitted there): the proxies feel them from this tick on.
+const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noexcept {
+  if (resume_requested_.exchange(false, std::memory_order_relaxed) &&
+      paused_.load(std::memory_order_relaxed)) {
+    paused_.store(false, std::memory_order_relaxed);
+    gain_ = 0.0;
+  }
+  const SessionTiming& timing = model_->timing();
+  if (lateness_s > model_->settings().overrun_periods * timing.dt_s) {
+    trip(tick, -1, WatchdogReason::kOverrun);
+  }
+  const ModelSnapshot& model = model_to_haptic_.latest();
+  if (model.faults > model_faults_seen_) {
+    model_faults_seen_ = model.faults;
+    trip(tick, -1, WatchdogReason::kModelFault, model.last_fault);
+  }
+  if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
+  return model;
+}
+
+// Reads tool i's device, records the sample, and puts the tool through its trocar. False (and
+// the watchdog told) when the sample is not finite.
+bool Session::read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept {
+  Tool& tool = tools_[i];
+  hardware::DeviceSample sample;
+  const hardware::DeviceStatus st = tool.device->read(tick, model_->timing().dt_s, &sample);
+  tool.status = st;
+  if (st == hardware::DeviceStatus::kFinished) tool.finished = true;
+  if (st == hardware::DeviceStatus::kDisconnected) {
+    trip(tick, static_cast<int32_t>(i), WatchdogReason::kDeviceDisconnected);
+  } else if (st == hardware::DeviceStatus::kError) {
+    trip(tick, static_cast<int32_t>(i), WatchdogReason::kDeviceError);
+  }
+  hardware::DeviceRecording& rec = recordings_[i];
+  if (rec.samples.size() < rec.samples.capacity()) {
+    rec.samples.push_back({tick, sample, st});
+  } else {
+    ++dropped_samples_;
+  }
+  const bool sample_ok = sample.position_W.allFinite() &&
+                         sample.orientation_W.coeffs().allFinite() &&
+                         std::isfinite(sample.gripper_angle_rad);
+  if (!sample_ok) {
+    trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+    return false;
+  }
+  *k = tool_kinematics(model_->tool(i).trocar, sample, tool.axis_W);
+  tool.axis_W = k->axis_W;
+  return true;
+}
+
+// The tool's proxies against the organs, the virtual couplings to what its jaws hold, and the
+// command at the handle through the fulcrum; its contacts for the tissue models.
+hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
+                                              const ModelSnapshot& model, ToolSnapshot* ts,
+                                              int64_t tick) noexcept {
+  Tool& tool = tools_[i];
+  const haptics::GripperOutput out = tool.gripper.step(objects_, k.pose, model_->timing().dt_s);
+  Eigen::Vector3d force = out.force_W;
+  double squeeze = out.squeeze_n;
+  const TissueModel& tissue = model_->tissue();
+  const models::GraspState& grasp = model.grasps[i];
+  if (grasp.grasping()) {
+    // The virtual coupling to the grasped catheter at the haptic rate, against the particles
+    // where the modelling loop last put them (catheter_grasp.h); the squeeze from the jaws'
+    // closure on it.
+    const models::JawFrame jaws = jaw_frame(k.pose);
+    force += models::coupling_force(tissue.settings().catheter_grasp, jaws, model.catheter, grasp);
+    squeeze = std::max(squeeze, grasp_squeeze(tissue.settings().catheter_grasp, jaws,
+                                              tissue.catheter_model(), grasp));
+  }
+  const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
+  if (duct_grasp.grasping() && tissue.duct_organ() >= 0) {
+    // The same for grasped tissue, against the duct's wall as this loop's database has it.
+    const models::DuctCoupling c = models::duct_coupling(
+        tissue.settings().duct_grasp, jaw_frame(k.pose), Eigen::Isometry3d::Identity(),
+        surfaces_to_haptic_.read()->positions(tissue.duct_organ()), duct_grasp);
+    force += c.force_on_tool_W;
+    squeeze = std::max(squeeze, c.squeeze_n);
+  }
+  if (out.fault || !force.allFinite()) {
+    trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+    force.setZero();
+  }
+  ts->pose = k.pose;
+  ts->contacts =
+      out.segments[0].contact_count + out.segments[1].contact_count + out.segments[2].contact_count;
+  // The tools' contacts for the tissue models: where each segment presses on which organ.
+  ts->organ_contact_count = 0;
+  for (int seg = 0; seg < 3; ++seg) {
+    for (const haptics::SegmentContact& c : tool.gripper.proxy(seg).contacts()) {
+      if (ts->organ_contact_count >= ToolModelInput::kMaxContacts) break;
+      ToolContact& tc = ts->organ_contacts[static_cast<size_t>(ts->organ_contact_count++)];
+      tc.organ = c.object;
+      tc.primitive = c.primitive;
+      tc.point_W = c.point_W;
+      tc.force_on_organ_W = -c.force_W;
+    }
+  }
+  return handle_command(k, force, out.torque_W, squeeze);
+}
+
+// Limits, the watchdog's zero, and the resume ramp; then write, and hash what was sent.
+void Session::send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
+                            const HapticSnapshot& snap) noexcept {
+  const double dt = model_->timing().dt_s;
+  const double ramp_s = model_->settings().resume_ramp_s;
+  const bool paused = paused_.load(std::memory_order_relaxed);
+  if (!paused && gain_ < 1.0) gain_ = ramp_s > 0.0 ? std::min(1.0, gain_ + dt / ramp_s) : 1.0;
+  std::array<hardware::DeviceCommand, 2> sent{};
+  if (!paused) {
+    for (size_t i = 0; i < 2; ++i) {
+      const hardware::LimitedCommand l = tools_[i].limiter.apply(wanted[i], dt, gain_);
+      if (l.non_finite) trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+      sent[i] = l.command;
+    }
+  }
+  // Paused before this tick or by it: zero, past the rate limit.
+  if (paused_.load(std::memory_order_relaxed)) {
+    for (size_t i = 0; i < 2; ++i) sent[i] = tools_[i].limiter.zero();
+  }
+  for (size_t i = 0; i < 2; ++i) {
+    const hardware::DeviceStatus st = tools_[i].device->write(sent[i]);
+    if (st == hardware::DeviceStatus::kDisconnected || st == hardware::DeviceStatus::kError) {
+      trip(tick, static_cast<int32_t>(i),
+           st == hardware::DeviceStatus::kError ? WatchdogReason::kDeviceError
+                                                : WatchdogReason::kDeviceDisconnected);
+    }
+    max_force_sent_n_ = std::max(max_force_sent_n_, sent[i].force_W.norm());
+    hash_vector(&hash_, sent[i].force_W);
+    hash_vector(&hash_, sent[i].torque_W);
+    hash_bytes(&hash_, &sent[i].squeeze_n, sizeof(double));
+    hash_vector(&hash_, snap.tools[i].pose.hinge_W);
+  }
+}
+
+void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
+  snap.paused = paused_.load(std::memory_order_relaxed);
+  worst_lateness_s_ = std::max(worst_lateness_s_, lateness_s);
+  if (lateness_s > LoopStats::kMissedLateS) ++missed_deadlines_;
+  snap.worst_lateness_s = worst_lateness_s_;
+  snap.missed_deadlines = missed_deadlines_;
+  if (!events_.empty()) snap.last_reason = events_.back().reason;
+  to_graphics_.publish(snap);
+  to_model_.publish();
+}
+
+void Session::model_tick(int64_t tick) noexcept {
+  const HapticSnapshot& h = to_model_.latest();
+  for (size_t i = 0; i < 2; ++i) {
+    ToolModelInput& in = model_input_[i];
+    in.valid = h.tick >= 0;
+    if (!in.valid) continue;
+    const ToolSnapshot& t = h.tools[i];
+    in.jaws = jaw_frame(t.pose);
+    in.contact_count = t.organ_contact_count;
+    in.contacts = t.organ_contacts;
+  }
+  if (tick == injected_fault_tick_) world_->inject_non_finite(injected_fault_);
+  const ModelFault fault = world_->step(model_input_, model_->timing().model_dt_s);
+  ++model_steps_;
+  if (fault) ++model_faults_;
+  for (const Eigen::Vector3d& p : world_->catheter().positions) hash_vector(&model_hash_, p);
+  for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
+    ModelSnapshot& m = buf->write_slot();
+    m.tick = tick;
+    m.steps = model_steps_;
+    m.catheter = world_->catheter().positions;  // same size: no allocation
+    m.grasps = world_->catheter_grasps();
+    m.duct_grasps = world_->duct_grasps();
+    m.squeeze = world_->squeeze();
+    m.catheter_contacts = world_->catheter_contacts();
+    m.deepest_dent_m = world_->deepest_dent_m();
+    world_->write_deformations(&m.organs);  // sized at set-up: no allocation
+    m.faults = model_faults_;
+    if (fault) m.last_fault = fault;
+    if (buf == &model_to_haptic_) {
+      // The proxies' next copy of the surfaces takes up the same deformations here, on this
+      // thread, so the haptic step only switches to it.
+      surfaces_to_haptic_.write_slot()->take_up(m.organs, model_steps_);
+      surfaces_to_haptic_.publish();
+    }
+    buf->publish();
+  }
+}
+
+void Session::run_fast() {
+  const SessionTiming& timing = model_->timing();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int64_t tick = 0; tick < timing.max_ticks; ++tick) {
+    if (stop_.load(std::memory_order_relaxed)) break;
+    const double late = tick == injected_late_tick_ ? injected_late_s_ : 0.0;
+    const auto a = std::chrono::steady_clock::now();
+    haptic_tick(tick, late);
+    haptic_stats_.add(late, seconds_since(a));
+    if (tick % timing.ticks_per_model == 0) {
+      const auto b = std::chrono::steady_clock::now();
+      model_tick(tick);
+      model_stats_.add(0.0, seconds_since(b));
+    }
+    if (tools_[0].finished && tools_[1].finished) break;
+  }
+  const double elapsed = seconds_since(t0);
+  haptic_stats_.set_elapsed(elapsed);
+  model_stats_.set_elapsed(elapsed);
+}
+
+void Session::run_realtime() {
+  const RuntimeSettings& settings = model_->settings();
+  const SessionTiming& timing = model_->timing();
+  if (settings.realtime_priority) {
+    const std::string mem = lock_memory();
+    if (!mem.empty()) {
+      warnings_.push_back(mem);
+      memory_warning_ = mem;
+      scheduling_flags_.fetch_or(2U, std::memory_order_release);
+    }
+  }
+  std::string haptic_warning;
+  std::string model_warning;
+  const int64_t period_ns = std::llround(timing.dt_s * 1e9);
+  const int64_t model_period_ns = period_ns * timing.ticks_per_model;
+  // The schedule starts once the haptic thread runs at its priority: starting a thread (its
+  // stack populated under mlockall) can take tens of milliseconds, which would otherwise make
+  // the first ticks late and trip the watchdog before the session has begun.
+  std::atomic<int64_t> start{0};
+  haptic_done_.store(false);
+  int isolated_cpu = -1;
+  std::thread haptic([&] {
+    if (settings.realtime_priority) haptic_warning = request_realtime_priority(80);
+    if (settings.isolate_haptic_processor) {
+      const Result<int> cpu = isolate_calling_thread();
+      isolated_cpu = cpu.ok() ? cpu.value() : -1;
+    }
+    if (!haptic_warning.empty()) {  // before the first tick: the string may allocate
+      priority_warning_ = haptic_warning;
+      scheduling_flags_.fetch_or(1U, std::memory_order_release);
+    }
+    const int64_t start_ns = monotonic_ns() + 5 * period_ns;
+    start.store(start_ns, std::memory_order_release);
+    for (int64_t tick = 0; tick < timing.max_ticks; ++tick) {
+      if (stop_.load(std::memory_order_relaxed)) break;
+      const int64_t deadline = start_ns + tick * period_ns;
+      sleep_until_ns(deadline, settings.spin_ns);
+      const int64_t begin = monotonic_ns();
+      const double late = static_cast<double>(begin - deadline) * 1e-9;
+      haptic_tick(tick, late);
+      haptic_stats_.add(late, static_cast<double>(monotonic_ns() - begin) * 1e-9);
+      if (tools_[0].finished && tools_[1].finished) break;
+    }
+    haptic_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
+    haptic_done_.store(true);
+  });
+  std::thread model([&] {
+    // Below the haptic thread, above rendering: a software-rendered frame can hold both cores
+    // for tens of milliseconds, which would starve a best-effort modelling loop.
+    if (settings.realtime_priority) model_warning = request_realtime_priority(60);
+    int64_t start_ns = 0;
+    while ((start_ns = start.load(std::memory_order_acquire)) == 0) {
+      sleep_until_ns(monotonic_ns() + period_ns, 0);
+    }
+    for (int64_t k = 0; !haptic_done_.load(); ++k) {
+      const int64_t deadline = start_ns + k * model_period_ns;
+      sleep_until_ns(deadline, 0);
+      const int64_t begin = monotonic_ns();
+      model_tick(k * timing.ticks_per_model);
+      const int64_t end = monotonic_ns();
+      model_stats_.add(static_cast<double>(begin - deadline) * 1e-9,
+                       static_cast<double>(end - begin) * 1e-9);
+      // Periods already past are skipped, not caught up: a model step is worth taking only on
+      // fresh inputs, and a real-time thread that never sleeps would starve the rest.
+      k = std::max(k, (end - start_ns) / model_period_ns);
+    }
+    model_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
+  });
+  haptic.join();
+  model.join();
+  release_isolated_processor(isolated_cpu);
+  if (!haptic_warning.empty()) warnings_.push_back(haptic_warning);
+  if (!model_warning.empty()) warnings_.push_back("modelling loop: " + model_warning);
+}
+
+std::vector<std::string> Session::scheduling_warnings() const {
+  const uint8_t flags = scheduling_flags_.load(std::memory_order_acquire);
+  std::vector<std::string> w;
+  if ((flags & 1U) != 0) w.push_back(priority_warning_);
+  if ((flags & 2U) != 0) w.push_back(memory_warning_);
+  return w;
+}
+
+SessionMetrics Session::run() {
+  if (model_->settings().fast) {
+    run_fast();
+  } else {
+    run_realtime();
+  }
+  // The devices feel nothing once the session is over.
+  for (Tool& tool : tools_) {
+    tool.limiter.zero();
+    (void)tool.device->write(hardware::DeviceCommand{});
+  }
+  SessionMetrics m;
+  m.haptic = haptic_stats_;
+  m.model = model_stats_;
+  m.paused = paused_.load();
+  m.events = events_;
+  m.recorded_ticks = static_cast<int64_t>(recordings_[0].samples.size());
+  m.dropped_samples = dropped_samples_;
+  // Each loop hashes its own state (no sharing between threads); the two are combined here.
+  m.state_hash = hash_;
+  hash_bytes(&m.state_hash, &model_hash_, sizeof(model_hash_));
+  m.device_status = {tools_[0].status, tools_[1].status};
+  m.warnings = warnings_;
+  if (events_dropped_ > 0) {
+    m.warnings.push_back(std::to_string(events_dropped_) + " watchdog events beyond the first " +
+                         std::to_string(events_.size()) + " were counted but not listed");
+  }
+  m.max_force_sent_n = max_force_sent_n_;
+  return m;
+}
+
+Status Session::write_recording(const std::string& dir) const {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return Diagnostic{dir, 0, "", "cannot create the recording folder: " + ec.message()};
+  const std::filesystem::path d(dir);
+  for (size_t i = 0; i < 2; ++i) {
+    Status written = hardware::write_device_recording(d / (i == 0 ? "left.lapdev" : "right.lapdev"),
+                                                      recordings_[i]);
+    if (!written.ok()) return written;
+  }
+  return {};
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,269 @@
+#pragma once
+/// \file
+/// A running session: the three loops of docs/architecture.md over a loaded scene (thesis §6.5,
+/// §7.6: haptics fastest, modelling slower, graphics slowest), two tools each driven by a
+/// device through its trocar, the watchdog, and the recording of every device input.
+///
+/// - Haptic loop (default 1 kHz): read both devices, tool kinematics through the trocars, the
+///   three-segment gripper proxies against the organs, the virtual coupling to a grasped
+///   catheter, the wrench back through the fulcrum, limits, write both devices. No allocation,
+///   lock or exception after start-up.
+/// - Modelling loop (default 200 Hz): the tissue world (tissue_world.h): grasping the catheter
+///   and the duct, the mass-spring catheter (§7.7(3)) and its contacts, organs dented by the tools
+///   and the catheter (§6.5), the duct's modes (§7.7(2)); it publishes the deformed surfaces for
+///   the graphics, and brings the proxies' next copy of the surfaces up to date with them
+///   (haptic_surfaces.h), which the haptic loop switches to.
+/// - Graphics: whoever shows the session reads snapshots (graphics_snapshot()).
+/// The loops exchange whole snapshots through triple buffers: nobody waits for anybody.
+///
+/// Real time: the haptic and modelling loops are threads woken at absolute times. --fast: the
+/// same ticks run in lockstep in the calling thread as fast as possible, so a run is a pure
+/// function of its inputs (state_hash) — replays reproduce a recorded session bit for bit.
+///
+/// Watchdog: a haptic tick starting more than 2 periods late, a non-finite force, a device that
+/// reports an error or a disconnect, or a model that met a non-finite value in the modelling
+/// step (its fault published with the step's snapshot, which the next haptic tick reads) sends
+/// zero force on that tick, pauses the session (forces stay zero; proxies, models and recording
+/// go on) and records why; resume() ramps the forces back in.
+///
+/// Model apart from state: everything fixed once the session is set up is one SessionModel
+/// (sim/setup/session_model.h) that both loops read `const`; the session owns only state,
+/// buffers and threads.
+
+#include <array>
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "haptics/laparoscopic_gripper.h"
+#include "haptics/mesh_database.h"
+#include "haptics/segment_database.h"
+#include "hardware/command_limiter.h"
+#include "hardware/device_recording.h"
+#include "hardware/haptic_device.h"
+#include "hardware/triple_buffer.h"
+#include "models/catheter_grasp.h"
+#include "models/catheter_model.h"
+#include "sim/runtime/deformed_surface.h"
+#include "sim/runtime/haptic_surfaces.h"
+#include "sim/runtime/loop_stats.h"
+#include "sim/runtime/tissue_world.h"
+#include "sim/runtime/trocar_tool.h"
+#include "sim/setup/organ_surface.h"
+#include "sim/setup/runtime_settings.h"
+#include "sim/setup/scene.h"
+#include "sim/setup/session_model.h"
+
+namespace lap::sim {
+
+enum class WatchdogReason : uint8_t {
+  kOverrun,
+  kNonFinite,
+  kDeviceDisconnected,
+  kDeviceError,
+  kModelFault,  ///< a tissue model met a non-finite value (WatchdogEvent::model_fault says which)
+};
+[[nodiscard]] std::string_view to_string(WatchdogReason reason);
+
+struct WatchdogEvent {
+  int64_t tick = 0;
+  int32_t tool = -1;  ///< 0 left, 1 right, -1 the loop itself
+  WatchdogReason reason = WatchdogReason::kOverrun;
+  ModelFault model_fault;  ///< kModelFault: which model, on which organ
+};
+
+struct ToolSnapshot {
+  haptics::GripperPose pose;  ///< the tool as the device put it
+  int32_t contacts = 0;       ///< over its three segments
+  /// Its contacts with the organs (the first kMaxContacts), for the tissue models.
+  int32_t organ_contact_count = 0;
+  std::array<ToolContact, ToolModelInput::kMaxContacts> organ_contacts{};
+};
+
+struct HapticSnapshot {
+  int64_t tick = -1;
+  bool paused = false;
+  std::array<ToolSnapshot, 2> tools{};
+  // The loop's own figures, for the app to show while the session runs.
+  double worst_lateness_s = 0.0;  ///< so far
+  int64_t missed_deadlines = 0;   ///< ticks started more than 2 ms late, so far
+  WatchdogReason last_reason = WatchdogReason::kOverrun;  ///< of the latest event, if any
+};
+
+struct ModelSnapshot {
+  int64_t tick = -1;                      ///< the haptic tick this step belongs to
+  int64_t steps = 0;                      ///< modelling steps so far
+  std::vector<Eigen::Vector3d> catheter;  ///< particle positions [m]
+  std::array<models::GraspState, 2> grasps{};
+  std::array<models::DuctGraspState, 2> duct_grasps{};
+  std::array<double, 2> squeeze{};         ///< of each tool's jaws on what they hold [N]
+  int32_t catheter_contacts = 0;           ///< particles touching an organ or the duct
+  double deepest_dent_m = 0.0;             ///< largest displacement of a surface vertex
+  std::vector<SurfaceDeformation> organs;  ///< each organ's deformed vertices (world frame)
+  int64_t faults = 0;                      ///< modelling steps so far in which a model faulted
+  ModelFault last_fault;                   ///< the latest of them
+};
+
+struct SessionMetrics {
+  LoopStats haptic;
+  LoopStats model;
+  bool paused = false;
+  std::vector<WatchdogEvent> events;
+  int64_t recorded_ticks = 0;
+  int64_t dropped_samples = 0;  ///< inputs not recorded because the recording was full
+  uint64_t state_hash = 0;
+  std::array<hardware::DeviceStatus, 2> device_status{};
+  std::vector<std::string> warnings;
+  double max_force_sent_n = 0.0;
+};
+
+class Session {
+ public:
+  /// Set-up over a session model: each tool's device (whose limits must be the ones the model
+  /// was built for), the proxies' surfaces, the tissue's state, recording space for the whole
+  /// duration. Devices are started here.
+  static Result<std::unique_ptr<Session>> create(
+      std::shared_ptr<const SessionModel> model,
+      std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices);
+  /// The model built from the scene and the devices' limits, then the session.
+  static Result<std::unique_ptr<Session>> create(
+      const Scene& scene, std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices,
+      const RuntimeSettings& settings);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  Session(Session&&) = delete;
+  Session& operator=(Session&&) = delete;
+
+  /// Runs the session to its end (fast or real time) and returns the metrics.
+  SessionMetrics run();
+  /// Any thread: end the session at the next tick.
+  void request_stop() { stop_.store(true, std::memory_order_relaxed); }
+  /// Scheduling problems the loops met as they started (SCHED_FIFO or mlockall refused: the
+  /// loops then run best effort), for showing while the session runs. Any thread.
+  [[nodiscard]] std::vector<std::string> scheduling_warnings() const;
+  /// Any thread: un-pause; forces ramp back in over resume_ramp_s.
+  void resume() { resume_requested_.store(true, std::memory_order_relaxed); }
+  [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_relaxed); }
+
+  /// Tests (fast mode): make tick `tick` start `late_s` late, as a stalled loop would.
+  void inject_lateness(int64_t tick, double late_s) {
+    injected_late_tick_ = tick;
+    injected_late_s_ = late_s;
+  }
+  /// Tests (fast mode): the modelling step of haptic tick `tick` puts a non-finite value into
+  /// model `kind` (TissueWorld::inject_non_finite), as a numerical blow-up would.
+  void inject_model_fault(int64_t tick, ModelFaultKind kind) {
+    injected_fault_tick_ = tick;
+    injected_fault_ = kind;
+  }
+
+  [[nodiscard]] const SessionModel& model() const { return *model_; }
+
+  /// The graphics loop (one reader): the newest haptic and model snapshots.
+  const HapticSnapshot& graphics_haptic() { return to_graphics_.latest(); }
+  const ModelSnapshot& graphics_model() { return model_to_graphics_.latest(); }
+
+  /// Every device's inputs so far (the recording keeps what was recorded when a session
+  /// pauses or stops early).
+  [[nodiscard]] const hardware::DeviceRecording& recording(int tool) const {
+    return recordings_[static_cast<size_t>(tool)];
+  }
+  /// Writes DIR/left.lapdev, DIR/right.lapdev; diagnostics name the file on failure.
+  [[nodiscard]] Status write_recording(const std::string& dir) const;
+
+  [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
+    return model_->tool(static_cast<size_t>(tool)).gripper;
+  }
+  /// The organs' surfaces at rest as the session renders and feels them (the duct: its shell);
+  /// ModelSnapshot::organs deforms them.
+  [[nodiscard]] int32_t organ_count() const { return world_->organ_count(); }
+  [[nodiscard]] const haptics::TriangleMesh& organ_surface(int32_t organ) const {
+    return world_->surface(organ);
+  }
+
+ private:
+  Session() = default;
+  void haptic_tick(int64_t tick, double lateness_s) noexcept;
+  const ModelSnapshot& take_up_model(int64_t tick, double lateness_s) noexcept;
+  bool read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept;
+  hardware::DeviceCommand tool_command(size_t i, const ToolKinematics& k,
+                                       const ModelSnapshot& model, ToolSnapshot* ts,
+                                       int64_t tick) noexcept;
+  void send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
+                     const HapticSnapshot& snap) noexcept;
+  void publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept;
+  void model_tick(int64_t tick) noexcept;
+  void trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault = {}) noexcept;
+  void run_fast();
+  void run_realtime();
+
+  /// A tool's state: its device, its proxies, its limiter, where its shaft points.
+  struct Tool {
+    std::unique_ptr<hardware::HapticDevice> device;
+    haptics::LaparoscopicGripper gripper;
+    hardware::CommandLimiter limiter;
+    Eigen::Vector3d axis_W = Eigen::Vector3d::UnitY();
+    bool started = false;
+    bool finished = false;
+    hardware::DeviceStatus status = hardware::DeviceStatus::kOk;
+  };
+
+  std::shared_ptr<const SessionModel> model_;  ///< both loops read it const
+
+  // The organs as this session's proxies see them (the model's objects, pointed at the
+  // surfaces' newest copy) and the tools.
+  std::vector<haptics::HapticObject> objects_;
+  std::array<Tool, 2> tools_;
+
+  // Models' state (the modelling thread's own).
+  std::unique_ptr<TissueWorld> world_;
+  std::array<ToolModelInput, 2> model_input_{};
+  int64_t model_faults_ = 0;  ///< modelling thread
+  int64_t injected_fault_tick_ = -1;
+  ModelFaultKind injected_fault_ = ModelFaultKind::kNone;
+  // Scheduling warnings, published once each (bit 0: the haptic thread's priority, bit 1: the
+  // memory lock); each string is written before its bit is set and never after.
+  std::string priority_warning_;
+  std::string memory_warning_;
+  std::atomic<uint8_t> scheduling_flags_{0};
+  // The proxies' surfaces: three copies, brought up to date by the modelling thread.
+  hardware::TripleBuffer<std::unique_ptr<HapticSurfaces>> surfaces_to_haptic_;
+
+  // Exchange (each buffer: one writer, one reader).
+  hardware::TripleBuffer<HapticSnapshot> to_model_;
+  hardware::TripleBuffer<HapticSnapshot> to_graphics_;
+  hardware::TripleBuffer<ModelSnapshot> model_to_haptic_;
+  hardware::TripleBuffer<ModelSnapshot> model_to_graphics_;
+
+  // Watchdog and safety (haptic thread).
+  std::atomic<bool> paused_{false};
+  std::atomic<bool> resume_requested_{false};
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> haptic_done_{false};
+  double gain_ = 1.0;
+  std::vector<WatchdogEvent> events_;  ///< capacity reserved at set-up
+  int64_t events_dropped_ = 0;
+  int64_t last_trip_tick_ = -2;  ///< for telling a lasting fault from a new one
+  int64_t model_faults_seen_ = 0;
+  int64_t injected_late_tick_ = -1;
+  double injected_late_s_ = 0.0;
+  double max_force_sent_n_ = 0.0;
+  double worst_lateness_s_ = 0.0;
+  int64_t missed_deadlines_ = 0;
+  int64_t model_steps_ = 0;  ///< modelling thread
+
+  // Recording (haptic thread writes, capacity reserved at set-up).
+  std::array<hardware::DeviceRecording, 2> recordings_{};
+  int64_t dropped_samples_ = 0;
+  uint64_t hash_ = 1469598103934665603ULL;        ///< haptic thread: commands, tool poses
+  uint64_t model_hash_ = 1469598103934665603ULL;  ///< modelling thread: catheter
+
+  LoopStats haptic_stats_;
+  LoopStats model_stats_;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace lap::sim

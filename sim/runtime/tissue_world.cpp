@@ -1,0 +1,259 @@
+#include "sim/runtime/tissue_world.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace lap::sim {
+
+std::string_view to_string(ModelFaultKind kind) {
+  switch (kind) {
+    case ModelFaultKind::kNone:
+      return "";
+    case ModelFaultKind::kCatheter:
+      return "catheter";
+    case ModelFaultKind::kLocalDeformation:
+      return "local deformation";
+    case ModelFaultKind::kModalShell:
+      return "modal shell";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<TissueWorld> TissueWorld::create(std::shared_ptr<const TissueModel> model) {
+  std::unique_ptr<TissueWorld> w(new TissueWorld());
+  w->model_ = std::move(model);
+  const TissueModel& m = *w->model_;
+  const TissueWorldSettings& settings = m.settings();
+  w->catheter_ = std::make_unique<models::CatheterState>(
+      m.catheter_model(), settings.catheter_start_W, settings.catheter_direction_W);
+  w->catheter_->fixed[0] = 1;  // where it enters: held
+  const size_t particles = w->catheter_->positions.size();
+  if (m.duct_organ() >= 0) {
+    const haptics::TriangleMesh& wall = m.surface(m.duct_organ());
+    w->duct_state_ = std::make_unique<models::ModalShellState>(*m.duct().model);
+    w->duct_wall_ = std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(wall));
+    w->duct_scratch_ = std::make_unique<haptics::MeshUpdateScratch>(*w->duct_wall_);
+    w->duct_positions_W_ = wall.positions;
+    w->duct_all_nodes_.resize(wall.positions.size());
+    for (size_t v = 0; v < w->duct_all_nodes_.size(); ++v) {
+      w->duct_all_nodes_[v] = static_cast<int32_t>(v);
+    }
+  }
+  for (int32_t i = 0; i < m.organ_count(); ++i) {
+    const OrganTissue& t = m.organ(i);
+    OrganState s;
+    if (t.kind == TissueKind::kLocal) {
+      s.local = std::make_unique<models::LocalDeformationState>(*t.local);
+      s.dents.resize(particles + static_cast<size_t>(2 * ToolModelInput::kMaxContacts));
+    }
+    w->organs_.push_back(std::move(s));
+    w->organs_.back().tracking = std::make_unique<models::SurfaceTracking>(
+        w->contact_surface(i), Eigen::Isometry3d::Identity(), *w->catheter_);
+    w->organs_.back().reactions.resize(particles);
+  }
+  return w;
+}
+
+Result<std::unique_ptr<TissueWorld>> TissueWorld::build(const Scene& scene,
+                                                        const TissueWorldSettings& settings,
+                                                        std::vector<std::string>* notes) {
+  Result<std::shared_ptr<const TissueModel>> model = TissueModel::build(scene, settings, notes);
+  if (!model.ok()) return model.diagnostics();
+  return create(std::move(model).value());
+}
+
+const haptics::MeshDatabase& TissueWorld::contact_surface(int32_t organ) const {
+  const OrganTissue& t = model_->organ(organ);
+  return t.kind == TissueKind::kDuct ? *duct_wall_ : *t.rest;
+}
+
+ModelFault TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double dt) noexcept {
+  ModelFault fault;
+  grasp(tools);
+  find_catheter_contacts();
+  // 3. The catheter.
+  if (injected_ == ModelFaultKind::kCatheter) {
+    catheter_->velocities.back().x() = std::numeric_limits<double>::quiet_NaN();
+  }
+  if (!models::step_catheter(model_->catheter_model(), catheter_.get(), dt)) {
+    fault = {ModelFaultKind::kCatheter, -1};
+  }
+  deepest_dent_ = 0.0;
+  for (int32_t i = 0; i < static_cast<int32_t>(organs_.size()); ++i) {
+    OrganState& s = organs_[static_cast<size_t>(i)];
+    const std::span<models::SurfaceReaction> reactions(s.reactions.data(),
+                                                       static_cast<size_t>(s.reaction_count));
+    models::settle_reactions(*catheter_, reactions);
+    const TissueKind kind = model_->organ(i).kind;
+    bool ok = true;
+    if (kind == TissueKind::kLocal) {
+      ok = dent_local_organ(i, tools, reactions);
+      if (!ok && !fault) fault = {ModelFaultKind::kLocalDeformation, i};
+    } else if (kind == TissueKind::kDuct) {
+      ok = step_duct(i, tools, reactions, dt);
+      if (!ok && !fault) fault = {ModelFaultKind::kModalShell, i};
+    }
+  }
+  injected_ = ModelFaultKind::kNone;
+  return fault;
+}
+
+void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools) noexcept {
+  // 1. Grasps (their anchors are set afresh each step).
+  const TissueWorldSettings& settings = model_->settings();
+  const DuctTissue& duct = model_->duct();
+  if (duct_state_) models::clear_node_anchors(duct_state_.get());
+  for (size_t t = 0; t < 2; ++t) {
+    squeeze_[t] = 0.0;
+    if (!tools[t].valid) continue;
+    const models::GraspOutput g =
+        models::update_grasp(settings.catheter_grasp, tools[t].jaws, model_->catheter_model(),
+                             catheter_.get(), &catheter_grasps_[t]);
+    squeeze_[t] = g.squeeze_n;
+    if (duct_state_) {
+      const models::DuctGraspOutput d =
+          models::update_duct_grasp(settings.duct_grasp, tools[t].jaws, duct.pose_WD, duct.rest_D,
+                                    *duct.model, duct_state_.get(), &duct_grasps_[t]);
+      squeeze_[t] = std::max(squeeze_[t], d.squeeze_n);
+    }
+  }
+}
+
+void TissueWorld::find_catheter_contacts() noexcept {
+  // 2. The catheter's contacts: organs at rest, the duct as it is now.
+  models::clear_contacts(catheter_.get());
+  catheter_contacts_ = 0;
+  for (int32_t i = 0; i < static_cast<int32_t>(organs_.size()); ++i) {
+    OrganState& s = organs_[static_cast<size_t>(i)];
+    s.reaction_count = models::update_surface_contacts(
+        contact_surface(i), Eigen::Isometry3d::Identity(), model_->organ(i).contact,
+        s.tracking.get(), catheter_.get(), s.reactions);
+    catheter_contacts_ += s.reaction_count;
+  }
+}
+
+bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInput, 2>& tools,
+                                   std::span<const models::SurfaceReaction> reactions) noexcept {
+  // 4. Dents: the catheter's (conforming), then the tools' (their share of the push).
+  const OrganTissue& t = model_->organ(organ);
+  OrganState& s = organs_[static_cast<size_t>(organ)];
+  int32_t n = models::catheter_dents(*t.local, *t.rest, Eigen::Isometry3d::Identity(),
+                                     t.stiffness_n_per_m, reactions, s.dents);
+  // Each tool contact's force comes from how deep its segment lies below the dent the last
+  // step left, so the dents and the forces alternate between the loops. Contacts near one
+  // another (a tool's three segments on one spot, or both tools) share one push: each
+  // dents by its force over the number of contacts within R of it. Summed in full, n
+  // contacts on one spot would dent n times share of the penetration: from n = 2 on the
+  // dent overshoots the tool and swings back through it, and the proxies, whose tool did
+  // not move, lose the surface (the tool ends up inside the organ with no force).
+  const double reach2 = t.local->settings().radius_m * t.local->settings().radius_m;
+  auto contacts_near = [&](const Eigen::Vector3d& p) {
+    int32_t count = 0;
+    for (const ToolModelInput& other : tools) {
+      for (int32_t c = 0; c < other.contact_count && other.valid; ++c) {
+        const ToolContact& oc = other.contacts[static_cast<size_t>(c)];
+        if (oc.organ == organ && (oc.point_W - p).squaredNorm() < reach2) ++count;
+      }
+    }
+    return std::max(count, 1);
+  };
+  for (const ToolModelInput& tool : tools) {
+    for (int32_t c = 0; c < tool.contact_count && tool.valid; ++c) {
+      const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
+      if (tc.organ != organ || n >= static_cast<int32_t>(s.dents.size())) continue;
+      const Eigen::Vector3d share_of_push =
+          tc.force_on_organ_W / static_cast<double>(contacts_near(tc.point_W));
+      s.dents[static_cast<size_t>(n++)] =
+          models::rest_contact(*t.local, *t.rest, s.local->positions, tc.primitive, tc.point_W,
+                               share_of_push, t.stiffness_n_per_m);
+    }
+  }
+  if (injected_ == ModelFaultKind::kLocalDeformation && n < static_cast<int32_t>(s.dents.size())) {
+    models::DeformationContact& bad = s.dents[static_cast<size_t>(n++)];
+    bad = models::DeformationContact{};
+    bad.face = 0;
+    bad.penetration_O.x() = std::numeric_limits<double>::quiet_NaN();
+    injected_ = ModelFaultKind::kNone;  // the first locally deformed organ only
+  }
+  const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get());
+  for (const int32_t v : s.local->displaced) {
+    deepest_dent_ =
+        std::max(deepest_dent_,
+                 (s.local->positions[static_cast<size_t>(v)] - t.local->rest_position(v)).norm());
+  }
+  return ok;
+}
+
+bool TissueWorld::step_duct(int32_t organ, const std::array<ToolModelInput, 2>& tools,
+                            std::span<const models::SurfaceReaction> reactions,
+                            double dt) noexcept {
+  // 5. The duct: reactions into its modes (duct frame), then its step.
+  const DuctTissue& duct = model_->duct();
+  const Eigen::Matrix3d r_DW = duct.pose_WD.linear().transpose();
+  for (const models::SurfaceReaction& r : reactions) {
+    models::apply_surface_force(*duct_wall_, r.primitive, r.point_O, r_DW * r.force_on_surface_W,
+                                duct_state_.get());
+  }
+  for (const ToolModelInput& tool : tools) {
+    for (int32_t c = 0; c < tool.contact_count && tool.valid; ++c) {
+      const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
+      if (tc.organ != organ) continue;
+      models::apply_surface_force(*duct_wall_, tc.primitive, tc.point_W, r_DW * tc.force_on_organ_W,
+                                  duct_state_.get());
+    }
+  }
+  if (injected_ == ModelFaultKind::kModalShell) {
+    const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    models::apply_surface_force(*duct_wall_, {haptics::PrimitiveKind::kFace, 0},
+                                duct_positions_W_[0], nan, duct_state_.get());
+  }
+  const bool ok = models::step_modal_shell(*duct.model, duct_state_.get(), dt);
+  // The wall the catheter meets is refitted only when it moved: a duct at rest (most of a
+  // session) costs nothing here.
+  double moved = 0.0;
+  for (size_t v = 0; v < duct_positions_W_.size(); ++v) {
+    const Eigen::Vector3d p = duct.pose_WD * (duct.rest_D[v] + duct_state_->displacement[v]);
+    moved = std::max(moved, (p - duct_positions_W_[v]).squaredNorm());
+    duct_positions_W_[v] = p;
+    deepest_dent_ = std::max(deepest_dent_, duct_state_->displacement[v].norm());
+  }
+  if (moved > 0.0) {
+    duct_wall_->set_positions(duct_positions_W_, duct_all_nodes_, duct_scratch_.get());
+  }
+  return ok;
+}
+
+std::vector<SurfaceDeformation> TissueWorld::make_deformations() const {
+  std::vector<SurfaceDeformation> d;
+  d.reserve(organs_.size());
+  for (int32_t i = 0; i < model_->organ_count(); ++i) {
+    const OrganTissue& t = model_->organ(i);
+    d.emplace_back(t.kind == TissueKind::kFixed ? 0 : t.surface.positions.size());
+  }
+  return d;
+}
+
+void TissueWorld::write_deformations(std::vector<SurfaceDeformation>* out) const noexcept {
+  for (size_t i = 0; i < organs_.size() && i < out->size(); ++i) {
+    const TissueKind kind = model_->organ(static_cast<int32_t>(i)).kind;
+    const OrganState& s = organs_[i];
+    SurfaceDeformation& d = (*out)[i];
+    d.count = 0;
+    const size_t cap = std::min(d.vertex.size(), d.position.size());
+    if (kind == TissueKind::kLocal) {
+      for (const int32_t v : s.local->displaced) {
+        if (static_cast<size_t>(d.count) >= cap) break;
+        d.vertex[static_cast<size_t>(d.count)] = v;
+        d.position[static_cast<size_t>(d.count++)] = s.local->positions[static_cast<size_t>(v)];
+      }
+    } else if (kind == TissueKind::kDuct) {
+      for (size_t v = 0; v < duct_positions_W_.size() && v < cap; ++v) {
+        if (duct_state_->displacement[v].squaredNorm() == 0.0) continue;
+        d.vertex[static_cast<size_t>(d.count)] = static_cast<int32_t>(v);
+        d.position[static_cast<size_t>(d.count++)] = duct_positions_W_[v];
+      }
+    }
+  }
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,167 @@
+#pragma once
+/// \file
+/// The modelling loop's world (docs/architecture.md "Three loops": catheter, duct, organ
+/// deformation; consumes contact forces, publishes surface positions; thesis §6.5, §7.6.3, §7.7).
+/// Built once from a scene; one step() per modelling tick:
+///
+/// 1. each tool's jaws grasp or release the catheter (catheter_grasp.h) and the duct
+///    (duct_grasp.h);
+/// 2. the catheter's particles meet every organ's rest surface and the duct's present wall
+///    (catheter_contacts.h; each particle kept on its side of the open duct);
+/// 3. the catheter steps (its contacts and grasps inside its implicit step);
+/// 4. organs under local deformation (`model: local`) are dented by the tools' contacts (the
+///    proxies' reactions mapped back to the rest shape, share of the penetration as set) and by
+///    the catheter (conforming: the groove meets it);
+/// 5. the duct (`model: modal-shell`; its shell fitted to the organ's mesh, duct_fit.h) takes the
+///    tools' and the catheter's reactions and its grasp anchors, and its modes step.
+///
+/// The world is the state only: its fixed part (the organs' rest surfaces and models, the
+/// catheter's and the duct's models, the settings) is a TissueModel (sim/setup/tissue_model.h)
+/// it reads `const` and shares with the haptic thread and with other worlds built from it.
+///
+/// A model that meets a non-finite value (step_catheter, deform, step_modal_shell return false,
+/// each leaving its state sane) is reported by step() as a ModelFault: the session zeroes the
+/// forces and pauses, naming the model (sim/runtime/session.h).
+///
+/// The step allocates nothing and never throws; set-up may do both.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+#include "haptics/mesh_database.h"
+#include "haptics/triangle_mesh.h"
+#include "models/catheter_contacts.h"
+#include "models/catheter_grasp.h"
+#include "models/catheter_model.h"
+#include "models/duct_grasp.h"
+#include "models/local_deformation.h"
+#include "models/modal_shell.h"
+#include "sim/runtime/deformed_surface.h"
+#include "sim/setup/scene.h"
+#include "sim/setup/tissue_model.h"
+
+namespace lap::sim {
+
+/// One of a tool's contacts with an organ, as the haptic loop saw it (on the deformed surface).
+struct ToolContact {
+  int32_t organ = -1;
+  haptics::PrimitiveRef primitive;
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_on_organ_W = Eigen::Vector3d::Zero();  ///< [N]
+};
+
+/// What the modelling loop needs of one tool.
+struct ToolModelInput {
+  static constexpr int32_t kMaxContacts = 12;
+  bool valid = false;  ///< false before the haptic loop's first tick
+  models::JawFrame jaws;
+  int32_t contact_count = 0;
+  std::array<ToolContact, kMaxContacts> contacts{};
+};
+
+/// Which model met a non-finite value in a step.
+enum class ModelFaultKind : uint8_t { kNone, kCatheter, kLocalDeformation, kModalShell };
+/// "catheter", "local deformation", "modal shell" ("" for kNone).
+[[nodiscard]] std::string_view to_string(ModelFaultKind kind);
+
+/// The first model that faulted in a step, and on which organ (-1 for the catheter).
+struct ModelFault {
+  ModelFaultKind kind = ModelFaultKind::kNone;
+  int32_t organ = -1;
+  explicit operator bool() const { return kind != ModelFaultKind::kNone; }
+};
+
+class TissueWorld {
+ public:
+  /// The state for a model: the catheter where the model's settings lay it, organs at rest.
+  static std::unique_ptr<TissueWorld> create(std::shared_ptr<const TissueModel> model);
+  /// Model and state in one (tests, benchmarks): TissueModel::build, then create().
+  static Result<std::unique_ptr<TissueWorld>> build(const Scene& scene,
+                                                    const TissueWorldSettings& settings,
+                                                    std::vector<std::string>* notes);
+
+  [[nodiscard]] const TissueModel& model() const { return *model_; }
+  [[nodiscard]] int32_t organ_count() const { return model_->organ_count(); }
+  /// The surface the proxies feel and the graphics draw, at rest, world frame: the organ's mesh,
+  /// or for the duct its triangulated shell (open at both ends).
+  [[nodiscard]] const haptics::TriangleMesh& surface(int32_t organ) const {
+    return model_->surface(organ);
+  }
+  /// Open surfaces (the duct) are touched from either side.
+  [[nodiscard]] bool two_sided(int32_t organ) const { return model_->two_sided(organ); }
+  [[nodiscard]] int32_t duct_organ() const { return model_->duct_organ(); }
+
+  /// One modelling step; the first model that met a non-finite value, if any.
+  ModelFault step(const std::array<ToolModelInput, 2>& tools, double dt) noexcept;
+
+  /// Deformations sized for every organ (set-up: allocates), for a snapshot's slots.
+  [[nodiscard]] std::vector<SurfaceDeformation> make_deformations() const;
+  /// Writes each organ's present deformation (no allocation into make_deformations()' arrays).
+  void write_deformations(std::vector<SurfaceDeformation>* out) const noexcept;
+
+  [[nodiscard]] const models::CatheterModel& catheter_model() const {
+    return model_->catheter_model();
+  }
+  [[nodiscard]] const models::CatheterState& catheter() const { return *catheter_; }
+  [[nodiscard]] const std::array<models::GraspState, 2>& catheter_grasps() const {
+    return catheter_grasps_;
+  }
+  [[nodiscard]] const std::array<models::DuctGraspState, 2>& duct_grasps() const {
+    return duct_grasps_;
+  }
+  [[nodiscard]] const TissueWorldSettings& settings() const { return model_->settings(); }
+  /// The jaws' squeeze on what they hold, per tool, at the last step [N].
+  [[nodiscard]] const std::array<double, 2>& squeeze() const { return squeeze_; }
+  /// Catheter particles in contact with an organ or the duct, at the last step.
+  [[nodiscard]] int32_t catheter_contacts() const { return catheter_contacts_; }
+  /// Largest displacement of any surface vertex from rest, at the last step [m].
+  [[nodiscard]] double deepest_dent_m() const { return deepest_dent_; }
+
+  /// Tests: the next step puts a non-finite value into this model's input (the catheter's
+  /// velocity, a dent on the first locally deformed organ, a force on the duct), as a numerical
+  /// blow-up would.
+  void inject_non_finite(ModelFaultKind kind) noexcept { injected_ = kind; }
+
+ private:
+  /// One organ's state.
+  struct OrganState {
+    std::unique_ptr<models::LocalDeformationState> local;  // kLocal
+    std::vector<models::DeformationContact> dents;         // tools' + catheter's, capacity reserved
+    std::unique_ptr<models::SurfaceTracking> tracking;
+    std::vector<models::SurfaceReaction> reactions;  // one per particle
+    int32_t reaction_count = 0;
+  };
+  TissueWorld() = default;
+  void grasp(const std::array<ToolModelInput, 2>& tools) noexcept;
+  void find_catheter_contacts() noexcept;
+  bool dent_local_organ(int32_t organ, const std::array<ToolModelInput, 2>& tools,
+                        std::span<const models::SurfaceReaction> reactions) noexcept;
+  bool step_duct(int32_t organ, const std::array<ToolModelInput, 2>& tools,
+                 std::span<const models::SurfaceReaction> reactions, double dt) noexcept;
+  [[nodiscard]] const haptics::MeshDatabase& contact_surface(int32_t organ) const;
+
+  std::shared_ptr<const TissueModel> model_;
+  std::vector<OrganState> organs_;
+  std::unique_ptr<models::CatheterState> catheter_;
+  std::array<models::GraspState, 2> catheter_grasps_{};
+  std::array<models::DuctGraspState, 2> duct_grasps_{};
+  std::array<double, 2> squeeze_{};
+  int32_t catheter_contacts_ = 0;
+  double deepest_dent_ = 0.0;
+  ModelFaultKind injected_ = ModelFaultKind::kNone;
+
+  // The duct's state (model_->duct_organ() >= 0).
+  std::unique_ptr<models::ModalShellState> duct_state_;
+  std::unique_ptr<haptics::MeshDatabase> duct_wall_;  // world frame, deformed each step
+  std::unique_ptr<haptics::MeshUpdateScratch> duct_scratch_;
+  std::vector<Eigen::Vector3d> duct_positions_W_;
+  std::vector<int32_t> duct_all_nodes_;
+};
+
+}  // namespace lap::sim

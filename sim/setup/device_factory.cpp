@@ -1,0 +1,81 @@
+#include "sim/setup/device_factory.h"
+
+#include "hardware/device_recording.h"
+#include "hardware/libusb_transport.h"
+#include "hardware/open_haptics_api.h"
+#include "hardware/phantom_device.h"
+#include "hardware/replay_device.h"
+#include "hardware/scripted_device.h"
+#include "hardware/simulated_device.h"
+#include "hardware/usb_gripper.h"
+
+namespace lap::sim {
+
+Eigen::Vector3d default_handle_position(const Scene& scene, int side, double inside_m) {
+  const Scenario& sc = scene.scenario;
+  const ToolSpec* tool = sc.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
+  const TrocarSpec* port = tool == nullptr ? nullptr : sc.trocar(tool->trocar);
+  if (port == nullptr) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = scene.task_target_point() - port->position_m;
+  axis = axis.norm() > 1e-9 ? Eigen::Vector3d(axis.normalized())
+                            : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
+  return port->position_m - (tool->shaft_length_m - inside_m) * axis;
+}
+
+namespace {
+
+Result<std::unique_ptr<hardware::HapticDevice>> make_arm(const hardware::DeviceSpec& spec,
+                                                         const Scene& scene, int side) {
+  const std::string name = side == 0 ? "left" : "right";
+  switch (spec.kind) {
+    case hardware::DeviceKind::kSimulated: {
+      hardware::SimulatedInput home;
+      home.position_W = default_handle_position(scene, side, 0.10);
+      home.gripper_angle_rad = 0.6;
+      return std::unique_ptr<hardware::HapticDevice>(
+          std::make_unique<hardware::SimulatedDevice>(home, name + " simulated"));
+    }
+    case hardware::DeviceKind::kScripted: {
+      auto tr = hardware::load_scripted_trajectory(spec.argument);
+      if (!tr.ok()) return tr.diagnostics();
+      return std::unique_ptr<hardware::HapticDevice>(
+          std::make_unique<hardware::ScriptedDevice>(std::move(tr).value(), name + " scripted"));
+    }
+    case hardware::DeviceKind::kReplay: {
+      auto rec = hardware::read_device_recording(spec.argument);
+      if (!rec.ok()) return rec.diagnostics();
+      return std::unique_ptr<hardware::HapticDevice>(
+          std::make_unique<hardware::ReplayDevice>(std::move(rec).value(), name + " replay"));
+    }
+    case hardware::DeviceKind::kPhantom: {
+      // The device's origin (the middle of its workspace) at the handle's home, 10 cm in.
+      hardware::PhantomSettings ps;
+      ps.device_name = spec.argument;
+      ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, side, 0.10)) *
+                           Eigen::Isometry3d::Identity();
+      auto dev = std::make_unique<hardware::PhantomDevice>(ps);
+      // Started by the session; here only the library is checked, to fail early and clearly.
+      auto api = hardware::hd::load_api(ps.library);
+      if (!api.ok()) {
+        return diagnostic(std::string(dev->name()) + ": " + api.message() +
+                          ", or use simulated, scripted:FILE or replay:FILE.");
+      }
+      return std::unique_ptr<hardware::HapticDevice>(std::move(dev));
+    }
+  }
+  return diagnostic("unknown device kind");
+}
+
+}  // namespace
+
+Result<std::unique_ptr<hardware::HapticDevice>> make_device(const hardware::DeviceSpec& spec,
+                                                            const Scene& scene, int side) {
+  auto arm = make_arm(spec, scene, side);
+  if (!arm.ok() || !spec.usb_gripper) return arm;
+  // The actuated gripper on the arm's end (started, and checked, with the session).
+  return std::unique_ptr<hardware::HapticDevice>(std::make_unique<hardware::ArmWithGripper>(
+      std::move(arm).value(),
+      std::make_unique<hardware::UsbGripper>(std::make_unique<hardware::LibusbTransport>())));
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,72 @@
+#include "sim/setup/modal_shell_cache.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <system_error>
+
+namespace lap::sim {
+
+std::filesystem::path default_mode_cache_dir() {
+  if (const char* d = std::getenv("LAPTRAINER_CACHE_DIR"); d != nullptr && *d != '\0') {
+    return std::filesystem::path(d);
+  }
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x != nullptr && *x != '\0') {
+    return std::filesystem::path(x) / "laptrainer" / "modes";
+  }
+  if (const char* h = std::getenv("HOME"); h != nullptr && *h != '\0') {
+    return std::filesystem::path(h) / ".cache" / "laptrainer" / "modes";
+  }
+  return std::filesystem::temp_directory_path() / "laptrainer-modes";
+}
+
+ModalShellLoad load_or_build_modal_shell(const models::ShellMesh& mesh,
+                                         const std::vector<uint8_t>& held_dof,
+                                         const models::ModalShellSettings& settings,
+                                         const std::filesystem::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  const uint64_t key = models::ModalShellModel::key(mesh, held_dof, settings);
+  char name[40];
+  std::snprintf(name, sizeof name, "modes-%016llx.bin", static_cast<unsigned long long>(key));
+  const std::filesystem::path file = dir / name;
+  std::string note;
+  std::error_code ec;
+  if (std::filesystem::exists(file, ec)) {
+    std::ifstream in(file, std::ios::binary);
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    try {
+      ModalShellLoad r{models::ModalShellModel::from_bytes(bytes, key, settings), true, "", 0.0,
+                       file};
+      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return r;
+    } catch (const std::invalid_argument& e) {
+      note = file.string() + ": " + e.what() + "; rebuilt";
+    }
+  }
+  ModalShellLoad r{models::ModalShellModel::build(mesh, held_dof, settings), false, note, 0.0,
+                   file};
+  const std::vector<uint8_t> bytes = r.model.to_bytes(key);
+  std::filesystem::create_directories(dir, ec);
+  const std::filesystem::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+    if (!out) {
+      r.note += (r.note.empty() ? "" : "; ") +
+                ("could not write " + tmp.string() + ": the modes will be solved again next start");
+    }
+  }
+  if (r.note.find("could not write") == std::string::npos) {
+    std::filesystem::rename(tmp, file, ec);  // atomic: a reader never sees half a file
+    if (ec) r.note += (r.note.empty() ? "" : "; ") + ("could not rename into " + file.string());
+  }
+  std::filesystem::remove(tmp, ec);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace lap::sim

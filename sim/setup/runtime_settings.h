@@ -1,0 +1,30 @@
+#pragma once
+/// \file
+/// How a session runs, as its caller chooses (the command line, the app, a test): the loops'
+/// rates, lockstep or real time, its length, the watchdog's and the scheduler's settings.
+
+#include <cstdint>
+
+namespace lap::sim {
+
+struct RuntimeSettings {
+  double haptic_rate_hz = 1000.0;
+  double model_rate_hz = 200.0;
+  bool fast = false;           ///< lockstep, as fast as possible, deterministic
+  double duration_s = 10.0;    ///< the session ends here, or when every device has finished
+  double resume_ramp_s = 0.5;  ///< forces ramp from 0 to full over this after resume()
+  double record_s = -1.0;      ///< inputs kept for this long (reserved at start); < 0: the duration
+  double overrun_periods = 2.0;  ///< a tick later than this many periods trips the watchdog
+  /// The haptic loop sleeps until this long before its deadline, then spins: a thread woken
+  /// from a kernel sleep on these machines is now and then 100-300 µs late, which a 200 µs
+  /// spin absorbs (at the cost of a fifth of a core while the loop runs at 1 kHz).
+  int64_t spin_ns = 200000;
+  bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
+  /// Give the haptic thread a processor of its own within the process (the last one; every
+  /// other thread, the renderer's too, is kept off it while the loops run). With two or more.
+  /// Off by default: on the 2-core VM measured (docs/benchmarks.md) it helped while software
+  /// rendering ran and hurt without it; the app turns it on.
+  bool isolate_haptic_processor = false;
+};
+
+}  // namespace lap::sim

@@ -1,0 +1,81 @@
+#include "sim/setup/scenario_files.h"
+
+#include <system_error>
+
+namespace lap::sim {
+namespace fs = std::filesystem;
+
+ScenarioFiles::ScenarioFiles(YamlFields& fields, const fs::path& scenario_file,
+                             const ScenarioLoadSettings& settings,
+                             std::vector<fs::path>& scenario_roots)
+    : fields_(fields),
+      settings_(settings),
+      dir_(fs::absolute(scenario_file).parent_path()),
+      scenario_roots_(scenario_roots) {}
+
+void ScenarioFiles::read_allowed_paths(const YAML::Node& list) {
+  if (!fields_.expect_list(list, "allowed_paths", "a list of directories")) return;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string f = "allowed_paths[" + std::to_string(i) + "]";
+    const std::optional<std::string> text = fields_.string(list[i], f);
+    if (!text) continue;
+    const fs::path resolved = resolve(*text);
+    std::error_code ec;
+    if (settings_.check_files && !fs::is_directory(resolved, ec)) {
+      fields_.problem(list[i], f,
+                      "directory '" + *text + "' not found (looked for " + resolved.string() + ")");
+    } else {
+      scenario_roots_.push_back(resolved);
+    }
+  }
+}
+
+std::optional<fs::path> ScenarioFiles::file(const YAML::Node& n, const std::string& field) {
+  const std::optional<std::string> text = fields_.string(n, field);
+  if (!text) return std::nullopt;
+  const fs::path resolved = resolve(*text);
+  if (!inside_allowed(resolved)) {
+    fields_.problem(n, field,
+                    "path '" + *text + "' leaves the scenario's folder (expected a file under " +
+                        dir_.string() + " or under a directory listed in allowed_paths)");
+    return std::nullopt;
+  }
+  if (settings_.check_files) {
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec)) {
+      fields_.problem(n, field,
+                      "file '" + *text + "' not found (looked for " + resolved.string() + ")");
+      return std::nullopt;
+    }
+  }
+  return resolved;
+}
+
+fs::path ScenarioFiles::resolve(const std::string& text) const {
+  const fs::path p(text);
+  return fs::weakly_canonical(p.is_absolute() ? p : dir_ / p);
+}
+
+bool ScenarioFiles::inside_allowed(const fs::path& resolved) const {
+  // Compared element by element after canonicalising, so `..` and symlinks cannot escape.
+  auto under = [&resolved](const fs::path& root) {
+    const fs::path r = fs::weakly_canonical(root);
+    auto rit = r.begin();
+    auto pit = resolved.begin();
+    for (; rit != r.end(); ++rit, ++pit) {
+      if (rit->empty()) continue;  // trailing separator
+      if (pit == resolved.end() || *rit != *pit) return false;
+    }
+    return true;
+  };
+  if (under(dir_)) return true;
+  for (const auto& a : scenario_roots_) {
+    if (under(a)) return true;
+  }
+  for (const auto& a : settings_.allowed_paths) {
+    if (under(a)) return true;
+  }
+  return false;
+}
+
+}  // namespace lap::sim

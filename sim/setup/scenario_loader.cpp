@@ -1,0 +1,353 @@
+#include "sim/setup/scenario_loader.h"
+
+#include <algorithm>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include "sim/setup/scenario_files.h"
+#include "sim/setup/scenario_material.h"
+#include "sim/setup/yaml_fields.h"
+
+namespace lap::sim {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The scenario schema, one stage per section. Generic field reading and its messages live in
+// YamlFields, file references in ScenarioFiles, materials in scenario_material.cpp.
+class ScenarioParser {
+ public:
+  ScenarioParser(YamlFields& fields, const fs::path& file, const ScenarioLoadSettings& settings,
+                 Scenario& scenario)
+      : fields_(fields), files_(fields, file, settings, scenario.allowed_paths), s_(scenario) {}
+
+  void parse(const YAML::Node& root) {
+    if (!root.IsMap()) {
+      fields_.problem(
+          std::max(1, yaml_line(root)), "(document)",
+          "expected a mapping with version, name and organs, got " + describe_yaml(root));
+      return;
+    }
+    fields_.expect_map(root, "",
+                       {"version", "name", "description", "allowed_paths", "camera", "organs",
+                        "trocars", "tools", "catheter", "task"});
+    parse_header(root);
+    // allowed_paths first: the file references below are checked against it.
+    if (root["allowed_paths"]) files_.read_allowed_paths(root["allowed_paths"]);
+    if (root["camera"]) parse_camera(root["camera"]);
+    if (fields_.require(root, "organs", "")) parse_organs(root["organs"]);
+    // Tools name trocars, and the task names an organ and needs the catheter: read them after.
+    if (root["trocars"]) parse_trocars(root["trocars"]);
+    if (root["tools"]) parse_tools(root["tools"]);
+    if (root["catheter"]) parse_catheter(root["catheter"]);
+    if (root["task"]) parse_task(root["task"]);
+  }
+
+ private:
+  void parse_header(const YAML::Node& root) {
+    if (fields_.require(root, "version", "")) {
+      if (auto v = fields_.integer(root["version"], "version", 1, 1)) s_.version = *v;
+    }
+    if (fields_.require(root, "name", "")) {
+      if (auto v = fields_.string(root["name"], "name")) s_.name = *v;
+    }
+    if (root["description"]) {
+      if (auto v = fields_.string(root["description"], "description")) s_.description = *v;
+    }
+  }
+
+  void parse_camera(const YAML::Node& n) {
+    CameraSpec& c = s_.camera;
+    if (!fields_.expect_map(n, "camera",
+                            {"position_m", "focal_point_m", "view_up", "view_angle_deg"})) {
+      return;
+    }
+    if (n["position_m"]) {
+      if (auto v = fields_.vec3(n["position_m"], "camera.position_m")) c.position_m = *v;
+    }
+    if (n["focal_point_m"]) {
+      if (auto v = fields_.vec3(n["focal_point_m"], "camera.focal_point_m")) c.focal_point_m = *v;
+    }
+    if (n["view_up"]) {
+      if (auto v = fields_.direction(n["view_up"], "camera.view_up")) c.view_up = *v;
+    }
+    fields_.optional_number(n, "view_angle_deg", "camera", c.view_angle_deg, 1.0, 120.0,
+                            "from 1 to 120 (degrees)");
+    if ((c.position_m - c.focal_point_m).norm() < 1e-6) {
+      fields_.problem(n, "camera", "position_m and focal_point_m must differ");
+    }
+  }
+
+  void parse_organs(const YAML::Node& n) {
+    if (!n.IsSequence() || n.size() == 0) {
+      fields_.problem(n, "organs", "expected a non-empty list of organs, got " + describe_yaml(n));
+      return;
+    }
+    std::set<std::string> names;
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string f = "organs[" + std::to_string(i) + "]";
+      const YAML::Node o = n[i];
+      if (!fields_.expect_map(
+              o, f,
+              {"name", "mesh", "scale", "repair", "transform", "color", "model", "material"})) {
+        continue;
+      }
+      OrganSpec organ;
+      organ.line = yaml_line(o);
+      if (fields_.require(o, "name", f)) parse_organ_name(o["name"], f + ".name", names, organ);
+      if (fields_.require(o, "mesh", f)) {
+        if (auto p = files_.file(o["mesh"], f + ".mesh")) organ.mesh = *p;
+      }
+      if (o["scale"]) {
+        if (auto v = fields_.positive(o["scale"], f + ".scale")) organ.scale = *v;
+      }
+      if (o["repair"]) {
+        if (auto v = fields_.boolean(o["repair"], f + ".repair")) organ.repair = *v;
+      }
+      if (o["transform"]) parse_organ_transform(o["transform"], f + ".transform", organ);
+      parse_organ_looks(o, f, organ);
+      if (fields_.require(o, "material", f)) {
+        parse_material(fields_, files_, o["material"], f + ".material", organ.material);
+      }
+      s_.organs.push_back(std::move(organ));
+    }
+  }
+
+  // The name is kept even when it breaks a rule, so a task naming it gets no second problem.
+  void parse_organ_name(const YAML::Node& n, const std::string& f, std::set<std::string>& names,
+                        OrganSpec& organ) {
+    const std::optional<std::string> v = fields_.string(n, f);
+    if (!v) return;
+    static const std::regex kName("[a-z][a-z0-9_]*");
+    if (!std::regex_match(*v, kName)) {
+      fields_.problem(n, f,
+                      "expected lower-case letters, digits and underscores starting with a "
+                      "letter, got '" +
+                          *v + "'");
+    } else if (!names.insert(*v).second) {
+      fields_.problem(n, f, "duplicate organ name '" + *v + "' (names must be unique)");
+    }
+    organ.name = *v;
+  }
+
+  void parse_organ_transform(const YAML::Node& n, const std::string& f, OrganSpec& organ) {
+    if (!fields_.expect_map(n, f, {"translation_m", "rotation_deg"})) return;
+    if (n["translation_m"]) {
+      if (auto v = fields_.vec3(n["translation_m"], f + ".translation_m")) organ.translation_m = *v;
+    }
+    if (n["rotation_deg"]) {
+      if (auto v = fields_.vec3(n["rotation_deg"], f + ".rotation_deg")) organ.rotation_deg = *v;
+    }
+  }
+
+  // How the organ is drawn and simulated: its colour and its model kind.
+  void parse_organ_looks(const YAML::Node& o, const std::string& f, OrganSpec& organ) {
+    if (o["color"]) {
+      if (auto v = fields_.vec3(o["color"], f + ".color")) {
+        if (v->minCoeff() < 0.0 || v->maxCoeff() > 1.0) {
+          fields_.problem(o["color"], f + ".color", "expected RGB components from 0 to 1");
+        } else {
+          organ.color = *v;
+        }
+      }
+    }
+    if (o["model"]) {
+      if (auto v = fields_.string(o["model"], f + ".model")) {
+        if (auto k = models::parse_model_kind(*v)) {
+          organ.model = *k;
+        } else {
+          fields_.problem(o["model"], f + ".model",
+                          "expected rigid, local, modal-shell or mass-spring, got '" + *v + "'");
+        }
+      }
+    }
+  }
+
+  void parse_trocars(const YAML::Node& n) {
+    if (!fields_.expect_list(n, "trocars", "a list of trocar ports")) return;
+    std::set<std::string> names;
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string f = "trocars[" + std::to_string(i) + "]";
+      if (!fields_.expect_map(n[i], f, {"name", "position_m"})) continue;
+      TrocarSpec t;
+      if (fields_.require(n[i], "name", f)) {
+        if (auto v = fields_.string(n[i]["name"], f + ".name")) {
+          t.name = *v;
+          if (!names.insert(*v).second) {
+            fields_.problem(n[i]["name"], f + ".name", "duplicate trocar name '" + *v + "'");
+          }
+        }
+      }
+      if (fields_.require(n[i], "position_m", f)) {
+        if (auto v = fields_.vec3(n[i]["position_m"], f + ".position_m")) t.position_m = *v;
+      }
+      s_.trocars.push_back(t);
+    }
+  }
+
+  void parse_tools(const YAML::Node& n) {
+    if (!fields_.expect_list(n, "tools", "a list of tools")) return;
+    std::set<std::string> sides;
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string f = "tools[" + std::to_string(i) + "]";
+      const YAML::Node t = n[i];
+      if (!fields_.expect_map(t, f,
+                              {"name", "side", "trocar", "kind", "shaft_length_m", "shaft_radius_m",
+                               "jaw_length_m"})) {
+        continue;
+      }
+      ToolSpec tool;
+      if (fields_.require(t, "name", f)) {
+        if (auto v = fields_.string(t["name"], f + ".name")) tool.name = *v;
+      }
+      if (fields_.require(t, "side", f)) parse_tool_side(t["side"], f + ".side", sides, tool);
+      if (fields_.require(t, "trocar", f)) parse_tool_trocar(t["trocar"], f + ".trocar", tool);
+      if (t["kind"]) {
+        if (auto v = fields_.word(t["kind"], f + ".kind",
+                                  {"grasper", "dissector", "clip-applier", "scissors"})) {
+          tool.kind = *v;
+        }
+      }
+      fields_.optional_number(t, "shaft_length_m", f, tool.shaft_length_m, 0.05, 1.0,
+                              "from 0.05 to 1 (m)");
+      fields_.optional_number(t, "shaft_radius_m", f, tool.shaft_radius_m, 0.0005, 0.01,
+                              "from 0.0005 to 0.01 (m)");
+      fields_.optional_number(t, "jaw_length_m", f, tool.jaw_length_m, 0.002, 0.05,
+                              "from 0.002 to 0.05 (m)");
+      s_.tools.push_back(tool);
+    }
+  }
+
+  void parse_tool_side(const YAML::Node& n, const std::string& f, std::set<std::string>& sides,
+                       ToolSpec& tool) {
+    const std::optional<std::string> v = fields_.word(n, f, {"left", "right"});
+    if (!v) return;
+    tool.side = *v == "left" ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight;
+    if (!sides.insert(*v).second) {
+      fields_.problem(n, f, "a " + *v + " tool is already defined (one tool per hand)");
+    }
+  }
+
+  void parse_tool_trocar(const YAML::Node& n, const std::string& f, ToolSpec& tool) {
+    const std::optional<std::string> v = fields_.string(n, f);
+    if (!v) return;
+    tool.trocar = *v;
+    if (s_.trocar(*v) == nullptr) {
+      fields_.problem(n, f, "no trocar named '" + *v + "' (expected a name from trocars)");
+    }
+  }
+
+  void parse_catheter(const YAML::Node& n) {
+    CatheterSpec c;
+    if (!fields_.expect_map(
+            n, "catheter",
+            {"length_m", "diameter_m", "particles", "mass_kg", "bending_stiffness_n_m2"})) {
+      return;
+    }
+    fields_.optional_number(n, "length_m", "catheter", c.length_m, 0.01, 2.0, "from 0.01 to 2 (m)");
+    fields_.optional_number(n, "diameter_m", "catheter", c.diameter_m, 0.0005, 0.005,
+                            "from 0.0005 to 0.005 (m)");
+    if (n["particles"]) {
+      if (auto v = fields_.integer(n["particles"], "catheter.particles", 2, 4096)) c.particles = *v;
+    }
+    fields_.optional_number(n, "mass_kg", "catheter", c.mass_kg, 1e-6, 1.0, "from 1e-6 to 1 (kg)");
+    fields_.optional_number(n, "bending_stiffness_n_m2", "catheter", c.bending_stiffness_n_m2, 1e-9,
+                            1.0, "from 1e-9 to 1 (N m^2)");
+    s_.catheter = c;
+  }
+
+  void parse_task(const YAML::Node& n) {
+    TaskSpec t;
+    if (!fields_.expect_map(n, "task", {"kind", "target", "insertion_depth_m", "time_limit_s"})) {
+      return;
+    }
+    if (fields_.require(n, "kind", "task")) {
+      if (auto v = fields_.string(n["kind"], "task.kind")) {
+        if (*v != "catheter-insertion" && *v != "free-exploration") {
+          fields_.problem(n["kind"], "task.kind",
+                          "expected catheter-insertion or free-exploration, got '" + *v + "'");
+        }
+        t.kind = *v;
+      }
+    }
+    parse_task_target(n, t);
+    fields_.optional_number(n, "insertion_depth_m", "task", t.insertion_depth_m, 0.001, 0.2,
+                            "from 0.001 to 0.2 (m)");
+    fields_.optional_number(n, "time_limit_s", "task", t.time_limit_s, 1.0, 7200.0,
+                            "from 1 to 7200 (s)");
+    if (t.kind == "catheter-insertion" && !s_.catheter) {
+      fields_.problem(n, "task.kind", "catheter-insertion needs a catheter section");
+    }
+    s_.task = t;
+  }
+
+  void parse_task_target(const YAML::Node& n, TaskSpec& t) {
+    if (!n["target"]) {
+      if (t.kind == "catheter-insertion") {
+        fields_.problem(n, "task.target", "required field is missing (the organ to insert into)");
+      }
+      return;
+    }
+    const std::optional<std::string> v = fields_.string(n["target"], "task.target");
+    if (!v) return;
+    t.target = *v;
+    const auto& os = s_.organs;
+    if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
+      fields_.problem(n["target"], "task.target",
+                      "no organ named '" + *v + "' (expected a name from organs)");
+    }
+  }
+
+  YamlFields& fields_;
+  ScenarioFiles files_;
+  Scenario& s_;
+};
+
+}  // namespace
+
+ScenarioLoadResult parse_scenario(std::string_view text, const fs::path& file,
+                                  const ScenarioLoadSettings& settings) {
+  ScenarioLoadResult result;
+  result.scenario.file = fs::absolute(file);
+  YamlFields fields(file.string());
+  if (const std::optional<YAML::Node> root = fields.load(text)) {
+    try {
+      ScenarioParser(fields, file, settings, result.scenario).parse(*root);
+    } catch (const YAML::Exception& e) {
+      // yaml-cpp throws on some malformed trees (e.g. duplicate keys); report, never crash.
+      fields.problem(e.mark.line >= 0 ? e.mark.line + 1 : 0, "(document)", e.msg);
+    }
+  }
+  result.problems = fields.take_problems();
+  return result;
+}
+
+ScenarioLoadResult load_scenario(const fs::path& file, const ScenarioLoadSettings& settings) {
+  std::ifstream in(file, std::ios::binary);
+  std::error_code ec;
+  if (!in || fs::is_directory(file, ec)) {
+    ScenarioLoadResult r;
+    r.problems.push_back({file.string(), 0, "(file)",
+                          "cannot read the scenario file (expected a readable YAML file)"});
+    return r;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scenario(text.str(), file, settings);
+}
+
+fs::path default_scenario_path() {
+  for (const fs::path& candidate :
+       {fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml",
+        fs::path("/usr/share/laptrainer/scenarios/default.yaml"),
+        fs::path("/usr/local/share/laptrainer/scenarios/default.yaml")}) {
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec)) return candidate;
+  }
+  return fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml";
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,45 @@
+#pragma once
+/// \file
+/// Loads and checks scenario v1 files (YAML). Every problem is collected, not just the first, and
+/// each names the file, the line, the field and what was expected.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/diagnostic.h"
+#include "sim/setup/scenario.h"
+
+namespace lap::sim {
+
+/// Choices the caller makes, not the file.
+struct ScenarioLoadSettings {
+  /// Directories outside the scenario's folder tree that referenced files may live in, in
+  /// addition to those the scenario itself lists under allowed_paths.
+  std::vector<std::filesystem::path> allowed_paths;
+  /// Check that referenced files exist (off only for tests of pure syntax).
+  bool check_files = true;
+};
+
+/// The scenario and everything wrong with it; use the scenario only when ok().
+struct ScenarioLoadResult {
+  Scenario scenario;
+  std::vector<Diagnostic> problems;  ///< each `file:line: field: what was expected`
+  [[nodiscard]] bool ok() const { return problems.empty(); }
+};
+
+/// Reads and checks a scenario file.
+[[nodiscard]] ScenarioLoadResult load_scenario(const std::filesystem::path& file,
+                                               const ScenarioLoadSettings& settings = {});
+
+/// Checks scenario text as if it were the file `file` (paths resolve against its folder).
+[[nodiscard]] ScenarioLoadResult parse_scenario(std::string_view text,
+                                                const std::filesystem::path& file,
+                                                const ScenarioLoadSettings& settings = {});
+
+/// The scenario the application opens when none is given: scenarios/default.yaml of the source
+/// tree, or of the install prefix.
+[[nodiscard]] std::filesystem::path default_scenario_path();
+
+}  // namespace lap::sim

@@ -1,0 +1,71 @@
+#include "sim/setup/tissue_model.h"
+
+#include <exception>
+
+#include "sim/setup/duct_fit.h"
+#include "sim/setup/modal_shell_cache.h"
+
+namespace lap::sim {
+
+Result<std::shared_ptr<const TissueModel>> TissueModel::build(const Scene& scene,
+                                                              const TissueWorldSettings& settings,
+                                                              std::vector<std::string>* notes) {
+  std::shared_ptr<TissueModel> m(new TissueModel());
+  m->settings_ = settings;
+  try {
+    m->catheter_model_ =
+        std::make_unique<models::CatheterModel>(models::CatheterModel::build(settings.catheter));
+  } catch (const std::exception& e) {
+    return Diagnostic{scene.scenario.file.string(), 0, "catheter", e.what()};
+  }
+  for (size_t i = 0; i < scene.organs.size(); ++i) {
+    Status added = m->add_organ(scene.organs[i], static_cast<int32_t>(i), notes);
+    if (!added.ok()) return added.diagnostics();
+  }
+  return std::shared_ptr<const TissueModel>(std::move(m));
+}
+
+Status TissueModel::add_organ(const Organ& organ, int32_t index, std::vector<std::string>* notes) {
+  OrganTissue t;
+  t.stiffness_n_per_m = organ.material.stiffness_n_per_m;
+  t.contact.clearance_m = catheter_model_->radius_m();
+  t.contact.stiffness_n_per_m = organ.material.stiffness_n_per_m;
+  t.contact.damping_n_s_per_m = organ.material.damping_n_s_per_m;
+  auto problem = [&](const std::string& what) { return Diagnostic{"", 0, organ.name, what}; };
+  try {
+    if (organ.model == models::ModelKind::kModalShell) {
+      if (duct_.organ >= 0) return problem("only one modal-shell organ is supported");
+      const DuctFit fit = fit_duct(organ.mesh, settings_.duct_wall_thickness_m);
+      const models::DuctShell shell = models::make_duct_shell(fit.duct);
+      const std::filesystem::path dir =
+          settings_.mode_cache_dir.empty() ? default_mode_cache_dir() : settings_.mode_cache_dir;
+      ModalShellLoad load = load_or_build_modal_shell(
+          shell.mesh, shell.held_dof, models::default_duct_modal_settings(fit.duct), dir);
+      if (!load.note.empty() && notes != nullptr) notes->push_back(organ.name + ": " + load.note);
+      duct_.model = std::make_unique<models::ModalShellModel>(std::move(load.model));
+      duct_.pose_WD = fit.pose_WD;
+      duct_.rest_D = shell.mesh.nodes;
+      duct_.organ = index;
+      t.kind = TissueKind::kDuct;
+      t.surface = models::triangulate(shell.mesh);
+      t.surface.transform(Eigen::Affine3d(fit.pose_WD.matrix()));
+      t.contact.clearance_m += 0.5 * settings_.duct_wall_thickness_m;  // its mid-surface
+      t.contact.keep_side = true;  // the catheter may be inside or outside
+    } else {
+      t.surface = organ.mesh;
+      auto rest = std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(t.surface));
+      if (organ.model == models::ModelKind::kLocal) {
+        t.kind = TissueKind::kLocal;
+        t.local = std::make_unique<models::LocalDeformationModel>(
+            models::LocalDeformationModel::build(*rest, settings_.local));
+      }
+      t.rest = std::move(rest);
+    }
+  } catch (const std::exception& e) {
+    return problem(e.what());
+  }
+  organs_.push_back(std::move(t));
+  return {};
+}
+
+}  // namespace lap::sim
