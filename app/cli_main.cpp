@@ -139,12 +139,12 @@ int cmd_validate(int argc, char** argv) {
   for (const auto& p : args.all("--allow-path")) settings.allowed_paths.emplace_back(p);
   const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"), settings);
   if (!r.ok()) {
-    for (const auto& p : r.problems) std::cerr << p.to_string() << "\n";
-    std::cerr << r.problems.size() << (r.problems.size() == 1 ? " problem" : " problems")
+    for (const auto& p : r.diagnostics()) std::cerr << p.to_string() << "\n";
+    std::cerr << r.diagnostics().size() << (r.diagnostics().size() == 1 ? " problem" : " problems")
               << " found\n";
     return kExitProblems;
   }
-  std::cout << args.get("--scenario") << ": ok\n" << lap::sim::describe_scene(r.scene);
+  std::cout << args.get("--scenario") << ": ok\n" << lap::sim::describe_scene(r.value());
   return kExitOk;
 }
 
@@ -378,10 +378,10 @@ int cmd_run(int argc, char** argv) {
   if (!ok || !args.errors.empty()) return usage_error(args);
 
   const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
-  if (!r.ok()) return print_problems(r.problems);
+  if (!r.ok()) return print_problems(r.diagnostics());
   std::array<std::unique_ptr<lap::hardware::HapticDevice>, 2> devices;
   for (int side = 0; side < 2; ++side) {
-    auto device = lap::sim::make_device(specs[static_cast<size_t>(side)], r.scene, side);
+    auto device = lap::sim::make_device(specs[static_cast<size_t>(side)], r.value(), side);
     if (!device.ok()) {
       std::cerr << "laptrainer-cli run: " << (side == 0 ? "--left" : "--right") << ": "
                 << device.message() << "\n";
@@ -389,7 +389,7 @@ int cmd_run(int argc, char** argv) {
     }
     devices[static_cast<size_t>(side)] = std::move(device).value();
   }
-  auto created = lap::sim::Session::create(r.scene, std::move(devices), rs);
+  auto created = lap::sim::Session::create(r.value(), std::move(devices), rs);
   if (!created.ok()) {
     std::cerr << "laptrainer-cli run: " << created.message() << "\n";
     return kExitProblems;
@@ -400,11 +400,8 @@ int cmd_run(int argc, char** argv) {
   if (m.paused) {
     std::cerr << "laptrainer-cli run: the watchdog paused the session (forces zeroed):";
     for (const auto& e : m.events) {
-      std::cerr << " tick " << e.tick << " " << lap::sim::to_string(e.reason);
-      if (e.reason == lap::sim::WatchdogReason::kModelFault) {
-        std::cerr << " (" << lap::sim::to_string(e.model_fault.kind) << ")";
-      }
-      std::cerr << ";";
+      std::cerr << " tick " << e.tick << " "
+                << lap::sim::describe(e.reason, e.model_fault, m.organ_names) << ";";
     }
     std::cerr << "\n";
   }

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The session the trainee window runs (docs/architecture.md "Three loops"): the haptic and
+/// The session the trainee window runs (docs/architecture.md, "The three loops"): the haptic and
 /// modelling loops on their own threads (sim::Session in real time), two simulated devices the
 /// keyboard drives, and the window as the graphics loop, reading the newest snapshots each frame.
 
@@ -51,6 +51,10 @@ class LiveSession {
   const sim::ModelSnapshot& model() { return session_->graphics_model(); }
   /// The organs' surfaces at rest as the session has them (ModelSnapshot::organs deforms them).
   [[nodiscard]] int32_t organ_count() const { return session_->organ_count(); }
+  /// Each organ's name (for naming a faulted model in the status bar); empty with no session.
+  [[nodiscard]] std::vector<std::string> organ_names() const {
+    return session_ ? session_->model().organ_names() : std::vector<std::string>{};
+  }
   [[nodiscard]] const haptics::TriangleMesh& organ_surface(int32_t organ) const {
     return session_->organ_surface(organ);
   }

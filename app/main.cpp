@@ -119,10 +119,10 @@ int run_headless(const std::string& scenario) {
                "laptrainer\n";
   const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(scenario);
   if (!r.ok()) {
-    for (const auto& p : r.problems) std::cerr << p.to_string() << "\n";
+    for (const auto& p : r.diagnostics()) std::cerr << p.to_string() << "\n";
     return kExitProblems;
   }
-  std::cout << lap::sim::describe_scene(r.scene);
+  std::cout << lap::sim::describe_scene(r.value());
   std::cout << "headless run finished: scene loaded and every organ mesh is a closed, oriented "
                "manifold.\n";
   return 0;
@@ -154,9 +154,9 @@ int main(int argc, char** argv) {
   lap::app::MainWindow window;
   window.set_record_dir(QString::fromStdString(opt.record));
   window.set_devices(opt.devices);
-  QStringList problems;
-  if (!window.open_scenario(QString::fromStdString(opt.scenario), &problems)) {
-    for (const QString& p : problems) std::cerr << p.toStdString() << "\n";
+  if (const lap::Status opened = window.open_scenario(QString::fromStdString(opt.scenario));
+      !opened.ok()) {
+    std::cerr << opened.message() << "\n";
     if (!opt.screenshot.empty()) return kExitProblems;
   }
   window.show();

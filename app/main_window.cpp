@@ -133,17 +133,12 @@ MainWindow::MainWindow() {
   timer->start(1000);
 }
 
-bool MainWindow::open_scenario(const QString& file, QStringList* problems) {
+Status MainWindow::open_scenario(const QString& file) {
   sim::SceneLoadResult r = sim::load_scene_file(file.toStdString());
-  if (!r.ok()) {
-    QStringList lines;
-    for (const auto& p : r.problems) lines << QString::fromStdString(p.to_string());
-    if (problems != nullptr) *problems = lines;
-    return false;
-  }
-  scene_ = std::move(r.scene);
+  if (!r.ok()) return r.diagnostics();
+  scene_ = std::move(r).value();
   show_scene(scene_);
-  return true;
+  return {};
 }
 
 void MainWindow::show_scene(const sim::Scene& scene) {
@@ -215,7 +210,8 @@ void MainWindow::update_loops() {
   }
   if (h.paused) {
     text = QString("PAUSED (%1): forces off, Space resumes | ")
-               .arg(QString::fromStdString(std::string(sim::to_string(h.last_reason)))) +
+               .arg(QString::fromStdString(
+                   sim::describe(h.last_reason, h.last_model_fault, session_.organ_names()))) +
            text;
   }
   loops_label_->setText(text);
@@ -305,9 +301,8 @@ void MainWindow::open_dialog() {
   const QString file =
       QFileDialog::getOpenFileName(this, "Open scenario", QString(), "Scenarios (*.yaml *.yml)");
   if (file.isEmpty()) return;
-  QStringList problems;
-  if (!open_scenario(file, &problems)) {
-    QMessageBox::warning(this, "Scenario not loaded", problems.join("\n"));
+  if (const Status opened = open_scenario(file); !opened.ok()) {
+    QMessageBox::warning(this, "Scenario not loaded", QString::fromStdString(opened.message()));
   }
 }
 

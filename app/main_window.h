@@ -20,16 +20,16 @@ class MainWindow : public QMainWindow {
 
  public:
   MainWindow();
-  /// Loads a scenario; on failure shows the problems and keeps the current scene.
-  bool open_scenario(const QString& file, QStringList* problems = nullptr);
+  /// Loads a scenario and shows it; on failure keeps the current scene and returns the problems.
+  [[nodiscard]] Status open_scenario(const QString& file);
   VtkView* view() { return view_; }
   /// Where the session's inputs and metrics are saved when it ends (window closed, quit);
   /// empty: not saved unless the user asks (File > End and Save Session).
   void set_record_dir(const QString& dir) { record_dir_ = dir; }
   /// The devices the next session uses (default: two simulated tools).
   void set_devices(const std::array<hardware::DeviceSpec, 2>& devices) { devices_ = devices; }
-  /// Ends the running session: saved to the record folder if one is set. False and *error
-  /// when saving failed.
+  /// Ends the running session: saved to the record folder if one is set; the diagnostics say
+  /// why saving failed.
   Status end_session();
 
  protected:

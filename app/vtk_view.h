@@ -42,7 +42,7 @@ class VtkView : public QWidget {
   void reset_camera();
   /// Renders now if the native window exists.
   void render();
-  /// Writes the current frame as PNG; false (and *error) on failure.
+  /// Writes the current frame as PNG; the diagnostic says why it could not.
   [[nodiscard]] lap::Status save_png(const QString& file);
   /// Frames rendered so far.
   [[nodiscard]] long frames() const { return frames_; }

@@ -42,8 +42,10 @@ class [[nodiscard]] Result {
   }
   T* operator->() { return &value(); }
   const T* operator->() const { return &value(); }
-  /// Why there is no value; empty when ok().
-  [[nodiscard]] const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+  /// Why there is no value; empty when ok(). A temporary Result hands its diagnostics over by
+  /// value, so `for (const Diagnostic& d : load(...).diagnostics())` does not dangle.
+  [[nodiscard]] const std::vector<Diagnostic>& diagnostics() const& { return diagnostics_; }
+  [[nodiscard]] std::vector<Diagnostic> diagnostics() && { return std::move(diagnostics_); }
   /// The diagnostics, one per line.
   [[nodiscard]] std::string message() const { return to_string(diagnostics_); }
 
@@ -65,7 +67,8 @@ class [[nodiscard]] Result<void> {
       : diagnostics_(std::move(d)) {}
   [[nodiscard]] bool ok() const { return diagnostics_.empty(); }
   explicit operator bool() const { return ok(); }
-  [[nodiscard]] const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+  [[nodiscard]] const std::vector<Diagnostic>& diagnostics() const& { return diagnostics_; }
+  [[nodiscard]] std::vector<Diagnostic> diagnostics() && { return std::move(diagnostics_); }
   [[nodiscard]] std::string message() const { return to_string(diagnostics_); }
 
  private:

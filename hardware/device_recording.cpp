@@ -25,10 +25,6 @@ T get(const char* p) {
 }
 
 // `file: field: message`. Without a file name the text is kept as it always printed (": ...").
-Diagnostic file_problem(const std::string& file, std::string field, std::string message) {
-  Diagnostic d = file_diagnostic(file, 0, std::move(field), std::move(message));
-  return file.empty() ? diagnostic(": " + d.to_string()) : d;
-}
 
 }  // namespace
 
@@ -56,17 +52,17 @@ Status write_device_recording(const std::filesystem::path& file, const DeviceRec
     put(&bytes, static_cast<uint32_t>(r.status));
   }
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) return file_problem(file.string(), "", "cannot write the device recording");
+  if (!out) return file_diagnostic(file.string(), 0, "", "cannot write the device recording");
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.close();
-  if (!out) return file_problem(file.string(), "", "writing the device recording failed");
+  if (!out) return file_diagnostic(file.string(), 0, "", "writing the device recording failed");
   return {};
 }
 
 Result<DeviceRecording> read_device_recording(const std::filesystem::path& file) {
   auto fail = [&](const std::string& what,
                   const std::string& field = "") -> Result<DeviceRecording> {
-    return file_problem(file.string(), field, what);
+    return file_diagnostic(file.string(), 0, field, what);
   };
   std::ifstream in(file, std::ios::binary);
   if (!in) return fail("cannot open the device recording");

@@ -33,11 +33,6 @@ std::vector<std::string_view> split(std::string_view line) {
 
 // `file:line: field: message`. Without a file name the text is kept as it always printed
 // (":line: ...").
-Diagnostic file_problem(const std::string& file, int line, std::string field, std::string message) {
-  Diagnostic d = file_diagnostic(file, line, std::move(field), std::move(message));
-  if (!file.empty()) return d;
-  return diagnostic((line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + d.to_string());
-}
 
 constexpr const char* kFieldNames[] = {"time_s", "x_m", "y_m", "z_m",         "qw",
                                        "qx",     "qy",  "qz",  "gripper_rad", "buttons"};
@@ -84,7 +79,7 @@ Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
   bool first_content = true;
   auto fail = [&](const std::string& what,
                   const std::string& field = "") -> Result<ScriptedTrajectory> {
-    return file_problem(source, line_no, field, what);
+    return file_diagnostic(source, line_no, field, what);
   };
   while (std::getline(in, line)) {
     ++line_no;
@@ -146,7 +141,7 @@ Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
 
 Result<ScriptedTrajectory> load_scripted_trajectory(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) return file_problem(file.string(), 0, "", "cannot open the trajectory file");
+  if (!in) return file_diagnostic(file.string(), 0, "", "cannot open the trajectory file");
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_scripted_trajectory(ss.str(), file.string());

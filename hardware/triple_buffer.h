@@ -3,7 +3,7 @@
 /// A single-producer, single-consumer triple buffer: the writer publishes whole values, the
 /// reader takes the newest published one. Neither side ever waits for the other (wait-free), so
 /// the haptic thread can read what the UI or the modelling thread wrote, and publish to them,
-/// without a lock (docs/architecture.md, "Exchange between loops by lock-free snapshots").
+/// without a lock (docs/architecture.md, "What crosses between threads, and how").
 ///
 /// Three slots: the writer owns one, the reader owns one, and the third ("middle") holds the
 /// newest published value. Publishing swaps the writer's slot with the middle; reading swaps the

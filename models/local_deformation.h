@@ -125,8 +125,8 @@ struct LocalDeformationState {
 
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
 /// rest). Afterwards `changed` lists every vertex whose position changed since the previous call
-/// (what MeshDatabase::set_positions(positions, changed) needs). Returns false, leaving the rest
-/// shape, when a contact is not finite or names no face.
+/// (what MeshDatabase::set_positions(positions, changed) needs). A contact that is not finite or
+/// names no face is skipped (the others are applied) and the call returns false.
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
             LocalDeformationState* state) noexcept;
 

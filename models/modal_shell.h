@@ -63,7 +63,7 @@ class ModalShellModel {
   /// What the modes depend on (mesh, held dofs, material, mode count), hashed: the cache key.
   [[nodiscard]] static uint64_t key(const ShellMesh& mesh, const std::vector<uint8_t>& held_dof,
                                     const ModalShellSettings& settings);
-  /// The model as bytes, for the on-disk cache (sim/modal_shell_cache), tagged with `key`.
+  /// The model as bytes, for the on-disk cache (sim/setup/modal_shell_cache), tagged with `key`.
   [[nodiscard]] std::vector<uint8_t> to_bytes(uint64_t key) const;
   /// Reads to_bytes() output; throws std::invalid_argument when the bytes are short, corrupt or
   /// made for another key.

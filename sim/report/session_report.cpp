@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 namespace lap::sim {
 
@@ -22,14 +23,16 @@ nlohmann::ordered_json loop_json(const LoopStats& s) {
   return j;
 }
 
-nlohmann::ordered_json watchdog_event_json(const WatchdogEvent& e) {
+nlohmann::ordered_json watchdog_event_json(const WatchdogEvent& e,
+                                           const std::vector<std::string>& organ_names) {
   nlohmann::ordered_json j;
   j["tick"] = e.tick;
   j["tool"] = e.tool == 0 ? "left" : e.tool == 1 ? "right" : "haptic loop";
   j["reason"] = std::string(to_string(e.reason));
   if (e.reason == WatchdogReason::kModelFault) {
     j["model"] = std::string(to_string(e.model_fault.kind));
-    j["organ"] = e.model_fault.organ;
+    const auto organ = static_cast<size_t>(e.model_fault.organ);
+    j["organ"] = e.model_fault.organ >= 0 && organ < organ_names.size() ? organ_names[organ] : "";
   }
   return j;
 }
@@ -45,7 +48,9 @@ nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::strin
   j["model"] = loop_json(m.model);
   j["paused"] = m.paused;
   j["watchdog_events"] = nlohmann::ordered_json::array();
-  for (const WatchdogEvent& e : m.events) j["watchdog_events"].push_back(watchdog_event_json(e));
+  for (const WatchdogEvent& e : m.events) {
+    j["watchdog_events"].push_back(watchdog_event_json(e, m.organ_names));
+  }
   j["devices"] = {{"left", std::string(hardware::to_string(m.device_status[0]))},
                   {"right", std::string(hardware::to_string(m.device_status[1]))}};
   j["recorded_ticks"] = m.recorded_ticks;
@@ -57,7 +62,11 @@ nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::strin
 }
 
 std::string metrics_json(const SessionMetrics& m, const std::string& scenario, bool fast) {
-  return metrics_to_json(m, scenario, fast).dump(2) + "\n";
+  // Names and paths come from the user (arguments, scenario files) and need not be UTF-8: such
+  // bytes are replaced rather than failing the report at the end of a session.
+  return metrics_to_json(m, scenario, fast)
+             .dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) +
+         "\n";
 }
 
 Status save_session(const Session& session, const SessionMetrics& m, const std::string& scenario,

@@ -4,7 +4,7 @@
 /// sessions): its metrics as JSON (loop statistics, watchdog events, device states, warnings,
 /// the state hash), and the folder that holds them beside the recorded inputs.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 
 #include "core/result.h"

@@ -1,9 +1,10 @@
 #pragma once
 /// \file
-/// Statistics one loop keeps about itself (docs/architecture.md "Three loops"): ticks, achieved
-/// rate, period jitter as a histogram (1 µs bins up to 5 ms, one overflow bin), overruns (a step
-/// longer than the period), deadlines missed (a tick starting more than 2 ms late), the worst step
-/// and the worst lateness. add() is real-time safe: the histogram is sized at construction.
+/// Statistics one loop keeps about itself (docs/architecture.md, "The three loops"): ticks,
+/// achieved rate, period jitter as a histogram (1 µs bins up to 5 ms, one overflow bin), overruns
+/// (a step longer than the period), deadlines missed (a tick starting more than 2 ms late), the
+/// worst step and the worst lateness. add() is real-time safe: the histogram is sized at
+/// construction.
 
 #include <array>
 #include <cstdint>

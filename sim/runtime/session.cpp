@@ -58,6 +58,18 @@ std::string_view to_string(WatchdogReason reason) {
   return "unknown";
 }
 
+std::string describe(WatchdogReason reason, const ModelFault& fault,
+                     const std::vector<std::string>& organ_names) {
+  std::string text(to_string(reason));
+  if (reason != WatchdogReason::kModelFault || !fault) return text;
+  text += ": ";
+  text += to_string(fault.kind);
+  if (fault.organ >= 0 && static_cast<size_t>(fault.organ) < organ_names.size()) {
+    text += " on " + organ_names[static_cast<size_t>(fault.organ)];
+  }
+  return text;
+}
+
 Result<std::unique_ptr<Session>> Session::create(
     const Scene& scene, std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices,
     const RuntimeSettings& settings) {
@@ -77,8 +89,10 @@ Result<std::unique_ptr<Session>> Session::create(
 Result<std::unique_ptr<Session>> Session::create(
     std::shared_ptr<const SessionModel> model,
     std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices) {
+  if (model == nullptr) return diagnostic("no session model");
   std::unique_ptr<Session> s(new Session());
   s->model_ = std::move(model);
+  for (auto& per_reason : s->last_trip_tick_) per_reason.fill(-2);
   const SessionModel& m = *s->model_;
   const SessionTiming& timing = m.timing();
   s->haptic_stats_ = LoopStats(timing.dt_s);
@@ -151,12 +165,13 @@ Session::~Session() {
 }
 
 void Session::trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault) noexcept {
-  // A fault that lasts (a device still unplugged: the same fault tick after tick) is one
-  // event, not one per tick; a fault that comes back later is a new one.
-  const bool repeat = paused_.load(std::memory_order_relaxed) && !events_.empty() &&
-                      events_.back().tool == tool && events_.back().reason == reason &&
-                      tick <= last_trip_tick_ + 1;
-  last_trip_tick_ = tick;
+  // A fault that lasts (a device still unplugged, a model failing step after step: the same
+  // fault tick after tick) is one event, not one per tick, whatever else trips meanwhile; a
+  // fault that comes back later, or after a resume, is a new one.
+  const size_t who = tool < 0 ? 0 : static_cast<size_t>(tool) + 1;  // the loop, left, right
+  int64_t& last = last_trip_tick_[who][static_cast<size_t>(reason)];
+  const bool repeat = paused_.load(std::memory_order_relaxed) && tick <= last + 1;
+  last = tick;
   if (repeat) {
     gain_ = 0.0;
     return;
@@ -200,10 +215,7 @@ const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noe
     trip(tick, -1, WatchdogReason::kOverrun);
   }
   const ModelSnapshot& model = model_to_haptic_.latest();
-  if (model.faults > model_faults_seen_) {
-    model_faults_seen_ = model.faults;
-    trip(tick, -1, WatchdogReason::kModelFault, model.last_fault);
-  }
+  if (model.fault) trip(tick, -1, WatchdogReason::kModelFault, model.fault);
   if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
   return model;
 }
@@ -330,7 +342,10 @@ void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
   if (lateness_s > LoopStats::kMissedLateS) ++missed_deadlines_;
   snap.worst_lateness_s = worst_lateness_s_;
   snap.missed_deadlines = missed_deadlines_;
-  if (!events_.empty()) snap.last_reason = events_.back().reason;
+  if (!events_.empty()) {
+    snap.last_reason = events_.back().reason;
+    snap.last_model_fault = events_.back().model_fault;
+  }
   to_graphics_.publish(snap);
   to_model_.publish();
 }
@@ -346,10 +361,12 @@ void Session::model_tick(int64_t tick) noexcept {
     in.contact_count = t.organ_contact_count;
     in.contacts = t.organ_contacts;
   }
-  if (tick == injected_fault_tick_) world_->inject_non_finite(injected_fault_);
+  if (injected_fault_steps_ > 0 && tick >= injected_fault_tick_) {
+    world_->inject_non_finite(injected_fault_);
+    --injected_fault_steps_;
+  }
   const ModelFault fault = world_->step(model_input_, model_->timing().model_dt_s);
   ++model_steps_;
-  if (fault) ++model_faults_;
   for (const Eigen::Vector3d& p : world_->catheter().positions) hash_vector(&model_hash_, p);
   for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
     ModelSnapshot& m = buf->write_slot();
@@ -362,8 +379,7 @@ void Session::model_tick(int64_t tick) noexcept {
     m.catheter_contacts = world_->catheter_contacts();
     m.deepest_dent_m = world_->deepest_dent_m();
     world_->write_deformations(&m.organs);  // sized at set-up: no allocation
-    m.faults = model_faults_;
-    if (fault) m.last_fault = fault;
+    m.fault = fault;
     if (buf == &model_to_haptic_) {
       // The proxies' next copy of the surfaces takes up the same deformations here, on this
       // thread, so the haptic step only switches to it.
@@ -506,6 +522,7 @@ SessionMetrics Session::run() {
                          std::to_string(events_.size()) + " were counted but not listed");
   }
   m.max_force_sent_n = max_force_sent_n_;
+  m.organ_names = model_->organ_names();
   return m;
 }
 

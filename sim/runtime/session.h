@@ -51,7 +51,6 @@
 #include "sim/runtime/loop_stats.h"
 #include "sim/runtime/tissue_world.h"
 #include "sim/runtime/trocar_tool.h"
-#include "sim/setup/organ_surface.h"
 #include "sim/setup/runtime_settings.h"
 #include "sim/setup/scene.h"
 #include "sim/setup/session_model.h"
@@ -65,6 +64,7 @@ enum class WatchdogReason : uint8_t {
   kDeviceError,
   kModelFault,  ///< a tissue model met a non-finite value (WatchdogEvent::model_fault says which)
 };
+inline constexpr size_t kWatchdogReasons = 5;
 [[nodiscard]] std::string_view to_string(WatchdogReason reason);
 
 struct WatchdogEvent {
@@ -90,6 +90,7 @@ struct HapticSnapshot {
   double worst_lateness_s = 0.0;  ///< so far
   int64_t missed_deadlines = 0;   ///< ticks started more than 2 ms late, so far
   WatchdogReason last_reason = WatchdogReason::kOverrun;  ///< of the latest event, if any
+  ModelFault last_model_fault;  ///< the latest event's model, when it was a model fault
 };
 
 struct ModelSnapshot {
@@ -102,8 +103,9 @@ struct ModelSnapshot {
   int32_t catheter_contacts = 0;           ///< particles touching an organ or the duct
   double deepest_dent_m = 0.0;             ///< largest displacement of a surface vertex
   std::vector<SurfaceDeformation> organs;  ///< each organ's deformed vertices (world frame)
-  int64_t faults = 0;                      ///< modelling steps so far in which a model faulted
-  ModelFault last_fault;                   ///< the latest of them
+  /// The model that met a non-finite value in this step, if any: the haptic loop trips its
+  /// watchdog on every tick that sees it (a fault lasting several steps is one event).
+  ModelFault fault;
 };
 
 struct SessionMetrics {
@@ -117,7 +119,13 @@ struct SessionMetrics {
   std::array<hardware::DeviceStatus, 2> device_status{};
   std::vector<std::string> warnings;
   double max_force_sent_n = 0.0;
+  std::vector<std::string> organ_names;  ///< for naming the organ of a model fault
 };
+
+/// What a watchdog event's reason says to a user: its reason, and for a model fault which model
+/// on which organ ("model fault: local deformation on liver").
+[[nodiscard]] std::string describe(WatchdogReason reason, const ModelFault& fault,
+                                   const std::vector<std::string>& organ_names);
 
 class Session {
  public:
@@ -153,11 +161,13 @@ class Session {
     injected_late_tick_ = tick;
     injected_late_s_ = late_s;
   }
-  /// Tests (fast mode): the modelling step of haptic tick `tick` puts a non-finite value into
-  /// model `kind` (TissueWorld::inject_non_finite), as a numerical blow-up would.
-  void inject_model_fault(int64_t tick, ModelFaultKind kind) {
+  /// Tests (fast mode): the modelling steps from haptic tick `tick` on, `steps` of them, put a
+  /// non-finite value into model `kind` (TissueWorld::inject_non_finite), as a numerical
+  /// blow-up would.
+  void inject_model_fault(int64_t tick, ModelFaultKind kind, int64_t steps = 1) {
     injected_fault_tick_ = tick;
     injected_fault_ = kind;
+    injected_fault_steps_ = steps;
   }
 
   [[nodiscard]] const SessionModel& model() const { return *model_; }
@@ -221,9 +231,9 @@ class Session {
   // Models' state (the modelling thread's own).
   std::unique_ptr<TissueWorld> world_;
   std::array<ToolModelInput, 2> model_input_{};
-  int64_t model_faults_ = 0;  ///< modelling thread
   int64_t injected_fault_tick_ = -1;
   ModelFaultKind injected_fault_ = ModelFaultKind::kNone;
+  int64_t injected_fault_steps_ = 0;
   // Scheduling warnings, published once each (bit 0: the haptic thread's priority, bit 1: the
   // memory lock); each string is written before its bit is set and never after.
   std::string priority_warning_;
@@ -246,8 +256,9 @@ class Session {
   double gain_ = 1.0;
   std::vector<WatchdogEvent> events_;  ///< capacity reserved at set-up
   int64_t events_dropped_ = 0;
-  int64_t last_trip_tick_ = -2;  ///< for telling a lasting fault from a new one
-  int64_t model_faults_seen_ = 0;
+  /// The last tick each tool (left, right, the loop itself) tripped for each reason: a fault
+  /// tripping again on the next tick is the same lasting fault, not a new event.
+  std::array<std::array<int64_t, kWatchdogReasons>, 3> last_trip_tick_{};
   int64_t injected_late_tick_ = -1;
   double injected_late_s_ = 0.0;
   double max_force_sent_n_ = 0.0;

@@ -175,7 +175,16 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
     bad.penetration_O.x() = std::numeric_limits<double>::quiet_NaN();
     injected_ = ModelFaultKind::kNone;  // the first locally deformed organ only
   }
-  const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get());
+  // A contact that found no face on the rest shape (rest_contact's miss) is dropped here, as
+  // deform() would skip it: that is not a fault. Only a non-finite contact makes deform() fail.
+  int32_t kept = 0;
+  for (int32_t k = 0; k < n; ++k) {
+    const int32_t face = s.dents[static_cast<size_t>(k)].face;
+    if (face >= 0 && face < t.local->face_count())
+      s.dents[static_cast<size_t>(kept++)] = s.dents[static_cast<size_t>(k)];
+  }
+  const bool ok =
+      models::deform(*t.local, {s.dents.data(), static_cast<size_t>(kept)}, s.local.get());
   for (const int32_t v : s.local->displaced) {
     deepest_dent_ =
         std::max(deepest_dent_,

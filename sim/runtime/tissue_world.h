@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// The modelling loop's world (docs/architecture.md "Three loops": catheter, duct, organ
-/// deformation; consumes contact forces, publishes surface positions; thesis §6.5, §7.6.3, §7.7).
+/// The modelling loop's world (docs/architecture.md, "One modelling step": the catheter, the duct
+/// and the organs' deformation take the tools' contact forces and publish the surfaces' positions;
+/// thesis §6.5, §7.6.3, §7.7).
 /// Built once from a scene; one step() per modelling tick:
 ///
 /// 1. each tool's jaws grasp or release the catheter (catheter_grasp.h) and the duct

@@ -3,13 +3,12 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace lap::sim {
 
-DuctFit fit_duct(const haptics::TriangleMesh& tube, double wall_thickness_m) {
+Result<DuctFit> fit_duct(const haptics::TriangleMesh& tube, double wall_thickness_m) {
   const auto n = tube.positions.size();
-  if (n < 8) throw std::invalid_argument("duct: the mesh has too few vertices to fit a tube");
+  if (n < 8) return diagnostic("duct: the mesh has too few vertices to fit a tube");
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : tube.positions) c += p;
   c /= static_cast<double>(n);
@@ -35,7 +34,7 @@ DuctFit fit_duct(const haptics::TriangleMesh& tube, double wall_thickness_m) {
     ++count;
   }
   if (!(length > 0.0) || count == 0) {
-    throw std::invalid_argument("duct: the mesh has no side wall to fit a tube to");
+    return diagnostic("duct: the mesh has no side wall to fit a tube to");
   }
   const double radius = sum / count;
   DuctFit f;
@@ -44,7 +43,7 @@ DuctFit fit_duct(const haptics::TriangleMesh& tube, double wall_thickness_m) {
   f.duct.length_m = length;
   f.duct.along = std::max(4, static_cast<int>(std::lround(length / 0.001)));  // ~1 mm elements
   if (!(f.duct.outer_diameter_m > 2.0 * wall_thickness_m)) {
-    throw std::invalid_argument("duct: the fitted radius is below the wall thickness");
+    return diagnostic("duct: the fitted radius is below the wall thickness");
   }
   // D: z along the axis, y the world's up as seen across the axis (membrane at local −y).
   Eigen::Vector3d up = Eigen::Vector3d::UnitY() - axis.dot(Eigen::Vector3d::UnitY()) * axis;

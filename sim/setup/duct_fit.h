@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/result.h"
 #include "haptics/triangle_mesh.h"
 #include "models/modal_shell.h"
 
@@ -19,8 +20,8 @@ struct DuctFit {
   Eigen::Isometry3d pose_WD = Eigen::Isometry3d::Identity();
 };
 
-/// Throws std::invalid_argument when the mesh is not tube-like (too few vertices, no length,
+/// The duct's settings and pose, or why the mesh is not tube-like (too few vertices, no length,
 /// or a wall too thin for the duct's wall thickness).
-[[nodiscard]] DuctFit fit_duct(const haptics::TriangleMesh& tube, double wall_thickness_m);
+[[nodiscard]] Result<DuctFit> fit_duct(const haptics::TriangleMesh& tube, double wall_thickness_m);
 
 }  // namespace lap::sim

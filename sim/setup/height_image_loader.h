@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Loads a haptic texture's height map (thesis §6.3.3 a) from a PNG (8- or 16-bit greyscale) or
-/// a baseline JPEG (8-bit greyscale). Setup only. Every refusal is a LoadError naming the file
+/// a baseline JPEG (8-bit greyscale). Setup only. Every refusal is a Diagnostic naming the file
 /// and what was expected: missing or unreadable file, not a PNG/JPEG, colour or alpha, another
 /// bit depth, zero size, dimensions beyond kMaxSide or kMaxPixels, corrupt data.
 

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "core/result.h"
-#include "haptics/setup/mesh_validation.h"
 #include "haptics/triangle_mesh.h"
 
 namespace lap::sim {

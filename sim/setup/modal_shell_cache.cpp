@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <optional>
+#include <stdexcept>
 #include <system_error>
 
 namespace lap::sim {
@@ -22,10 +24,10 @@ std::filesystem::path default_mode_cache_dir() {
   return std::filesystem::temp_directory_path() / "laptrainer-modes";
 }
 
-ModalShellLoad load_or_build_modal_shell(const models::ShellMesh& mesh,
-                                         const std::vector<uint8_t>& held_dof,
-                                         const models::ModalShellSettings& settings,
-                                         const std::filesystem::path& dir) {
+Result<ModalShellLoad> load_or_build_modal_shell(const models::ShellMesh& mesh,
+                                                 const std::vector<uint8_t>& held_dof,
+                                                 const models::ModalShellSettings& settings,
+                                                 const std::filesystem::path& dir) {
   const auto start = std::chrono::steady_clock::now();
   const uint64_t key = models::ModalShellModel::key(mesh, held_dof, settings);
   char name[40];
@@ -46,8 +48,13 @@ ModalShellLoad load_or_build_modal_shell(const models::ShellMesh& mesh,
       note = file.string() + ": " + e.what() + "; rebuilt";
     }
   }
-  ModalShellLoad r{models::ModalShellModel::build(mesh, held_dof, settings), false, note, 0.0,
-                   file};
+  std::optional<models::ModalShellModel> built;
+  try {  // the models library refuses a bad mesh or settings with std::invalid_argument
+    built.emplace(models::ModalShellModel::build(mesh, held_dof, settings));
+  } catch (const std::invalid_argument& e) {
+    return diagnostic(e.what());
+  }
+  ModalShellLoad r{std::move(*built), false, note, 0.0, file};
   const std::vector<uint8_t> bytes = r.model.to_bytes(key);
   std::filesystem::create_directories(dir, ec);
   const std::filesystem::path tmp = file.string() + ".tmp";

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/result.h"
 #include "models/modal_shell.h"
 
 namespace lap::sim {
@@ -24,11 +25,10 @@ struct ModalShellLoad {
   std::filesystem::path file;
 };
 
-/// Reads the modes from `dir` or builds and writes them. Throws what ModalShellModel::build
-/// throws (bad mesh or settings).
-[[nodiscard]] ModalShellLoad load_or_build_modal_shell(const models::ShellMesh& mesh,
-                                                       const std::vector<uint8_t>& held_dof,
-                                                       const models::ModalShellSettings& settings,
-                                                       const std::filesystem::path& dir);
+/// Reads the modes from `dir` or builds and writes them; the diagnostic says why they could not be
+/// built (bad mesh or settings: ModalShellModel::build's reason).
+[[nodiscard]] Result<ModalShellLoad> load_or_build_modal_shell(
+    const models::ShellMesh& mesh, const std::vector<uint8_t>& held_dof,
+    const models::ModalShellSettings& settings, const std::filesystem::path& dir);
 
 }  // namespace lap::sim

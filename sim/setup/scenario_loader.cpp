@@ -310,29 +310,28 @@ class ScenarioParser {
 
 ScenarioLoadResult parse_scenario(std::string_view text, const fs::path& file,
                                   const ScenarioLoadSettings& settings) {
-  ScenarioLoadResult result;
-  result.scenario.file = fs::absolute(file);
+  Scenario scenario;
+  scenario.file = fs::absolute(file);
   YamlFields fields(file.string());
   if (const std::optional<YAML::Node> root = fields.load(text)) {
     try {
-      ScenarioParser(fields, file, settings, result.scenario).parse(*root);
+      ScenarioParser(fields, file, settings, scenario).parse(*root);
     } catch (const YAML::Exception& e) {
       // yaml-cpp throws on some malformed trees (e.g. duplicate keys); report, never crash.
       fields.problem(e.mark.line >= 0 ? e.mark.line + 1 : 0, "(document)", e.msg);
     }
   }
-  result.problems = fields.take_problems();
-  return result;
+  std::vector<Diagnostic> problems = fields.take_problems();
+  if (!problems.empty()) return problems;
+  return scenario;
 }
 
 ScenarioLoadResult load_scenario(const fs::path& file, const ScenarioLoadSettings& settings) {
   std::ifstream in(file, std::ios::binary);
   std::error_code ec;
   if (!in || fs::is_directory(file, ec)) {
-    ScenarioLoadResult r;
-    r.problems.push_back({file.string(), 0, "(file)",
-                          "cannot read the scenario file (expected a readable YAML file)"});
-    return r;
+    return Diagnostic{file.string(), 0, "(file)",
+                      "cannot read the scenario file (expected a readable YAML file)"};
   }
   std::ostringstream text;
   text << in.rdbuf();

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/diagnostic.h"
+#include "core/result.h"
 #include "sim/setup/scenario.h"
 
 namespace lap::sim {
@@ -22,12 +22,9 @@ struct ScenarioLoadSettings {
   bool check_files = true;
 };
 
-/// The scenario and everything wrong with it; use the scenario only when ok().
-struct ScenarioLoadResult {
-  Scenario scenario;
-  std::vector<Diagnostic> problems;  ///< each `file:line: field: what was expected`
-  [[nodiscard]] bool ok() const { return problems.empty(); }
-};
+/// The scenario, or everything wrong with it (every problem found, not only the first: each
+/// `file:line: field: what was expected`).
+using ScenarioLoadResult = Result<Scenario>;
 
 /// Reads and checks a scenario file.
 [[nodiscard]] ScenarioLoadResult load_scenario(const std::filesystem::path& file,

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "haptics/setup/mesh_repair.h"
+#include "haptics/setup/mesh_validation.h"
 #include "sim/setup/height_image_loader.h"
 #include "sim/setup/mesh_loader.h"
 
@@ -33,8 +34,9 @@ int64_t Scene::triangle_count() const {
 }
 
 SceneLoadResult load_scene(const Scenario& scenario) {
-  SceneLoadResult result;
-  result.scene.scenario = scenario;
+  Scene scene;
+  std::vector<Diagnostic> problems;
+  scene.scenario = scenario;
   for (size_t i = 0; i < scenario.organs.size(); ++i) {
     const OrganSpec& spec = scenario.organs[i];
     const std::string field = "organs[" + std::to_string(i) + "].mesh";
@@ -47,7 +49,7 @@ SceneLoadResult load_scene(const Scenario& scenario) {
     load.scale = spec.scale;
     Result<haptics::TriangleMesh> mesh = load_mesh(spec.mesh, load);
     if (!mesh.ok()) {
-      result.problems.push_back({scenario.file.string(), spec.line, field, mesh.message()});
+      problems.push_back({scenario.file.string(), spec.line, field, mesh.message()});
       continue;
     }
     organ.mesh = std::move(mesh).value();
@@ -58,7 +60,7 @@ SceneLoadResult load_scene(const Scenario& scenario) {
     if (!d.clean()) {
       std::string what;
       for (const std::string& line : d.describe()) what += (what.empty() ? "" : "; ") + line;
-      result.problems.push_back(
+      problems.push_back(
           {scenario.file.string(), spec.line, field,
            spec.mesh.string() + " is not a closed, oriented, outward-facing manifold: " + what +
                (spec.repair ? " (left after repair)" : " (fix the mesh or set repair: true)")});
@@ -68,9 +70,9 @@ SceneLoadResult load_scene(const Scenario& scenario) {
     if (texture.kind == TextureSpec::Kind::kImage) {
       Result<haptics::HeightImage> image = load_height_image(texture.image);
       if (!image.ok()) {
-        result.problems.push_back({scenario.file.string(), texture.line,
-                                   "organs[" + std::to_string(i) + "].material.texture.image",
-                                   image.message()});
+        problems.push_back({scenario.file.string(), texture.line,
+                            "organs[" + std::to_string(i) + "].material.texture.image",
+                            image.message()});
         continue;
       }
       organ.height_image = std::make_shared<const haptics::HeightImage>(std::move(image).value());
@@ -87,20 +89,19 @@ SceneLoadResult load_scene(const Scenario& scenario) {
     organ.mesh.transform(placed);
     if (organ.mesh.normals.size() != organ.mesh.positions.size())
       organ.mesh.compute_vertex_normals();
-    result.scene.organs.push_back(std::move(organ));
+    scene.organs.push_back(std::move(organ));
   }
-  return result;
+  if (!problems.empty()) return problems;
+  return scene;
 }
 
 SceneLoadResult load_scene_file(const std::filesystem::path& file,
                                 const ScenarioLoadSettings& settings) {
   ScenarioLoadResult scenario = load_scenario(file, settings);
   if (!scenario.ok()) {
-    SceneLoadResult r;
-    r.problems = std::move(scenario.problems);
-    return r;
+    return scenario.diagnostics();
   }
-  return load_scene(scenario.scenario);
+  return load_scene(scenario.value());
 }
 
 std::string describe_scene(const Scene& scene) {

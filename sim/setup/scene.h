@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "haptics/image_height_field.h"
-#include "haptics/setup/mesh_validation.h"
 #include "haptics/triangle_mesh.h"
 #include "sim/setup/scenario.h"
 #include "sim/setup/scenario_loader.h"
@@ -41,12 +40,8 @@ struct Scene {
   [[nodiscard]] Eigen::Vector3d task_target_point() const;
 };
 
-/// The scene and the problems met while loading its meshes.
-struct SceneLoadResult {
-  Scene scene;
-  std::vector<Diagnostic> problems;
-  [[nodiscard]] bool ok() const { return problems.empty(); }
-};
+/// The scene, or every problem met while loading it and its meshes.
+using SceneLoadResult = Result<Scene>;
 
 /// Loads every organ mesh of a checked scenario. A mesh that is not a closed, oriented,
 /// outward-facing manifold is a problem unless the organ asks for repair and repair succeeds.

@@ -64,6 +64,8 @@ class SessionModel {
   /// stiffer than a device renders stably).
   [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
   [[nodiscard]] const std::string& scenario_file() const { return scenario_file_; }
+  /// Each organ's name, as the scenario gives it.
+  [[nodiscard]] const std::vector<std::string>& organ_names() const { return organ_names_; }
 
  private:
   SessionModel() = default;
@@ -83,6 +85,7 @@ class SessionModel {
   std::vector<OrganSurface> surfaces_;  // each organ's shading, texture, friction
   std::vector<haptics::HapticObject> objects_;
   std::vector<std::string> notes_;
+  std::vector<std::string> organ_names_;
 };
 
 }  // namespace lap::sim

@@ -35,12 +35,16 @@ Status TissueModel::add_organ(const Organ& organ, int32_t index, std::vector<std
   try {
     if (organ.model == models::ModelKind::kModalShell) {
       if (duct_.organ >= 0) return problem("only one modal-shell organ is supported");
-      const DuctFit fit = fit_duct(organ.mesh, settings_.duct_wall_thickness_m);
+      const Result<DuctFit> fitted = fit_duct(organ.mesh, settings_.duct_wall_thickness_m);
+      if (!fitted.ok()) return problem(fitted.message());
+      const DuctFit& fit = fitted.value();
       const models::DuctShell shell = models::make_duct_shell(fit.duct);
       const std::filesystem::path dir =
           settings_.mode_cache_dir.empty() ? default_mode_cache_dir() : settings_.mode_cache_dir;
-      ModalShellLoad load = load_or_build_modal_shell(
+      Result<ModalShellLoad> loaded = load_or_build_modal_shell(
           shell.mesh, shell.held_dof, models::default_duct_modal_settings(fit.duct), dir);
+      if (!loaded.ok()) return problem(loaded.message());
+      ModalShellLoad& load = loaded.value();
       if (!load.note.empty() && notes != nullptr) notes->push_back(organ.name + ": " + load.note);
       duct_.model = std::make_unique<models::ModalShellModel>(std::move(load.model));
       duct_.pose_WD = fit.pose_WD;

@@ -13,22 +13,31 @@ namespace lap::bench {
 namespace {
 
 OrganSet load_organ_set() {
+  // As tests/test_support.cpp: an empty LAP_SHARED_DIR counts as unset.
   const char* env = std::getenv("LAP_SHARED_DIR");
   const std::filesystem::path dir =
-      std::filesystem::path(env != nullptr ? env : LAP_SHARED_DIR) / "meshes";
+      std::filesystem::path(env != nullptr && *env != '\0' ? env : LAP_SHARED_DIR) / "meshes";
   OrganSet set;
   set.openhelp = true;
   set.label = "OpenHELP meshes";
+  std::string why = "no OpenHELP meshes in " + dir.string();
   for (const char* f : {"liver_openhelp.stl", "stomach_openhelp.stl", "duodenum_openhelp.stl"}) {
-    if (!std::filesystem::exists(dir / f)) {
+    std::error_code ec;
+    if (!std::filesystem::exists(dir / f, ec)) {
       set.openhelp = false;
       break;
     }
-    // The scans are in millimetres.
-    set.meshes.push_back(sim::load_mesh(dir / f, {0.001, 0.0}).value());
+    // The scans are in millimetres. One that does not load is said, and the stand-ins used.
+    Result<haptics::TriangleMesh> mesh = sim::load_mesh(dir / f, {0.001, 0.0});
+    if (!mesh.ok()) {
+      set.openhelp = false;
+      why = mesh.message();
+      break;
+    }
+    set.meshes.push_back(std::move(mesh).value());
   }
   if (!set.openhelp) {
-    set.label = "generated stand-ins (no OpenHELP meshes in " + dir.string() + ")";
+    set.label = "generated stand-ins (" + why + ")";
     set.meshes = {haptics::make_stand_in_liver(), haptics::make_stand_in_gallbladder(),
                   haptics::make_uv_sphere(0.05, 80, 120)};
     set.meshes[2].transform(Eigen::Affine3d(Eigen::Translation3d(0.15, 0.0, 0.0)));

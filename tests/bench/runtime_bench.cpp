@@ -89,8 +89,8 @@ void run_runtime(benchmark::State& state, bool isolate_by_default, const Graphic
   }
   for (auto _ : state) {
     std::array<std::unique_ptr<hardware::HapticDevice>, 2> d = {
-        std::make_unique<hardware::ScriptedDevice>(sweep(r.scene, 0, duration), "left"),
-        std::make_unique<hardware::ScriptedDevice>(sweep(r.scene, 1, duration), "right")};
+        std::make_unique<hardware::ScriptedDevice>(sweep(r.value(), 0, duration), "left"),
+        std::make_unique<hardware::ScriptedDevice>(sweep(r.value(), 1, duration), "right")};
     sim::RuntimeSettings rs;
     rs.duration_s = duration;
     // The haptic thread's processor kept to itself as the app does when it renders, not
@@ -99,7 +99,7 @@ void run_runtime(benchmark::State& state, bool isolate_by_default, const Graphic
     rs.isolate_haptic_processor =
         isolate != nullptr ? std::string(isolate) == "1" : isolate_by_default;
     state.counters["isolated"] = rs.isolate_haptic_processor ? 1.0 : 0.0;
-    auto created = sim::Session::create(r.scene, std::move(d), rs);
+    auto created = sim::Session::create(r.value(), std::move(d), rs);
     if (!created.ok()) {
       state.SkipWithError(created.message().c_str());
       return;

@@ -1,4 +1,4 @@
-// The step allocates nothing: the haptic step allocates nothing after warm-up. Proven with a
+// The haptic step allocates nothing after warm-up. Proven with a
 // counting operator new over thousands of steps that make and lose contact, slide, touch two
 // objects at once, and refit a deforming mesh.
 

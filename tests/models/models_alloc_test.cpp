@@ -1,4 +1,4 @@
-// The step allocates nothing for the models: after setup, their steps allocate nothing (counting
+// The models allocate nothing in their steps: after setup, their steps allocate nothing (counting
 // operator new over 1,000 steps each, with contacts, clamps and the catheter's energy guard at
 // work).
 

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
 
@@ -161,11 +162,20 @@ TEST(CliProbe, BadPathRowsAreNamedByLine) {
             64);
 }
 
+// The first value named `key` in the JSON text, depth first in the order written, as JSON text
+// (a string with its quotes); "" when the text is not JSON or has no such key.
+std::string json_field(const nlohmann::ordered_json& j, const std::string& key) {
+  if (!j.is_object() && !j.is_array()) return {};
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (j.is_object() && it.key() == key) return it.value().dump();
+    const std::string inner = json_field(it.value(), key);
+    if (!inner.empty()) return inner;
+  }
+  return {};
+}
 std::string json_field(const std::string& json, const std::string& key) {
-  const size_t at = json.find("\"" + key + "\": ");
-  if (at == std::string::npos) return {};
-  const size_t start = at + key.size() + 4;
-  return json.substr(start, json.find_first_of(",}\n", start) - start);
+  const auto j = nlohmann::ordered_json::parse(json, nullptr, /*allow_exceptions=*/false);
+  return j.is_discarded() ? std::string() : json_field(j, key);
 }
 
 TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {

@@ -20,13 +20,13 @@ TEST(ModalShellCache, DefaultDuctIsSolvedOnceThenRead) {
   const models::DuctShell shell = models::make_duct_shell(duct);
   const models::ModalShellSettings settings = models::default_duct_modal_settings(duct);
   const ModalShellLoad built =
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path());
+      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).value();
   EXPECT_FALSE(built.from_cache);
   EXPECT_TRUE(built.note.empty()) << built.note;
   EXPECT_LT(built.seconds, 10.0);  // the bound for the default duct
   ASSERT_TRUE(std::filesystem::exists(built.file));
   const ModalShellLoad read =
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path());
+      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).value();
   EXPECT_TRUE(read.from_cache);
   EXPECT_EQ(read.model.omega(), built.model.omega());
   EXPECT_EQ(read.model.modes(), built.model.modes());
@@ -39,7 +39,7 @@ TEST(ModalShellCache, DefaultDuctIsSolvedOnceThenRead) {
   models::ModalShellSettings stiffer = settings;
   stiffer.material.young_pa *= 2.0;
   const ModalShellLoad other =
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, stiffer, tmp.path());
+      load_or_build_modal_shell(shell.mesh, shell.held_dof, stiffer, tmp.path()).value();
   EXPECT_FALSE(other.from_cache);
   EXPECT_NEAR(other.model.omega()(0), std::sqrt(2.0) * built.model.omega()(0),
               1e-6 * built.model.omega()(0));
@@ -65,20 +65,21 @@ TEST(ModalShellCache, CorruptFileIsRebuiltAndSaid) {
   const models::DuctShell& shell = small.shell;
   const models::ModalShellSettings& settings = small.settings;
   const ModalShellLoad built =
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path());
+      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).value();
   {
     std::ofstream out(built.file, std::ios::binary | std::ios::trunc);
     out << "garbage";
   }
   const ModalShellLoad again =
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path());
+      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).value();
   EXPECT_FALSE(again.from_cache);
   EXPECT_NE(again.note.find(built.file.string()), std::string::npos) << again.note;
   EXPECT_NE(again.note.find("too short"), std::string::npos) << again.note;
   EXPECT_EQ(again.model.omega(), built.model.omega());
   // And the rewritten file is good again.
-  EXPECT_TRUE(
-      load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).from_cache);
+  EXPECT_TRUE(load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path())
+                  .value()
+                  .from_cache);
 }
 
 TEST(ModalShellCache, UnwritableDirectoryStillBuilds) {
@@ -86,7 +87,8 @@ TEST(ModalShellCache, UnwritableDirectoryStillBuilds) {
   const std::filesystem::path file = tmp.write("not_a_dir", "x");
   const SmallDuct small;
   const ModalShellLoad r = load_or_build_modal_shell(small.shell.mesh, small.shell.held_dof,
-                                                     small.settings, file / "modes");
+                                                     small.settings, file / "modes")
+                               .value();
   EXPECT_FALSE(r.from_cache);
   EXPECT_NE(r.note.find("could not write"), std::string::npos) << r.note;
   EXPECT_EQ(r.model.mode_count(), 8);

@@ -79,13 +79,13 @@ class ScenarioFixture : public ::testing::Test {
 
   // Exactly one problem, with exactly this text after the file name.
   void expect_one(const ScenarioLoadResult& r, const std::string& expected) {
-    ASSERT_EQ(r.problems.size(), 1U) << all(r);
-    EXPECT_EQ(r.problems[0].to_string(), file() + ":" + expected);
+    ASSERT_EQ(r.diagnostics().size(), 1U) << all(r);
+    EXPECT_EQ(r.diagnostics()[0].to_string(), file() + ":" + expected);
   }
 
   static std::string all(const ScenarioLoadResult& r) {
     std::string s;
-    for (const auto& p : r.problems) s += p.to_string() + "\n";
+    for (const auto& p : r.diagnostics()) s += p.to_string() + "\n";
     return s;
   }
 
@@ -95,7 +95,7 @@ class ScenarioFixture : public ::testing::Test {
 TEST_F(ScenarioFixture, BaseScenarioIsValid) {
   const ScenarioLoadResult r = load_with(0, "");
   ASSERT_TRUE(r.ok()) << all(r);
-  const Scenario& s = r.scenario;
+  const Scenario& s = r.value();
   ASSERT_EQ(s.organs.size(), 2U);
   EXPECT_EQ(s.organs[0].name, "liver");
   EXPECT_DOUBLE_EQ(s.organs[0].scale, 0.001);
@@ -261,14 +261,14 @@ TEST_F(ScenarioFixture, Bad25_TaskWithoutCatheter) {
 
 TEST_F(ScenarioFixture, Bad26_MisspelledMaterialField) {
   const ScenarioLoadResult r = load_with(21, "      stiffnes_n_per_m: 150");
-  ASSERT_EQ(r.problems.size(), 2U) << all(r);
-  EXPECT_EQ(r.problems[0].to_string(),
+  ASSERT_EQ(r.diagnostics().size(), 2U) << all(r);
+  EXPECT_EQ(r.diagnostics()[0].to_string(),
             file() +
                 ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
                 "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, "
                 "friction_stick_stiffness_n_per_m, friction_slide_stiffness_n_per_m, friction_map, "
                 "shading, texture)");
-  EXPECT_EQ(r.problems[1].to_string(),
+  EXPECT_EQ(r.diagnostics()[1].to_string(),
             file() + ":21: organs[1].material.stiffness_n_per_m: required field is missing");
 }
 
@@ -280,15 +280,15 @@ TEST_F(ScenarioFixture, Bad27_AllowedPathThatDoesNotExist) {
 
 TEST_F(ScenarioFixture, Bad28_EmptyDocument) {
   const ScenarioLoadResult r = load_scenario(dir_.write("scene/s.yaml", "# nothing here\n"));
-  ASSERT_EQ(r.problems.size(), 1U);
+  ASSERT_EQ(r.diagnostics().size(), 1U);
   EXPECT_EQ(
-      r.problems[0].to_string(),
+      r.diagnostics()[0].to_string(),
       file() + ":1: (document): expected a mapping with version, name and organs, got nothing");
 }
 
 TEST_F(ScenarioFixture, ManyProblemsAreAllReported) {
   const ScenarioLoadResult r = load_with(13, "      stiffness_n_per_m: -1\n      color: red");
-  EXPECT_EQ(r.problems.size(), 2U) << all(r);
+  EXPECT_EQ(r.diagnostics().size(), 2U) << all(r);
 }
 
 TEST_F(ScenarioFixture, AllowedPathsLetAFileOutsideTheFolderIn) {
@@ -297,12 +297,13 @@ TEST_F(ScenarioFixture, AllowedPathsLetAFileOutsideTheFolderIn) {
   text.replace(text.find("    mesh: meshes/tetra.obj\n    model"), 26,
                "    mesh: ../assets/outside.obj");
   const ScenarioLoadResult refused = load_scenario(dir_.write("scene/s.yaml", text));
-  ASSERT_EQ(refused.problems.size(), 1U) << all(refused);
-  EXPECT_NE(refused.problems[0].message.find("leaves the scenario's folder"), std::string::npos);
+  ASSERT_EQ(refused.diagnostics().size(), 1U) << all(refused);
+  EXPECT_NE(refused.diagnostics()[0].message.find("leaves the scenario's folder"),
+            std::string::npos);
   text.replace(text.find("name: test scene"), 16, "name: test scene\nallowed_paths: [../assets]");
   const ScenarioLoadResult allowed = load_scenario(dir_.write("scene/s.yaml", text));
   EXPECT_TRUE(allowed.ok()) << all(allowed);
-  EXPECT_TRUE(std::filesystem::equivalent(allowed.scenario.organs[1].mesh,
+  EXPECT_TRUE(std::filesystem::equivalent(allowed.value().organs[1].mesh,
                                           dir_.path() / "assets/outside.obj"));
 }
 
@@ -320,17 +321,17 @@ TEST_F(ScenarioFixture, CallerAllowedPathsWorkToo) {
 
 TEST(ScenarioLoader, UnreadableFile) {
   const ScenarioLoadResult r = load_scenario("/nonexistent/dir/s.yaml");
-  ASSERT_EQ(r.problems.size(), 1U);
-  EXPECT_EQ(r.problems[0].to_string(),
+  ASSERT_EQ(r.diagnostics().size(), 1U);
+  EXPECT_EQ(r.diagnostics()[0].to_string(),
             "/nonexistent/dir/s.yaml: (file): cannot read the scenario file (expected a readable "
             "YAML file)");
 }
 
 TEST(ScenarioLoader, DefaultScenarioIsValid) {
   const ScenarioLoadResult r = load_scenario(test::source_dir() / "scenarios/default.yaml");
-  for (const auto& p : r.problems) ADD_FAILURE() << p.to_string();
-  EXPECT_GE(r.scenario.organs.size(), 3U);
-  EXPECT_EQ(r.scenario.tools.size(), 2U);
+  for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
+  EXPECT_GE(r.value().organs.size(), 3U);
+  EXPECT_EQ(r.value().tools.size(), 2U);
 }
 
 }  // namespace

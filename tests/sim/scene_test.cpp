@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "haptics/setup/mesh_generators.h"
+#include "haptics/setup/mesh_validation.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
@@ -11,18 +12,18 @@ namespace {
 
 TEST(Scene, DefaultScenarioLoadsCleanOrgansInTheWorldFrame) {
   const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
-  for (const auto& p : r.problems) ADD_FAILURE() << p.to_string();
-  ASSERT_EQ(r.scene.organs.size(), 3U);
-  for (const Organ& o : r.scene.organs) {
+  for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
+  ASSERT_EQ(r.value().organs.size(), 3U);
+  for (const Organ& o : r.value().organs) {
     EXPECT_TRUE(haptics::validate_mesh(o.mesh).clean()) << o.name;
     EXPECT_EQ(o.mesh.normals.size(), o.mesh.positions.size());
   }
   // The stand-in organs are organ-sized: the scene spans 5 to 40 cm.
-  const double span = r.scene.bounds().sizes().maxCoeff();
+  const double span = r.value().bounds().sizes().maxCoeff();
   EXPECT_GT(span, 0.05);
   EXPECT_LT(span, 0.4);
-  EXPECT_NE(describe_scene(r.scene).find("cystic_duct: 720 triangles"), std::string::npos)
-      << describe_scene(r.scene);
+  EXPECT_NE(describe_scene(r.value()).find("cystic_duct: 720 triangles"), std::string::npos)
+      << describe_scene(r.value());
 }
 
 TEST(Scene, CommittedAssetsAreWhatTheGeneratorsMake) {
@@ -58,7 +59,7 @@ organs:
 )");
   const SceneLoadResult r = load_scene_file(file);
   ASSERT_TRUE(r.ok());
-  const haptics::TriangleMesh& m = r.scene.organs[0].mesh;
+  const haptics::TriangleMesh& m = r.value().organs[0].mesh;
   EXPECT_TRUE(m.surface_centroid().isApprox(Eigen::Vector3d(0.1, 0.2, 0.3), 1e-9));
   EXPECT_NEAR(m.signed_volume(), 8e-6, 1e-6 * 8e-6);  // OBJ read in single precision
 }
@@ -76,8 +77,8 @@ organs:
     material: {stiffness_n_per_m: 100}
 )";
   const SceneLoadResult bad = load_scene_file(dir.write("s.yaml", text));
-  ASSERT_EQ(bad.problems.size(), 1U);
-  EXPECT_EQ(bad.problems[0].to_string(),
+  ASSERT_EQ(bad.diagnostics().size(), 1U);
+  EXPECT_EQ(bad.diagnostics()[0].to_string(),
             (dir.path() / "s.yaml").string() +
                 ":4: organs[0].mesh: " + (dir.path() / "open.obj").string() +
                 " is not a closed, oriented, outward-facing manifold: 3 boundary edges: the "
@@ -86,7 +87,7 @@ organs:
   repaired.replace(repaired.find("    material"), 0, "    repair: true\n");
   const SceneLoadResult good = load_scene_file(dir.write("s.yaml", repaired));
   EXPECT_TRUE(good.ok());
-  EXPECT_NE(good.scene.organs[0].repair_summary.find("closed 1 holes"), std::string::npos);
+  EXPECT_NE(good.value().organs[0].repair_summary.find("closed 1 holes"), std::string::npos);
 }
 
 TEST(Scene, UnreadableMeshIsReportedAtTheOrgan) {
@@ -99,8 +100,8 @@ organs:
     mesh: broken.off
     material: {stiffness_n_per_m: 100}
 )"));
-  ASSERT_EQ(r.problems.size(), 1U);
-  EXPECT_EQ(r.problems[0].to_string(),
+  ASSERT_EQ(r.diagnostics().size(), 1U);
+  EXPECT_EQ(r.diagnostics()[0].to_string(),
             (dir.path() / "s.yaml").string() +
                 ":4: organs[0].mesh: " + (dir.path() / "broken.off").string() +
                 ": the mesh reader could not parse this file (expected a valid off mesh)");

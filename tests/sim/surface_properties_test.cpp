@@ -269,9 +269,9 @@ TEST(SurfaceProperties, ScenarioImageTextureAndFrictionReachTheProxy) {
                                        "        mapping: {kind: plane, axis: [0, 1, 0], "
                                        "origin_m: [-0.005, 0, 0], tile_m: [0.01, 0.01]}");
   const SceneLoadResult r = load_scene_file(file);
-  for (const auto& p : r.problems) ADD_FAILURE() << p.to_string();
-  ASSERT_EQ(r.scene.organs.size(), 1U);
-  const Organ& organ = r.scene.organs[0];
+  for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
+  ASSERT_EQ(r.value().organs.size(), 1U);
+  const Organ& organ = r.value().organs[0];
   ASSERT_TRUE(organ.height_image);
   const haptics::MeshDatabase db = haptics::MeshDatabase::build(organ.mesh);
   const OrganSurface surface = build_organ_surface(organ, db);
@@ -307,10 +307,10 @@ TEST(SurfaceProperties, ScenarioProceduralTexturesBuild) {
                                     "\n        amplitude_m: 0.0003\n"
                                     "        wavelength_m: 0.003");
     const SceneLoadResult r = load_scene_file(file);
-    for (const auto& p : r.problems) ADD_FAILURE() << p.to_string();
-    ASSERT_EQ(r.scene.organs.size(), 1U);
-    const haptics::MeshDatabase db = haptics::MeshDatabase::build(r.scene.organs[0].mesh);
-    const OrganSurface surface = build_organ_surface(r.scene.organs[0], db);
+    for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
+    ASSERT_EQ(r.value().organs.size(), 1U);
+    const haptics::MeshDatabase db = haptics::MeshDatabase::build(r.value().organs[0].mesh);
+    const OrganSurface surface = build_organ_surface(r.value().organs[0], db);
     ASSERT_TRUE(surface.texture) << function;
     EXPECT_GT(surface.texture->max_height_m(), 0.0003 * 0.99) << function;
   }
@@ -321,7 +321,7 @@ TEST(SurfaceProperties, DefaultScenarioSurfacesBuild) {
   ASSERT_TRUE(r.ok());
   int shaded = 0;
   int textured = 0;
-  for (const Organ& organ : r.scene.organs) {
+  for (const Organ& organ : r.value().organs) {
     const haptics::MeshDatabase db = haptics::MeshDatabase::build(organ.mesh);
     const OrganSurface s = build_organ_surface(organ, db);
     haptics::HapticObject o;
@@ -341,7 +341,7 @@ TEST(SurfaceProperties, BadSurfaceFieldsAreReportedWithFileLineAndField) {
   const auto problems = [&](const std::string& texture) {
     const auto file = write_box_scenario(dir, texture);
     std::string all;
-    for (const auto& p : load_scene_file(file).problems) all += p.to_string() + "\n";
+    for (const auto& p : load_scene_file(file).diagnostics()) all += p.to_string() + "\n";
     return all;
   };
   // A texture image that is not a usable height map: named through the scenario field.
@@ -369,7 +369,7 @@ organs:
       texture: {kind: procedural, function: perlin, amplitude_m: 0.0001, wavelength_m: 0.002}
 )");
   all.clear();
-  for (const auto& p : load_scene_file(file).problems) all += p.to_string() + "\n";
+  for (const auto& p : load_scene_file(file).diagnostics()) all += p.to_string() + "\n";
   EXPECT_NE(all.find("both.yaml:8"), std::string::npos) << all;
   EXPECT_NE(all.find("organs[0].material.shading"), std::string::npos) << all;
   EXPECT_NE(all.find("6.6"), std::string::npos) << all;
@@ -388,7 +388,7 @@ organs:
       friction_map: {kind: sandpaper}
 )");
   all.clear();
-  for (const auto& p : load_scene_file(bad).problems) all += p.to_string() + "\n";
+  for (const auto& p : load_scene_file(bad).diagnostics()) all += p.to_string() + "\n";
   EXPECT_NE(all.find("friction_slide_stiffness_n_per_m"), std::string::npos) << all;
   EXPECT_NE(all.find("expected uniform, periodic or random, got 'sandpaper'"), std::string::npos)
       << all;

@@ -1,0 +1,146 @@
+#pragma once
+/// \file
+/// What the session tests share: the default scene, scripted tool paths that press on its
+/// organs, a device that misbehaves on cue, and short-hands for the settings they run with.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <chrono>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "hardware/scripted_device.h"
+#include "hardware/scripted_trajectory.h"
+#include "sim/runtime/session.h"
+#include "sim/setup/device_factory.h"
+#include "sim/setup/scene.h"
+#include "tests/test_support.h"
+
+namespace lap::sim::session_test {
+
+namespace fs = std::filesystem;
+using hardware::DeviceStatus;
+
+inline const Scene& default_scene() {
+  static const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+  EXPECT_TRUE(r.ok());
+  return r.value();
+}
+
+// The tool pushed from 5 cm to 20 cm inside its trocar over 1 s, then swept sideways while the
+// jaws close: it meets the organs, so forces are not zero.
+// A tick at which push_in's left tool presses on the organs (tests of faults there assert it).
+inline constexpr int64_t kPressingTick = 1300;
+
+inline hardware::ScriptedTrajectory push_in(const Scene& scene, int side) {
+  hardware::ScriptedTrajectory t;
+  const Eigen::Vector3d a = default_handle_position(scene, side, 0.05);
+  const Eigen::Vector3d b = default_handle_position(scene, side, 0.20);
+  t.keyframes.push_back({0.0, a, Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back({1.0, b, Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back({2.0, b + Eigen::Vector3d(0.03, 0, 0.02),
+                         Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY())), 0.1,
+                         1});
+  return t;
+}
+
+// The tool pushed in as by push_in() and then held there, pressing, to the end (2.5 s).
+inline hardware::ScriptedTrajectory push_and_hold(const Scene& scene, int side) {
+  hardware::ScriptedTrajectory t;
+  t.keyframes.push_back(
+      {0.0, default_handle_position(scene, side, 0.05), Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back(
+      {1.0, default_handle_position(scene, side, 0.20), Eigen::Quaterniond::Identity(), 0.8, 0});
+  t.keyframes.push_back(
+      {2.5, default_handle_position(scene, side, 0.20), Eigen::Quaterniond::Identity(), 0.8, 0});
+  return t;
+}
+
+// A device that misbehaves at one tick: a NaN position, an error, a disconnect, or a stall.
+class FaultyDevice final : public hardware::HapticDevice {
+ public:
+  enum class Fault { kNone, kNaN, kError, kDisconnect, kStall };
+  FaultyDevice(hardware::ScriptedTrajectory t, Fault fault, int64_t at)
+      : inner_(std::move(t), "faulty"), fault_(fault), at_(at) {}
+  Status start() override { return inner_.start(); }
+  void stop() override {}
+  DeviceStatus read(int64_t tick, double dt, hardware::DeviceSample* out) noexcept override {
+    const DeviceStatus st = inner_.read(tick, dt, out);
+    if (tick != at_) return st;
+    switch (fault_) {
+      case Fault::kNaN:
+        out->position_W.x() = std::numeric_limits<double>::quiet_NaN();
+        return st;
+      case Fault::kError:
+        return DeviceStatus::kError;
+      case Fault::kDisconnect:
+        return DeviceStatus::kDisconnected;
+      case Fault::kStall:
+        std::this_thread::sleep_for(std::chrono::milliseconds(6));
+        return st;
+      case Fault::kNone:
+        break;
+    }
+    return st;
+  }
+  DeviceStatus write(const hardware::DeviceCommand& c) noexcept override {
+    commands.push_back(c);
+    return DeviceStatus::kOk;
+  }
+  [[nodiscard]] const hardware::DeviceLimits& limits() const override { return inner_.limits(); }
+  [[nodiscard]] std::string_view name() const override { return "faulty"; }
+  [[nodiscard]] std::string last_error() const override { return {}; }
+  std::vector<hardware::DeviceCommand> commands;  // reserved by the test
+
+ private:
+  hardware::ScriptedDevice inner_;
+  Fault fault_;
+  int64_t at_;
+};
+
+using Devices = std::array<std::unique_ptr<hardware::HapticDevice>, 2>;
+
+// `left` on the left tool, the right tool scripted.
+inline Devices with_left(const Scene& scene, std::unique_ptr<hardware::HapticDevice> left) {
+  return {std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
+}
+
+// A left FaultyDevice with room for every tick's command.
+inline std::unique_ptr<FaultyDevice> logged(const Scene& scene, FaultyDevice::Fault fault,
+                                            int64_t at) {
+  auto d = std::make_unique<FaultyDevice>(push_in(scene, 0), fault, at);
+  d->commands.reserve(4000);
+  return d;
+}
+
+inline RuntimeSettings fast(double duration) {
+  RuntimeSettings s;
+  s.fast = true;
+  s.duration_s = duration;
+  return s;
+}
+
+// Real time, for device faults: a busy test machine's late ticks must not pause first.
+inline RuntimeSettings device_fault_run(double duration) {
+  RuntimeSettings s;
+  s.duration_s = duration;
+  s.realtime_priority = false;
+  s.overrun_periods = 1e6;
+  return s;
+}
+
+inline std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
+  const Scene& scene = default_scene();
+  Devices d =
+      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
+  auto s_created = Session::create(scene, std::move(d), rs);
+  EXPECT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
+  return s;
+}
+
+}  // namespace lap::sim::session_test

@@ -1,0 +1,322 @@
+// The watchdog of a running session: every fault, from a device, the loop's timing or a tissue
+// model, sends zero force on the tick that sees it, pauses the session and loses nothing.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "hardware/gripper_emulator.h"
+#include "hardware/phantom_device.h"
+#include "hardware/usb_gripper.h"
+#include "sim/report/session_report.h"
+#include "sim/runtime/session.h"
+#include "sim/setup/device_factory.h"
+#include "tests/sim/session_test_support.h"
+#include "tests/support/fake_hd_control.h"
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
+
+// A model that meets a non-finite value is a fault like a haptic one: zero force from the next
+// haptic tick on (the modelling step runs after the haptic tick it belongs to), the session
+// paused, the model named; nothing recorded is lost.
+class SessionModelFault : public ::testing::TestWithParam<ModelFaultKind> {};
+
+TEST_P(SessionModelFault, ZeroForceWithinOneTickPausedAndTheModelNamed) {
+  const Scene& scene = default_scene();
+  const int64_t at = kPressingTick - kPressingTick % 5;  // a modelling step's tick (200 Hz)
+  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* dev = left.get();
+  auto created = Session::create(scene, with_left(scene, std::move(left)), fast(2.5));
+  ASSERT_TRUE(created.ok()) << created.message();
+  auto s = std::move(created).value();
+  s->inject_model_fault(at, GetParam(), 10);  // a fault that lasts ten modelling steps
+  const SessionMetrics m = s->run();
+  ASSERT_GT(dev->commands[at].force_W.norm(), 0.0) << "the fault must hit a pressing tool";
+  for (size_t t = at + 1; t < dev->commands.size(); ++t) {
+    ASSERT_EQ(dev->commands[t].force_W, Eigen::Vector3d::Zero()) << t;
+  }
+  EXPECT_TRUE(m.paused);
+  // One event for the lasting fault, and nothing else: no non-finite value reached the proxies.
+  ASSERT_EQ(m.events.size(), 1U);
+  EXPECT_EQ(m.events[0].tick, at + 1);
+  EXPECT_EQ(m.events[0].reason, WatchdogReason::kModelFault);
+  EXPECT_EQ(m.events[0].model_fault.kind, GetParam());
+  const int32_t organ = m.events[0].model_fault.organ;
+  if (GetParam() == ModelFaultKind::kCatheter) {
+    EXPECT_EQ(organ, -1);
+  } else {
+    ASSERT_GE(organ, 0);
+    const std::string name = scene.organs[static_cast<size_t>(organ)].name;
+    EXPECT_EQ(scene.organs[static_cast<size_t>(organ)].model,
+              GetParam() == ModelFaultKind::kModalShell ? models::ModelKind::kModalShell
+                                                        : models::ModelKind::kLocal)
+        << name;
+  }
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+  const nlohmann::ordered_json event =
+      metrics_to_json(m, "default.yaml", true)["watchdog_events"][0];
+  EXPECT_EQ(event["reason"], "model fault");
+  EXPECT_EQ(event["model"], std::string(to_string(GetParam())));
+  EXPECT_EQ(event["organ"], organ < 0 ? "" : scene.organs[static_cast<size_t>(organ)].name);
+}
+
+INSTANTIATE_TEST_SUITE_P(EachModel, SessionModelFault,
+                         ::testing::Values(ModelFaultKind::kCatheter,
+                                           ModelFaultKind::kLocalDeformation,
+                                           ModelFaultKind::kModalShell));
+
+struct FaultCase {
+  FaultyDevice::Fault fault;
+  WatchdogReason reason;
+};
+
+class SessionWatchdog : public ::testing::TestWithParam<FaultCase> {};
+
+TEST_P(SessionWatchdog, ZeroForceOnTheTickPausedAndNothingLost) {
+  const Scene& scene = default_scene();
+  const int64_t at = kPressingTick;
+  auto left = logged(scene, GetParam().fault, at);
+  FaultyDevice* dev = left.get();
+  Devices d = with_left(scene, std::move(left));
+  auto s_created = Session::create(scene, std::move(d), fast(2.5));
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
+  const SessionMetrics m = s->run();
+  ASSERT_GT(dev->commands[at - 1].force_W.norm(), 0.0) << "the fault must hit a pressing tool";
+  EXPECT_EQ(dev->commands[at].force_W, Eigen::Vector3d::Zero());
+  EXPECT_EQ(dev->commands[at].squeeze_n, 0.0);
+  for (size_t t = at; t < dev->commands.size(); ++t) {
+    ASSERT_EQ(dev->commands[t].force_W, Eigen::Vector3d::Zero()) << t;
+  }
+  EXPECT_TRUE(m.paused);
+  ASSERT_FALSE(m.events.empty());
+  EXPECT_EQ(m.events[0].tick, at);
+  EXPECT_EQ(m.events[0].reason, GetParam().reason);
+  // Every tick's input was recorded, before and after the fault.
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+  EXPECT_EQ(s->recording(0).samples.size(), static_cast<size_t>(m.haptic.ticks()));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Faults, SessionWatchdog,
+    ::testing::Values(FaultCase{FaultyDevice::Fault::kNaN, WatchdogReason::kNonFinite},
+                      FaultCase{FaultyDevice::Fault::kError, WatchdogReason::kDeviceError},
+                      FaultCase{FaultyDevice::Fault::kDisconnect,
+                                WatchdogReason::kDeviceDisconnected}),
+    // Named by the fault (the default name would print the struct's bytes, padding included).
+    [](const ::testing::TestParamInfo<FaultCase>& info) {
+      switch (info.param.fault) {
+        case FaultyDevice::Fault::kNaN:
+          return std::string("NaN");
+        case FaultyDevice::Fault::kError:
+          return std::string("DeviceError");
+        case FaultyDevice::Fault::kDisconnect:
+          return std::string("Disconnect");
+        default:
+          return std::string("Other");
+      }
+    });
+
+TEST(Session, AnInjectedStallPausesWithZeroForceOnThatTick) {
+  const Scene& scene = default_scene();
+  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* dev = left.get();
+  Devices d = with_left(scene, std::move(left));
+  auto s_created = Session::create(scene, std::move(d), fast(2.5));
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
+  s->inject_lateness(kPressingTick, 0.0025);  // 2.5 periods late
+  const SessionMetrics m = s->run();
+  ASSERT_FALSE(m.events.empty());
+  EXPECT_EQ(m.events[0].reason, WatchdogReason::kOverrun);
+  EXPECT_EQ(m.events[0].tool, -1);
+  EXPECT_EQ(dev->commands[kPressingTick].force_W, Eigen::Vector3d::Zero());
+  EXPECT_GT(dev->commands[kPressingTick - 1].force_W.norm(), 0.0);
+}
+
+TEST(Session, ResumeRampsForcesBackInAfterAPause) {
+  const Scene& scene = default_scene();
+  // The tool keeps pressing after the pause, however late the resume comes in fast mode.
+  auto left =
+      std::make_unique<FaultyDevice>(push_and_hold(scene, 0), FaultyDevice::Fault::kNone, -1);
+  left->commands.reserve(4000);
+  FaultyDevice* dev = left.get();
+  Devices d = with_left(scene, std::move(left));
+  RuntimeSettings rs = fast(2.5);
+  rs.resume_ramp_s = 0.1;
+  auto s_created = Session::create(scene, std::move(d), rs);
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
+  s->inject_lateness(1200, 0.01);
+  s->resume();  // a resume before the pause does nothing
+  // Resume on the next tick after the pause, from "another thread" (the flag is atomic).
+  std::thread resumer([&] {
+    while (!s->paused()) std::this_thread::yield();
+    s->resume();
+  });
+  const SessionMetrics m = s->run();
+  resumer.join();
+  EXPECT_FALSE(m.paused);
+  EXPECT_EQ(dev->commands[1200].force_W, Eigen::Vector3d::Zero());
+  // The forces come back through the ramp: the gain grows by dt / ramp = 1 % per tick, so the
+  // first force after the resume is at most 1 % of the device's 3 N, and later ones grow.
+  size_t first = 0;
+  for (size_t t = 1201; t < dev->commands.size() && first == 0; ++t) {
+    if (dev->commands[t].force_W.norm() > 0.0) first = t;
+  }
+  ASSERT_GT(first, 0U) << "forces never came back";
+  EXPECT_LE(dev->commands[first].force_W.norm(), 0.01 * 3.0 + 1e-12);
+  double later = 0.0;
+  for (size_t t = first; t < dev->commands.size(); ++t) {
+    later = std::max(later, dev->commands[t].force_W.norm());
+  }
+  EXPECT_GT(later, 10.0 * dev->commands[first].force_W.norm());
+}
+
+TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
+  const Scene& scene = default_scene();
+  auto left = logged(scene, FaultyDevice::Fault::kStall, 300);
+  FaultyDevice* dev = left.get();
+  Devices d = with_left(scene, std::move(left));
+  RuntimeSettings rs;
+  rs.duration_s = 0.5;
+  rs.realtime_priority = false;
+  auto s_created = Session::create(scene, std::move(d), rs);
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
+  const SessionMetrics m = s->run();
+  EXPECT_EQ(m.haptic.ticks(), 500);
+  EXPECT_GT(m.model.ticks(), 10);
+  // Tick 300 slept 6 ms: tick 301 started more than 2 periods late, sent zero, paused. A busy
+  // machine (a sanitizer build, parallel tests) may add overruns of its own; if one ran right
+  // up to tick 301 it is the same lasting event, so: an overrun at 301, or a run of them
+  // reaching it, and zero force from 301 on.
+  const auto it = std::find_if(m.events.begin(), m.events.end(), [](const WatchdogEvent& e) {
+    return e.reason == WatchdogReason::kOverrun && e.tick <= 301;
+  });
+  ASSERT_NE(it, m.events.end());
+  EXPECT_TRUE(m.paused);
+  for (size_t t = 301; t < dev->commands.size(); ++t) {
+    ASSERT_EQ(dev->commands[t].force_W, Eigen::Vector3d::Zero()) << t;
+  }
+  EXPECT_EQ(m.recorded_ticks, 500);
+}
+
+// The watchdog with a PHANToM (through the fake libHD.so): a servo error zeroes the force the
+// device outputs and pauses the session; an unplugged arm is reported as disconnected.
+TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
+  test::FakeHd fake;
+  ASSERT_NE(fake.handle, nullptr);
+  for (const bool unplug : {false, true}) {
+    fake.reset();
+    const Scene& scene = default_scene();
+    hardware::PhantomSettings ps;
+    ps.library = LAP_FAKE_HD;
+    // The device's origin 10 cm in, at the left tool's home: the arm starts there.
+    ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, 0, 0.10)) *
+                         Eigen::Isometry3d::Identity();
+    Devices d = with_left(scene, std::make_unique<hardware::PhantomDevice>(ps));
+    const RuntimeSettings rs = device_fault_run(0.6);
+    auto s_created = Session::create(scene, std::move(d), rs);
+    ASSERT_TRUE(s_created.ok()) << s_created.message();
+    auto s = std::move(s_created).value();
+    // Swing the handle so the tip goes 4 cm into the liver (the axis through the liver's
+    // middle, 16 cm in), then fail while the arm is pushing.
+    const Eigen::Vector3d port = scene.scenario.trocars[0].position_m;
+    const Eigen::Vector3d liver_mid(0.0, 0.071, 0.0);
+    const Eigen::Vector3d u = (liver_mid - port).normalized();
+    const Eigen::Vector3d target_handle = port - (0.36 - 0.16) * u;
+    const Eigen::Vector3d move_mm = 1000.0 * (target_handle - ps.device_to_world.translation());
+    Eigen::Vector3d before = Eigen::Vector3d::Zero();
+    Eigen::Vector3d after = Eigen::Vector3d::Constant(1.0);
+    std::thread fault([&] {
+      for (int i = 1; i <= 60; ++i) {
+        fake.set_state(0, (i / 60.0) * move_mm, Eigen::Vector3d::Zero(), 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(150));
+      before = fake.force(0);
+      if (unplug) {
+        fake.unplug(0, true);
+      } else {
+        fake.set_servo_error(0x0204);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      after = fake.force(0);
+    });
+    const SessionMetrics m = s->run();
+    fault.join();
+    EXPECT_GT(before.norm(), 0.05) << "the arm must be pushing on tissue when it fails"
+                                   << (unplug ? " (unplug)" : " (servo error)");
+    EXPECT_TRUE(m.paused);
+    const auto want = unplug ? WatchdogReason::kDeviceDisconnected : WatchdogReason::kDeviceError;
+    const auto it = std::find_if(m.events.begin(), m.events.end(),
+                                 [&](const WatchdogEvent& e) { return e.reason == want; });
+    EXPECT_NE(it, m.events.end()) << (unplug ? "unplug" : "servo error");
+    // The fault lasts to the end of the session: one event for it, not one per tick.
+    EXPECT_EQ(std::count_if(m.events.begin(), m.events.end(),
+                            [&](const WatchdogEvent& e) { return e.reason == want; }),
+              1);
+    // A servo error: the arm is still there and is sent zero within the session (checked while
+    // the session still ran, not by the zero every session sends when it ends).
+    if (!unplug) {
+      EXPECT_EQ(after, Eigen::Vector3d::Zero());
+    }
+    EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+    s.reset();
+  }
+  fake.reset();
+}
+
+// The watchdog with the actuated gripper (emulated behind the USB seam): a motor fault reaches
+// the watchdog, which pauses the session and sends zero force and squeeze from that tick on; the
+// recording is kept. (That the zero replaces a real push is shown by the fast-mode watchdog
+// tests above, which are deterministic; here the contacts depend on thread timing.)
+TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
+  const Scene& scene = default_scene();
+  auto emulator = std::make_unique<hardware::GripperEmulator>();
+  hardware::GripperEmulator* emu = emulator.get();
+  hardware::GripperEmulator::Controls c;
+  c.encoder_counts = 6500;  // jaws open 0.79 rad, as the script starts
+  emu->set(c);
+  auto arm = logged(scene, FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* arm_log = arm.get();
+  auto left = std::make_unique<hardware::ArmWithGripper>(
+      std::move(arm), std::make_unique<hardware::UsbGripper>(std::move(emulator)));
+  Devices d = with_left(scene, std::move(left));
+  const RuntimeSettings rs = device_fault_run(1.8);
+  auto s_created = Session::create(scene, std::move(d), rs);
+  ASSERT_TRUE(s_created.ok()) << s_created.message();
+  auto s = std::move(s_created).value();
+  std::thread fault([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    hardware::GripperEmulator::Controls f = emu->controls();
+    f.motor_fault = true;
+    emu->set(f);
+  });
+  const SessionMetrics m = s->run();
+  fault.join();
+  EXPECT_TRUE(m.paused);
+  const auto it = std::find_if(m.events.begin(), m.events.end(), [](const WatchdogEvent& e) {
+    return e.reason == WatchdogReason::kDeviceError && e.tool == 0;
+  });
+  ASSERT_NE(it, m.events.end());
+  const auto t = static_cast<size_t>(it->tick);
+  ASSERT_LT(t, arm_log->commands.size());
+  for (size_t k = t; k < arm_log->commands.size(); ++k) {
+    ASSERT_EQ(arm_log->commands[k].force_W, Eigen::Vector3d::Zero()) << k;
+    ASSERT_EQ(arm_log->commands[k].squeeze_n, 0.0) << k;
+  }
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+}
+
+}  // namespace
+}  // namespace lap::sim
