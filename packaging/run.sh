@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Command one: install dependencies (Debian 12, as root), build Release, start laptrainer on the
-# default scenario. Without a display laptrainer says so and runs the scenario headless.
+# default scenario. Without a display laptrainer says so, loads and checks the scenario without a
+# window and prints a summary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash packaging/install-deps.sh
