@@ -163,9 +163,12 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
       if (tc.organ != organ || n >= static_cast<int32_t>(s.dents.size())) continue;
       const Eigen::Vector3d share_of_push =
           tc.force_on_organ_W / static_cast<double>(contacts_near(tc.point_W));
-      s.dents[static_cast<size_t>(n++)] =
+      const models::DeformationContact dent =
           models::rest_contact(*t.local, *t.rest, s.local->positions, tc.primitive, tc.point_W,
                                share_of_push, t.stiffness_n_per_m);
+      // A contact that finds no face on the rest shape is no dent (as catheter_dents skips
+      // it): deform() would refuse it, and that is not a model fault.
+      if (dent.face >= 0) s.dents[static_cast<size_t>(n++)] = dent;
     }
   }
   if (injected_ == ModelFaultKind::kLocalDeformation && n < static_cast<int32_t>(s.dents.size())) {
@@ -175,16 +178,7 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
     bad.penetration_O.x() = std::numeric_limits<double>::quiet_NaN();
     injected_ = ModelFaultKind::kNone;  // the first locally deformed organ only
   }
-  // A contact that found no face on the rest shape (rest_contact's miss) is dropped here, as
-  // deform() would skip it: that is not a fault. Only a non-finite contact makes deform() fail.
-  int32_t kept = 0;
-  for (int32_t k = 0; k < n; ++k) {
-    const int32_t face = s.dents[static_cast<size_t>(k)].face;
-    if (face >= 0 && face < t.local->face_count())
-      s.dents[static_cast<size_t>(kept++)] = s.dents[static_cast<size_t>(k)];
-  }
-  const bool ok =
-      models::deform(*t.local, {s.dents.data(), static_cast<size_t>(kept)}, s.local.get());
+  const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get());
   for (const int32_t v : s.local->displaced) {
     deepest_dent_ =
         std::max(deepest_dent_,
