@@ -214,7 +214,10 @@ using ProbePath = std::vector<Eigen::Matrix<double, 6, 1>>;
 // Runs the segment proxy along the path (rows x1..z2) and writes one CSV row per tick.
 void run_segment_probe(lap::haptics::HapticObject object, const lap::haptics::MeshDatabase& db,
                        const ProbePath& path, std::ostream& out) {
-  const lap::haptics::SegmentDatabase sd = lap::haptics::SegmentDatabase::build(db);
+  // An open mesh is a thin surface, touched from either side (as by the point probe).
+  lap::haptics::SegmentDatabaseSettings settings;
+  settings.two_sided = object.two_sided;
+  const lap::haptics::SegmentDatabase sd = lap::haptics::SegmentDatabase::build(db, settings);
   object.segments = &sd;
   out << "tick,ideal_a_x,ideal_a_y,ideal_a_z,ideal_b_x,ideal_b_y,ideal_b_z,force_x,force_y,"
          "force_z,torque_x,torque_y,torque_z,contact_type,primitive_kind,primitive_id,"
@@ -268,7 +271,7 @@ void run_point_probe(const lap::haptics::HapticObject& object, const lap::haptic
 
 // Whether the proxies can run on the mesh: open surfaces are fine (two-sided) for the point
 // proxy; anything else must be clean. Prints why not.
-bool probeable(const std::string& file, const lap::haptics::TriangleMesh& mesh, bool segment) {
+bool probeable(const std::string& file, const lap::haptics::TriangleMesh& mesh) {
   const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(mesh);
   const bool usable = d.non_finite_vertices.empty() && d.invalid_index_triangles.empty() &&
                       d.degenerate_triangles.empty() && d.duplicate_triangles.empty() &&
@@ -278,10 +281,6 @@ bool probeable(const std::string& file, const lap::haptics::TriangleMesh& mesh, 
     std::cerr << file << ": the mesh cannot be probed as it is:\n";
     for (const auto& line : d.describe()) std::cerr << "  " << line << "\n";
     std::cerr << "  (add --repair to fix what can be fixed)\n";
-    return false;
-  }
-  if (segment && !d.closed()) {
-    std::cerr << file << ": the segment probe needs a closed mesh (this one has boundary edges)\n";
     return false;
   }
   return true;
@@ -312,7 +311,7 @@ int cmd_probe(int argc, char** argv) {
   if (!mesh.ok()) return print_problems(mesh.diagnostics());
   if (args.has("--repair")) lap::haptics::repair_mesh(mesh.value());
   const bool segment = kind == "segment";
-  if (!probeable(args.get("--mesh"), mesh.value(), segment)) return kExitProblems;
+  if (!probeable(args.get("--mesh"), mesh.value())) return kExitProblems;
   const auto path = lap::sim::load_probe_path(args.get("--path"), segment ? 6 : 3);
   if (!path.ok()) return print_problems(path.diagnostics());
   std::unique_ptr<lap::haptics::MeshDatabase> built;

@@ -102,8 +102,13 @@ Eigen::Vector3d friction_step(const FrictionModel& model, FrictionState* state, 
     return k_s * x;
   }
   if (k_d * len > slide_force && len > 0.0) return slide();  // still moving: keep sliding
-  state->phase = Phase::kSticking;                           // the user stopped
+  // The user stopped: sticking again. The sticking spring takes over at the sliding spring's
+  // force, so the sticking point moves in to k_d / k_s of the stretch. Left where it was, the
+  // force would step up by k_s / k_d under the user's hand, and ½(k_s − k_d)x² of energy would
+  // appear from nothing each time sliding stops (not passive).
+  state->phase = Phase::kSticking;
   ++state->slide_to_stick;
+  state->stick_O = ihip_O + (k_d / k_s) * x;
   return k_d * x;
 }
 

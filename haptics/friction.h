@@ -10,7 +10,10 @@
 /// - Sliding: F = k_d x. While |F| > mu_d Fn the user keeps moving the same way: the state
 ///   stays sliding and the sticking point follows as above (the thesis' change to Salisbury
 ///   et al. 1995, which keeps the feel of dynamic friction). Otherwise the user has stopped:
-///   the state becomes sticking and the sticking point stays where it is.
+///   the state becomes sticking, and the sticking point moves in to k_d/k_s of its distance so
+///   that the sticking spring starts at the sliding spring's force: the force is continuous
+///   when sliding stops and no energy appears (left in place, the force would step up by
+///   k_s/k_d and ½(k_s − k_d)x² would appear each time).
 ///
 /// The coefficients may vary over the surface (FrictionCoefficientMap): uniform, periodic, or
 /// random per grain with a mean and a standard deviation (sandpaper grades, Green & Salisbury

@@ -1,6 +1,7 @@
 #include "haptics/haptic_object.h"
 
 #include "haptics/friction.h"
+#include "haptics/segment_database.h"
 
 namespace lap::haptics {
 
@@ -10,6 +11,9 @@ const char* surface_problem(const HapticObject& object) {
            "combined (thesis 6.6)";
   }
   if (object.texture != nullptr && !(object.texture_k >= 0.0)) return "texture K must be >= 0";
+  if (object.segments != nullptr && object.segments->two_sided() != object.two_sided) {
+    return "the segment database and the object disagree on whether it is two-sided";
+  }
   if (object.friction != nullptr && object.friction->problem()[0] != '\0') {
     return object.friction->problem();
   }

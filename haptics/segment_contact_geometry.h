@@ -33,9 +33,10 @@ inline bool clamp_to_normal_cone(const Eigen::Vector3d& axis, const Eigen::Vecto
 }
 
 /// Outward normal of a segment–edge contact for a probe along w touching edge e (Figure 5-13b):
-/// perpendicular to both, on the side of the edge's own normal; the edge normal itself when the
-/// probe is parallel to the edge. `side` orients boundary edges (open surfaces: either side).
-inline Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e,
+/// perpendicular to both, on the side the edge is convex from (convex_side: +1 its own normal's,
+/// -1 the back of a two-sided surface; SegmentDatabase::convex_side); the edge normal itself when
+/// the probe is parallel to the edge. `side` orients boundary edges (convex_side 0: either side).
+inline Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e, int8_t convex_side,
                                            const Eigen::Vector3d& w, const Eigen::Vector3d& side) {
   const auto& ev = mesh.edge_vertices(e);
   const auto& ef = mesh.edge_faces(e);
@@ -43,15 +44,18 @@ inline Eigen::Vector3d edge_contact_normal(const MeshDatabase& mesh, int32_t e,
   // The edge normal is the normalised sum of its faces' normals (MeshDatabase::edge_normal),
   // computed here from the two normals the cone test needs anyway; orienting m needs only the
   // sum's direction, so it is normalised only when it is the answer.
-  const Eigen::Vector3d& n1 = mesh.face_normal(ef[0]);
   const bool boundary = ef[1] < 0;
-  const Eigen::Vector3d& n2 = boundary ? n1 : mesh.face_normal(ef[1]);
+  // Seen from the back, the faces' normals are reversed.
+  const double s = convex_side < 0 ? -1.0 : 1.0;
+  const Eigen::Vector3d n1 = s * mesh.face_normal(ef[0]);
+  const Eigen::Vector3d n2 = boundary ? n1 : Eigen::Vector3d(s * mesh.face_normal(ef[1]));
   const Eigen::Vector3d sum = n1 + n2;
   Eigen::Vector3d m = w.cross(axis);
   const double norm2 = m.squaredNorm();
   if (!(norm2 > 1e-18 * w.squaredNorm() * axis.squaredNorm())) {
     const double sum_norm = sum.norm();
-    return sum_norm > 0.0 ? Eigen::Vector3d(sum / sum_norm) : n1;
+    const Eigen::Vector3d n = sum_norm > 0.0 ? Eigen::Vector3d(sum / sum_norm) : n1;
+    return boundary && n.dot(side) < 0.0 ? Eigen::Vector3d(-n) : n;
   }
   m /= std::sqrt(norm2);
   const double orient = boundary ? m.dot(side) : m.dot(sum);

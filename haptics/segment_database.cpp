@@ -69,7 +69,8 @@ SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
                                        const SegmentDatabaseSettings& settings) {
   SegmentDatabase db;
   db.mesh_ = &mesh;
-  std::vector<int32_t> flat_forest = db.classify_edges(settings.flat_angle_rad);
+  db.two_sided_ = settings.two_sided;
+  std::vector<int32_t> flat_forest = db.classify_edges(settings.flat_angle_rad, settings.two_sided);
   db.number_flat_groups(&flat_forest);
   db.link_neighbours();
   db.list_face_pcps();
@@ -80,11 +81,12 @@ SegmentDatabase SegmentDatabase::build(const MeshDatabase& mesh,
 
 // Convexity of each edge from the far vertex of its second face against the first face's
 // plane; flat edges join faces into the thesis' "faces" (the returned union-find forest).
-std::vector<int32_t> SegmentDatabase::classify_edges(double flat_angle_rad) {
+std::vector<int32_t> SegmentDatabase::classify_edges(double flat_angle_rad, bool two_sided) {
   const MeshDatabase& mesh = *mesh_;
   const int32_t nf = mesh.face_count();
   const int32_t ne = mesh.edge_count();
   contactable_.assign(ne, 0);
+  convex_side_.assign(ne, 0);
   std::vector<int32_t> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
   const double sin_flat = std::sin(flat_angle_rad);
@@ -97,6 +99,10 @@ std::vector<int32_t> SegmentDatabase::classify_edges(double flat_angle_rad) {
     const double sine = dihedral_sine(mesh, e);
     if (sine < -sin_flat) {
       contactable_[e] = 1;  // convex
+      convex_side_[e] = 1;
+    } else if (sine > sin_flat && two_sided) {
+      contactable_[e] = 1;  // concave from the front: convex from the back
+      convex_side_[e] = -1;
     } else if (std::abs(sine) <= sin_flat &&
                mesh.face_normal(ef[0]).dot(mesh.face_normal(ef[1])) > 0.0) {
       const int32_t a = find_root(parent, ef[0]);
@@ -280,20 +286,25 @@ SegmentUpdateScratch::SegmentUpdateScratch(const SegmentDatabase& db)
 }
 
 double SegmentDatabase::face_crossing(int32_t f, const Eigen::Vector3d& p0,
-                                      const Eigen::Vector3d& p1) const {
+                                      const Eigen::Vector3d& p1, int8_t* side) const {
   const MeshDatabase& mesh = *mesh_;
   const auto& v = mesh.face_vertices(f);
-  return front_crossing_time(p0, p1, mesh.position(v[0]), v[0], mesh.position(v[1]), v[1],
-                             mesh.position(v[2]), v[2]);
+  const Eigen::Vector3d& a = mesh.position(v[0]);
+  const Eigen::Vector3d& b = mesh.position(v[1]);
+  const Eigen::Vector3d& c = mesh.position(v[2]);
+  return crossing_time(p0, p1, (b - a).cross(c - a), two_sided_, a, v[0], b, v[1], c, v[2], side);
 }
 
 int32_t SegmentDatabase::first_face_crossing(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                             double* t) const {
+                                             double* t, int8_t* side) const {
   return mesh_->tree().first_hit(
       p0, p1,
       [&](int32_t f, double t_max) {
-        const double tt = face_crossing(f, p0, p1);
-        return tt <= t_max ? tt : -1.0;
+        int8_t s = 1;
+        const double tt = face_crossing(f, p0, p1, &s);
+        if (tt < 0.0 || tt > t_max) return -1.0;
+        *side = s;
+        return tt;
       },
       t);
 }
@@ -304,9 +315,11 @@ MovingSegmentHit SegmentDatabase::edge_crossing(int32_t e, const Eigen::Vector3d
                                                 const Eigen::Vector3d& b1) const {
   const MeshDatabase& mesh = *mesh_;
   const auto& ev = mesh.edge_vertices(e);
-  // Boundary edges of open surfaces have no inside: every crossing counts there.
+  // Boundary edges of open surfaces have no inside: every crossing counts there. Others are
+  // entered from their convex side.
   const bool closed = mesh.edge_faces(e)[1] >= 0;
-  const Eigen::Vector3d outward = closed ? mesh.edge_normal(e) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d outward =
+      closed ? Eigen::Vector3d(convex_side_[e] * mesh.edge_normal(e)) : Eigen::Vector3d::Zero();
   return moving_segment_enters_edge(a0, b0, a1, b1, mesh.position(ev[0]), mesh.position(ev[1]),
                                     closed ? &outward : nullptr);
 }
@@ -402,7 +415,7 @@ size_t SegmentDatabase::memory_bytes() const {
           tree_edges_.capacity()) *
              sizeof(int32_t) +
          (face_pcp_.capacity() + edge_pcp_.capacity()) * sizeof(PrimitiveRef) +
-         contactable_.capacity() + edge_tree_.memory_bytes();
+         contactable_.capacity() + convex_side_.capacity() + edge_tree_.memory_bytes();
 }
 
 }  // namespace lap::haptics

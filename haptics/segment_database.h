@@ -7,7 +7,8 @@
 ///   and edges of the same flat "face" (coplanar triangles joined across flat edges); for an
 ///   edge, its faces and the other contactable edges at its two vertices;
 /// - which edges a segment's interior can touch first (convex and boundary edges: a straight
-///   probe cannot first meet a closed surface at a concave or flat edge), and a second
+///   probe cannot first meet a closed surface at a concave or flat edge; on a two-sided surface
+///   also the edges concave from the front, which are convex from the back), and a second
 ///   bounding-box tree over those edges (§5.2).
 /// And the two first-contact queries of §5.3: an end point's path crossing a face (A.5, A.7)
 /// and the moving segment crossing an edge (A.8), both exact.
@@ -31,6 +32,10 @@ struct SegmentDatabaseSettings {
   /// Dihedral angle below which an edge counts as flat (joins a "face" and is never a
   /// first contact of the probe's interior) [rad].
   double flat_angle_rad = 1e-6;
+  /// A thin, open surface touched from either side (the duct's shell): end points cross faces
+  /// from the back too, and an edge concave from the front is convex from the back, so it is
+  /// contactable there. Must match the HapticObject's two_sided (surface_problem() checks).
+  bool two_sided = false;
 };
 
 class SegmentDatabase {
@@ -70,15 +75,20 @@ class SegmentDatabase {
   [[nodiscard]] int32_t flat_group_count() const { return flat_groups_; }
   /// True when the probe's interior can first touch edge e (convex or boundary).
   [[nodiscard]] bool contactable(int32_t e) const { return contactable_[e] != 0; }
+  /// The side a contactable edge is convex from: +1 its normal's (front), -1 the back (concave
+  /// edges of a two-sided surface), 0 either (a boundary edge).
+  [[nodiscard]] int8_t convex_side(int32_t e) const { return convex_side_[e]; }
+  [[nodiscard]] bool two_sided() const { return two_sided_; }
   [[nodiscard]] int32_t contactable_edge_count() const {
     return static_cast<int32_t>(tree_edges_.size());
   }
 
-  /// Earliest crossing of an end point's path p0 -> p1 into a face from its front (A.7). A
-  /// start exactly on the face plane counts, so an end point resting on the surface cannot slip
-  /// in. Returns the face (-1: none) and the parameter in *t.
+  /// Earliest crossing of an end point's path p0 -> p1 into a face from its front (A.7; either
+  /// side when two-sided, *side = +1 front, -1 back). A start exactly on the face plane counts,
+  /// so an end point resting on the surface cannot slip in. Returns the face (-1: none) and the
+  /// parameter in *t.
   [[nodiscard]] int32_t first_face_crossing(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                            double* t) const;
+                                            double* t, int8_t* side) const;
   /// Earliest crossing of the moving segment (a0, b0) -> (a1, b1) with a contactable edge (A.8,
   /// exact), found through the edge tree. Returns the edge (-1: none); *tau the time, *u and *v
   /// the parameters on the probe (0 at a) and on the edge (0 at its first vertex).
@@ -86,10 +96,11 @@ class SegmentDatabase {
                                             const Eigen::Vector3d& a1, const Eigen::Vector3d& b1,
                                             double* tau, double* u, double* v) const;
 
-  /// The two crossing tests for one primitive: A.7 for face f (the parameter, -1: none) and A.8
-  /// for contactable edge e (entering crossings only where the edge has an inside).
+  /// The two crossing tests for one primitive: A.7 for face f (the parameter, -1: none; *side as
+  /// above) and A.8 for contactable edge e (entering crossings only, from its convex side, where
+  /// the edge has an inside).
   [[nodiscard]] double face_crossing(int32_t f, const Eigen::Vector3d& p0,
-                                     const Eigen::Vector3d& p1) const;
+                                     const Eigen::Vector3d& p1, int8_t* side) const;
   [[nodiscard]] MovingSegmentHit edge_crossing(int32_t e, const Eigen::Vector3d& a0,
                                                const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
                                                const Eigen::Vector3d& b1) const;
@@ -118,7 +129,7 @@ class SegmentDatabase {
  private:
   // The stages of build(), in order.
   /// Marks the contactable edges; returns the faces joined across flat edges (union-find).
-  std::vector<int32_t> classify_edges(double flat_angle_rad);
+  std::vector<int32_t> classify_edges(double flat_angle_rad, bool two_sided);
   /// Numbers the flat "faces" (the trees of the forest).
   void number_flat_groups(std::vector<int32_t>* forest);
   void link_neighbours();
@@ -136,6 +147,8 @@ class SegmentDatabase {
   std::vector<int32_t> flat_group_;
   int32_t flat_groups_ = 0;
   std::vector<uint8_t> contactable_;
+  std::vector<int8_t> convex_side_;
+  bool two_sided_ = false;
   std::vector<int32_t> tree_edges_;  // edge index of each edge-tree slot
   BoundingVolumeTree edge_tree_;
 };

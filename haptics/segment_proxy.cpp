@@ -60,7 +60,7 @@ void track_point_contact(const MeshDatabase& m, const Eigen::Vector3d& a, const 
   int32_t rounds = 0;
   c->feature = PointProxy::local_search(m, c->feature, p, &q, &rounds);
   c->point_O = q;
-  c->normal_O = m.normal(c->feature);
+  c->normal_O = static_cast<double>(c->side) * m.normal(c->feature);
 }
 
 // A pass moves each end point at most kMaxPassMotion, so that the swept check stays local even
@@ -107,6 +107,7 @@ void SegmentProxy::reset(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W)
   ideal_b_ = virtual_b_ = prev_virtual_b_ = b_W;
   constraint_count_ = 0;
   contact_count_ = 0;
+  for (FrictionSlot& f : friction_) f.object = -1;
   initialised_ = true;
 }
 
@@ -175,16 +176,18 @@ void SegmentProxy::track_edge_contact(const SegmentDatabase& sd, const Eigen::Is
   int32_t e = c->feature.index;
   const SegmentPair cp = slide_along_edges(sd, a, b, &e);
   if (cp.s <= 0.0 || cp.s >= 1.0) {
-    // The probe's end has reached the edge (Figure 5-9c): a point contact from here on.
+    // The probe's end has reached the edge (Figure 5-9c): a point contact from here on, on the
+    // side the edge contact was on.
     c->at_end = true;
     c->u = cp.s <= 0.0 ? 0.0 : 1.0;
     c->feature = {PrimitiveKind::kEdge, e};
+    c->side = c->normal_O.dot(sd.mesh().normal(c->feature)) >= 0.0 ? 1 : -1;
   } else {
     const Eigen::Vector3d side = inv * lerp(ideal_a_, ideal_b_, cp.s) - cp.q;
     c->feature = {PrimitiveKind::kEdge, e};
     c->u = cp.s;
     c->point_O = cp.q;
-    c->normal_O = edge_contact_normal(sd.mesh(), e, b - a, side);
+    c->normal_O = edge_contact_normal(sd.mesh(), e, sd.convex_side(e), b - a, side);
   }
 }
 
@@ -221,7 +224,8 @@ void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vec
       if (cp.s <= 0.0 || cp.s >= 1.0 || std::abs(cp.s - c.u) < 1e-9) continue;
       c.u = cp.s;
       c.point_O = cp.q;
-      c.normal_O = edge_contact_normal(m, c.feature.index, pb - pa, c.normal_O);
+      c.normal_O = edge_contact_normal(m, c.feature.index, o.segments->convex_side(c.feature.index),
+                                       pb - pa, c.normal_O);
       c.point_W = o.pose_WO * c.point_O;
       c.normal_W = o.pose_WO.linear() * c.normal_O;
       moved = true;
@@ -257,6 +261,7 @@ SegmentProxyOutput SegmentProxy::step(std::span<const HapticObject> objects,
     out.fault = true;
     initialised_ = false;
     constraint_count_ = contact_count_ = 0;
+    for (FrictionSlot& f : friction_) f.object = -1;
     return out;
   }
   if (!initialised_) reset(a_W, b_W);

@@ -28,6 +28,14 @@
 /// split to the two ends by equations 5-1, 5-4 and 5-5 (the lever rule); the net torque is
 /// equation 5-3.
 ///
+/// Surface properties (chapter 6; the thesis applies them to the ray-based probe too, at its
+/// contact points; segment_proxy_surface.cpp): at each contact, the virtual probe's equilibrium
+/// point projected onto the contact plane is the surface point, followed to the primitive under
+/// it. There the object's force shading (§6.1) turns the spring along the shaded normal, its
+/// texture (§6.3, eq. 6-2/6-4) perturbs it, and its stick-slip friction (§6.2) adds a tangential
+/// force, with one friction state per contact kept from tick to tick (by object, and by order
+/// among that object's contacts).
+///
 /// The step allocates nothing, takes no lock, never throws; a non-finite input or result zeroes
 /// the force, resets the proxy and is counted.
 
@@ -37,6 +45,7 @@
 #include <cstdint>
 #include <span>
 
+#include "haptics/friction.h"
 #include "haptics/haptic_object.h"
 #include "haptics/probe_placement_qp.h"
 #include "haptics/segment_database.h"
@@ -54,6 +63,7 @@ struct SegmentConstraint {
   PrimitiveRef feature;    ///< end point: the point proxy's primitive; interior: an edge
   bool at_end = false;     ///< u is 0 or 1 and the feature is tracked as a point contact
   bool face_hold = false;  ///< part of a segment–face contact with |θ| < θε (held)
+  int8_t side = 1;  ///< at an end: +1 on its feature's front, -1 its back (two-sided surfaces)
   double u = 0.0;
   Eigen::Vector3d point_O = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal_O = Eigen::Vector3d::UnitY();
@@ -74,7 +84,9 @@ struct SegmentContact {
   double depth_m = 0.0;        ///< penetration of the virtual probe at the equilibrium point
   Eigen::Vector3d point_W = Eigen::Vector3d::Zero();  ///< equilibrium point, ideal probe
   Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();
-  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  ///< on the probe [N]
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();     ///< on the probe, friction included [N]
+  Eigen::Vector3d friction_W = Eigen::Vector3d::Zero();  ///< its friction part (§6.2) [N]
+  FrictionState::Phase friction_phase = FrictionState::Phase::kNone;
 };
 
 struct SegmentProxySettings {
@@ -87,10 +99,11 @@ struct SegmentProxySettings {
 struct SegmentProxyOutput {
   Eigen::Vector3d ideal_a_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d ideal_b_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();    ///< net force on the probe [N]
-  Eigen::Vector3d torque_W = Eigen::Vector3d::Zero();   ///< about the virtual end b [N m]
-  Eigen::Vector3d force_a_W = Eigen::Vector3d::Zero();  ///< share at end a (eq. 5-1/5-4/5-5)
-  Eigen::Vector3d force_b_W = Eigen::Vector3d::Zero();  ///< share at end b
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();     ///< net force on the probe [N]
+  Eigen::Vector3d torque_W = Eigen::Vector3d::Zero();    ///< about the virtual end b [N m]
+  Eigen::Vector3d force_a_W = Eigen::Vector3d::Zero();   ///< share at end a (eq. 5-1/5-4/5-5)
+  Eigen::Vector3d force_b_W = Eigen::Vector3d::Zero();   ///< share at end b
+  Eigen::Vector3d friction_W = Eigen::Vector3d::Zero();  ///< friction part of force_W [N]
   int32_t contact_count = 0;
   bool fault = false;
 };
@@ -109,6 +122,8 @@ struct SegmentProxyStats {
   int64_t cached_tests = 0;
   int64_t cache_rebuilds = 0;  ///< sweep cache refilled from the trees
   int64_t tree_sweeps = 0;     ///< swept checks that went through the trees
+  int64_t stick_to_slide = 0;  ///< friction (§6.2) transitions over all contacts
+  int64_t slide_to_stick = 0;
   int64_t faults = 0;
 };
 
@@ -207,10 +222,34 @@ class SegmentProxy {
                        double* u_a, double* u_b) const noexcept;
   /// Sets the contact's kind, equilibrium point and normal; returns a point of its plane.
   Eigen::Vector3d find_equilibrium(const ContactGroup& g, SegmentContact* contact) const noexcept;
-  /// The contact's spring force, added to *out with its shares at the ends and its torque.
+  /// The contact's spring force with the object's surface properties, added to *out with its
+  /// shares at the ends and its torque.
   void apply_contact_force(std::span<const HapticObject> objects, double dt,
                            const Eigen::Vector3d& plane_point, SegmentContact* contact,
-                           SegmentProxyOutput* out) const noexcept;
+                           SegmentProxyOutput* out) noexcept;
+
+  // Surface properties at a contact (chapter 6, segment_proxy_surface.cpp).
+  /// Where a contact acts on its object's surface (object frame): the point, the primitive
+  /// under it (kNone where no property needs one) and the contact's normal.
+  struct SurfacePoint {
+    PrimitiveRef primitive;
+    Eigen::Vector3d q_O = Eigen::Vector3d::Zero();
+    Eigen::Vector3d n_O = Eigen::Vector3d::UnitY();
+  };
+  /// The surface point of a contact: on_plane_W on the contact plane, followed by local search
+  /// to the primitive under it where shading or a texture needs one.
+  [[nodiscard]] SurfacePoint surface_point(const HapticObject& o, const SegmentContact& contact,
+                                           const Eigen::Vector3d& on_plane_W) const noexcept;
+  /// The penetration vector for the force law: -depth n (flat), along the shaded normal (§6.1,
+  /// Figure 6-3) or under the textured surface (§6.3, eq. 6-4).
+  [[nodiscard]] static Eigen::Vector3d surface_penetration(
+      const HapticObject& o, const SurfacePoint& s, double depth,
+      const Eigen::Vector3d& normal_W) noexcept;
+  /// The friction force (§6.2, world frame) of the contact-th contact for normal force fn.
+  Eigen::Vector3d contact_friction(const HapticObject& o, int contact, const SurfacePoint& s,
+                                   double fn) noexcept;
+  /// Friction states of contacts that ended this tick start afresh at their next contact.
+  void release_unused_friction() noexcept;
 
   // The sweep cache (a clearance certificate): every face within radius_a of end point a (and
   // radius_b of b) and every contactable edge within r(u) = (1 - u) radius_a + u radius_b of the
@@ -238,6 +277,7 @@ class SegmentProxy {
     int32_t object = -1;
     int32_t index = -1;
     double clearance = 0.0;  ///< from the cached end point [m]
+    bool two_sided = false;  ///< crossed from either side (SegmentDatabase::two_sided)
     std::array<int32_t, 3> vertex{};
     std::array<Eigen::Vector3d, 3> p{};
     Eigen::Vector3d n = Eigen::Vector3d::Zero();  ///< (p1 - p0) × (p2 - p0)
@@ -271,6 +311,15 @@ class SegmentProxy {
 
   SegmentProxySettings settings_;
   SweepCache cache_;
+  // One friction state per contact, found again next tick by its object and its order among
+  // that object's contacts.
+  struct FrictionSlot {
+    int32_t object = -1;  ///< -1: free
+    int32_t ordinal = 0;
+    bool used = false;  ///< by a contact this tick
+    FrictionState state;
+  };
+  std::array<FrictionSlot, kMaxConstraints> friction_{};
   double cache_growth_ = kCacheGrowth;
   std::array<SegmentConstraint, kMaxConstraints> constraints_{};
   int32_t constraint_count_ = 0;

@@ -61,7 +61,8 @@ int32_t face_of_contact(const MeshDatabase& m, const SegmentConstraint& c, doubl
   if (c.feature.kind == PrimitiveKind::kFace) return c.feature.index;
   if (c.feature.kind == PrimitiveKind::kEdge) {
     for (int32_t f : m.edge_faces(c.feature.index)) {
-      if (f >= 0 && m.face_normal(f).dot(c.normal_O) >= cos_eps) return f;
+      // Either side: a two-sided surface is touched from behind too.
+      if (f >= 0 && std::abs(m.face_normal(f).dot(c.normal_O)) >= cos_eps) return f;
     }
   }
   return -1;
@@ -83,6 +84,7 @@ struct SegmentProxy::ContactGroup {
 void SegmentProxy::respond(std::span<const HapticObject> objects, double dt,
                            SegmentProxyOutput* out) noexcept {
   contact_count_ = 0;
+  for (FrictionSlot& slot : friction_) slot.used = false;
   const double cos_eps = std::cos(settings_.theta_epsilon_rad);
   std::array<bool, kMaxConstraints> used{};
   for (int i = 0; i < constraint_count_; ++i) {
@@ -103,6 +105,7 @@ void SegmentProxy::respond(std::span<const HapticObject> objects, double dt,
                       contact.depth_m > 0.0;
     for (int k = 0; k < group.count; ++k) constraints_[group.member[k]].face_hold = hold;
   }
+  release_unused_friction();
   out->ideal_a_W = ideal_a_;
   out->ideal_b_W = ideal_b_;
   out->contact_count = contact_count_;
@@ -113,9 +116,14 @@ SegmentProxy::ContactGroup SegmentProxy::gather_contact(
   ContactGroup g;
   g.member[g.count++] = i;
   (*used)[i] = true;
+  const SegmentConstraint& ci = constraints_[i];
   for (int j = i + 1; j < constraint_count_; ++j) {
-    if (!(*used)[j] && constraints_[j].object == constraints_[i].object &&
-        constraints_[j].normal_W.dot(constraints_[i].normal_W) >= cos_eps) {
+    const SegmentConstraint& cj = constraints_[j];
+    // One contact: normals within θε (a face), or one end point held by several planes of one
+    // object (a tip on a convex crease: one penetration, not a spring per plane).
+    const bool same_end = ci.at_end && cj.at_end && ci.u == cj.u;
+    if (!(*used)[j] && cj.object == ci.object &&
+        (same_end || cj.normal_W.dot(ci.normal_W) >= cos_eps)) {
       g.member[g.count++] = j;
       (*used)[j] = true;
     }
@@ -169,6 +177,13 @@ Eigen::Vector3d SegmentProxy::find_equilibrium(const ContactGroup& g,
   if (u_b - u_a <= 1e-12) {
     contact->kind =
         ca.at_end ? SegmentContactKind::kPointPolygon : SegmentContactKind::kSegmentEdge;
+    if (g.count > 1) {
+      // An end point held by several planes (on a crease): as the point proxy has it (§4.4), the
+      // penetration is from the ideal end point to the virtual one, whatever the planes.
+      const Eigen::Vector3d x = lerp(ideal_a_, ideal_b_, u_eq) - lerp(virtual_a_, virtual_b_, u_eq);
+      if (x.squaredNorm() > 0.0 && x.dot(normal) > 0.0) normal = x.normalized();
+      plane_point = lerp(ideal_a_, ideal_b_, u_eq);
+    }
   } else {
     contact->kind = SegmentContactKind::kSegmentFace;
     normal = (ca.normal_W + cb.normal_W).normalized();
@@ -188,25 +203,39 @@ Eigen::Vector3d SegmentProxy::find_equilibrium(const ContactGroup& g,
   return plane_point;
 }
 
-// The contact's spring along its normal from the penetration of the virtual probe at the
-// equilibrium point (below the plane through plane_point), split to the two ends.
+// The contact's spring from the penetration of the virtual probe at the equilibrium point (below
+// the plane through plane_point) with the object's surface properties (chapter 6), split to the
+// two ends.
 void SegmentProxy::apply_contact_force(std::span<const HapticObject> objects, double dt,
                                        const Eigen::Vector3d& plane_point, SegmentContact* contact,
-                                       SegmentProxyOutput* out) const noexcept {
+                                       SegmentProxyOutput* out) noexcept {
   const double u_eq = contact->u_equilibrium;
   const Eigen::Vector3d& normal = contact->normal_W;
   const Eigen::Vector3d x_virtual = lerp(virtual_a_, virtual_b_, u_eq);
   const double depth = normal.dot(plane_point - x_virtual);
   const Eigen::Vector3d velocity =
       (lerp(virtual_a_, virtual_b_, u_eq) - lerp(prev_virtual_a_, prev_virtual_b_, u_eq)) / dt;
+  const HapticObject& o = objects[contact->object];
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d friction = Eigen::Vector3d::Zero();
+  contact->friction_phase = FrictionState::Phase::kNone;
   if (depth > 0.0) {
-    force =
-        contact_force(objects[contact->object].law, -depth * normal, normal.dot(velocity) * normal);
+    // The surface point: the virtual probe's equilibrium point projected onto the plane.
+    const SurfacePoint s = surface_point(o, *contact, x_virtual + depth * normal);
+    force = contact_force(o.law, surface_penetration(o, s, depth, normal),
+                          normal.dot(velocity) * normal);
+    if (o.friction != nullptr) {
+      friction = contact_friction(o, contact_count_ - 1, s, std::max(0.0, force.dot(normal)));
+      force += friction;
+      const double magnitude = force.norm();
+      if (magnitude > o.law.max_force_n) force *= o.law.max_force_n / magnitude;
+    }
   }
   contact->depth_m = depth;
   contact->point_W = lerp(ideal_a_, ideal_b_, u_eq);
   contact->force_W = force;
+  contact->friction_W = friction;
+  out->friction_W += friction;
   out->force_W += force;
   out->force_a_W += (1.0 - u_eq) * force;  // eq. 5-1 / 5-4 / 5-5: the lever rule
   out->force_b_W += u_eq * force;

@@ -21,23 +21,25 @@ struct SegmentProxy::SweptHit {
   double best = 2.0;
 
   // End point `end` (0: a, 1: b) of the probe, moving p0 -> p1 in object k's frame, crosses face
-  // f at time t.
+  // f at time t from its front (side +1) or its back (-1, two-sided surfaces).
   void face(int32_t k, int32_t f, int end, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-            double t) {
+            double t, int8_t side) {
     best = t;
     hit->object = k;
     hit->feature = {PrimitiveKind::kFace, f};
     hit->at_end = true;
+    hit->side = side;
     hit->u = end;
     hit->point_O = lerp(p0, p1, t);
-    hit->normal_O = objects[k].segments->mesh().face_normal(f);
+    hit->normal_O = static_cast<double>(side) * objects[k].segments->mesh().face_normal(f);
   }
 
   // The probe, moving (A0, B0) -> (A1, B1) in object k's frame, crosses edge e as h says.
   void edge(int32_t k, int32_t e, const MovingSegmentHit& h, const Eigen::Vector3d& A0,
             const Eigen::Vector3d& B0, const Eigen::Vector3d& A1, const Eigen::Vector3d& B1) {
     best = h.tau;
-    const MeshDatabase& m = objects[k].segments->mesh();
+    const SegmentDatabase& sd = *objects[k].segments;
+    const MeshDatabase& m = sd.mesh();
     const Eigen::Vector3d at = lerp(A0, A1, h.tau);
     const Eigen::Vector3d bt = lerp(B0, B1, h.tau);
     const auto& ev = m.edge_vertices(e);
@@ -48,11 +50,12 @@ struct SegmentProxy::SweptHit {
     hit->u = h.u;
     hit->point_O = q;
     // The side the probe came from orients boundary edges.
-    hit->normal_O = edge_contact_normal(m, e, bt - at, lerp(A0, B0, h.u) - q);
+    hit->normal_O = edge_contact_normal(m, e, sd.convex_side(e), bt - at, lerp(A0, B0, h.u) - q);
     if (h.u <= 0.0 || h.u >= 1.0) {
-      // An end point met the edge: track it as a point contact.
+      // An end point met the edge: track it as a point contact, on the side it came from.
       hit->at_end = true;
       hit->u = h.u <= 0.0 ? 0.0 : 1.0;
+      hit->side = hit->normal_O.dot(m.normal(hit->feature)) >= 0.0 ? 1 : -1;
     }
   }
 };
@@ -140,9 +143,10 @@ void SegmentProxy::sweep_cached_primitives(std::span<const HapticObject> objects
       ++stats_.cached_tests;
       const Eigen::Vector3d& p0 = end == 0 ? A0[c.object] : B0[c.object];
       const Eigen::Vector3d& p1 = end == 0 ? A1[c.object] : B1[c.object];
-      const double t = front_crossing_time(p0, p1, c.n, c.p[0], c.vertex[0], c.p[1], c.vertex[1],
-                                           c.p[2], c.vertex[2]);
-      if (t >= 0.0 && t < first->best) first->face(c.object, c.index, end, p0, p1, t);
+      int8_t side = 1;
+      const double t = crossing_time(p0, p1, c.n, c.two_sided, c.p[0], c.vertex[0], c.p[1],
+                                     c.vertex[1], c.p[2], c.vertex[2], &side);
+      if (t >= 0.0 && t < first->best) first->face(c.object, c.index, end, p0, p1, t, side);
     }
   }
   for (int32_t i = 0; i < cache_.edge_count; ++i) {
@@ -174,8 +178,9 @@ void SegmentProxy::sweep_trees(std::span<const HapticObject> objects, bool first
       const Eigen::Vector3d& p0 = end == 0 ? A0 : B0;
       const Eigen::Vector3d& p1 = end == 0 ? A1 : B1;
       double t = 1.0;
-      const int32_t f = sd.first_face_crossing(p0, p1, &t);
-      if (f >= 0 && t < first->best) first->face(k, f, end, p0, p1, t);
+      int8_t side = 1;
+      const int32_t f = sd.first_face_crossing(p0, p1, &t, &side);
+      if (f >= 0 && t < first->best) first->face(k, f, end, p0, p1, t, side);
     }
     MovingSegmentHit h;
     const int32_t e = sd.first_edge_crossing(A0, B0, A1, B1, &h.tau, &h.u, &h.v);

@@ -113,6 +113,7 @@ bool SegmentProxy::cache_faces(const SegmentDatabase& sd, int32_t k, int end,
     cf.vertex = m.face_vertices(scratch[i]);
     for (int j = 0; j < 3; ++j) cf.p[j] = m.position(cf.vertex[j]);
     cf.n = (cf.p[1] - cf.p[0]).cross(cf.p[2] - cf.p[0]);
+    cf.two_sided = sd.two_sided();
     TriangleFeature feature{};
     cf.clearance = (closest_on_triangle(p, cf.p[0], cf.p[1], cf.p[2], &feature) - p).norm();
   }
@@ -137,7 +138,7 @@ bool SegmentProxy::cache_edges(const SegmentDatabase& sd, int32_t k, const Eigen
     ce.c = m.position(ev[0]);
     ce.d = m.position(ev[1]);
     ce.closed = m.edge_faces(scratch[i])[1] >= 0;
-    ce.outward = m.edge_normal(scratch[i]);
+    ce.outward = static_cast<double>(sd.convex_side(scratch[i])) * m.edge_normal(scratch[i]);
     const SegmentPair cp = closest_segment_segment(A, B, ce.c, ce.d);
     ce.clearance = (cp.p - cp.q).norm();
   }

@@ -75,6 +75,12 @@ inline SegmentPair closest_segment_segment(const Eigen::Vector3d& p0, const Eige
 /// rounding) and moves out is then not stopped at τ = 0. Where the probe crosses nearly head-on
 /// (its line in the plane of the edge and `outward`, so neither side is outside) every crossing
 /// counts.
+///
+/// With `interior_only`, a meeting at an end of the moving segment does not count: for the
+/// segment proxy that is an end point reaching an edge, which the end point's own face crossing
+/// (A.7, watertight) already catches. Counted, a probe whose tip rests exactly on an edge
+/// (pressed onto a convex crease) "met" the edge again at τ = 0 whenever it turned about its tip,
+/// and the ideal probe stayed stuck there while the hand went on.
 struct MovingSegmentHit {
   bool hit = false;
   double tau = 0.0;  ///< time of the crossing in [0, 1]
@@ -85,7 +91,7 @@ struct MovingSegmentHit {
 inline MovingSegmentHit moving_segment_crosses_segment(
     const Eigen::Vector3d& a0, const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
     const Eigen::Vector3d& b1, const Eigen::Vector3d& c, const Eigen::Vector3d& d,
-    const Eigen::Vector3d* outward = nullptr) {
+    const Eigen::Vector3d* outward = nullptr, bool interior_only = false) {
   MovingSegmentHit out;
   const Eigen::Vector3d e = d - c;
   const Eigen::Vector3d w0 = b0 - a0;
@@ -147,6 +153,7 @@ inline MovingSegmentHit moving_segment_crosses_segment(
     // At a true crossing the closest points coincide; allow rounding relative to the lengths.
     const double tol = 1e-9 * ((b - a).norm() + e.norm()) + 1e-15;
     if ((cp.p - cp.q).norm() > tol) continue;
+    if (interior_only && (cp.s <= 0.0 || cp.s >= 1.0)) continue;
     if (outward != nullptr) {
       const Eigen::Vector3d m = (b - a).cross(e);
       const double side = m.dot(*outward);
@@ -164,14 +171,14 @@ inline MovingSegmentHit moving_segment_crosses_segment(
 
 /// A.8 against a mesh edge: every crossing of a boundary edge (outward == nullptr: an open
 /// surface has no inside), only entering ones elsewhere. The orientation test runs only when
-/// there is a crossing at all.
+/// there is a crossing at all. Meetings at the probe's ends are left to the faces (interior_only).
 inline MovingSegmentHit moving_segment_enters_edge(
     const Eigen::Vector3d& a0, const Eigen::Vector3d& b0, const Eigen::Vector3d& a1,
     const Eigen::Vector3d& b1, const Eigen::Vector3d& c, const Eigen::Vector3d& d,
     const Eigen::Vector3d* outward) {
-  const MovingSegmentHit any = moving_segment_crosses_segment(a0, b0, a1, b1, c, d);
+  const MovingSegmentHit any = moving_segment_crosses_segment(a0, b0, a1, b1, c, d, nullptr, true);
   if (!any.hit || outward == nullptr) return any;
-  return moving_segment_crosses_segment(a0, b0, a1, b1, c, d, outward);
+  return moving_segment_crosses_segment(a0, b0, a1, b1, c, d, outward, true);
 }
 
 }  // namespace lap::haptics

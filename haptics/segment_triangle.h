@@ -93,4 +93,17 @@ inline double front_crossing_time(const Eigen::Vector3d& p0, const Eigen::Vector
   return front_crossing_time(p0, p1, (b - a).cross(c - a), a, ia, b, ib, c, ic);
 }
 
+/// The same for a two-sided (open, thin) surface: a crossing from either side, *side = +1 when
+/// from the front, -1 from the back. The line test does not depend on the triangle's winding.
+inline double crossing_time(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                            const Eigen::Vector3d& n, bool two_sided, const Eigen::Vector3d& a,
+                            int32_t ia, const Eigen::Vector3d& b, int32_t ib,
+                            const Eigen::Vector3d& c, int32_t ic, int8_t* side) {
+  *side = 1;
+  const double t = front_crossing_time(p0, p1, n, a, ia, b, ib, c, ic);
+  if (t >= 0.0 || !two_sided) return t;
+  *side = -1;
+  return front_crossing_time(p0, p1, -n, a, ia, b, ib, c, ic);
+}
+
 }  // namespace lap::haptics

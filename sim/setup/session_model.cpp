@@ -107,8 +107,11 @@ void SessionModel::build_surfaces(const Scene& scene) {
   for (size_t i = 0; i < scene.organs.size(); ++i) {
     auto db = std::make_unique<haptics::MeshDatabase>(
         haptics::MeshDatabase::build(tissue_->surface(static_cast<int32_t>(i))));
-    segment_databases_.push_back(
-        std::make_unique<haptics::SegmentDatabase>(haptics::SegmentDatabase::build(*db)));
+    // The duct's open shell is touched from inside its lumen and from outside.
+    haptics::SegmentDatabaseSettings segment_settings;
+    segment_settings.two_sided = tissue_->two_sided(static_cast<int32_t>(i));
+    segment_databases_.push_back(std::make_unique<haptics::SegmentDatabase>(
+        haptics::SegmentDatabase::build(*db, segment_settings)));
     surfaces_.push_back(build_organ_surface(scene.organs[i], *db));
     databases_.push_back(std::move(db));
     haptics::HapticObject o;

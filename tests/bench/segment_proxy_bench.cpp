@@ -7,10 +7,13 @@
 #include <cmath>
 #include <memory>
 
+#include "haptics/friction.h"
 #include "haptics/laparoscopic_gripper.h"
 #include "haptics/mesh_database.h"
+#include "haptics/procedural_textures.h"
 #include "haptics/segment_database.h"
 #include "haptics/segment_proxy.h"
+#include "haptics/shading_normals.h"
 #include "tests/bench/bench_support.h"
 
 namespace lap::bench {
@@ -100,20 +103,38 @@ BENCHMARK(BM_SegmentProxySlide)
     ->Iterations(200000);
 
 // The OpenHELP liver, stomach and duodenum (../shared/meshes, millimetres), as one scene; the
-// generated stand-ins where those meshes are absent (bench_support.h).
+// generated stand-ins where those meshes are absent (bench_support.h). Every surface property
+// on (chapter 6), as default.yaml has them: stick-slip friction on every organ; the liver shaded
+// (§6.1), or textured (§6.3, the gallbladder's fractal texture: a texture wins over shading,
+// §6.6).
 struct OrganScene {
   std::vector<std::unique_ptr<MeshDatabase>> dbs;
   std::vector<std::unique_ptr<SegmentDatabase>> sds;
+  std::vector<std::unique_ptr<haptics::ShadingNormals>> shading;
+  haptics::FrictionModel friction;
+  haptics::FractalNoise texture{0.0001, 0.004, 5, 2.0, 0.5, 1};
   std::vector<HapticObject> objects;
   int64_t triangles = 0;
-  OrganScene() {
+  explicit OrganScene(bool textured) {
+    friction.mu_static = 0.2;
+    friction.mu_dynamic = 0.1;
+    friction.stick_stiffness_n_per_m = 400.0;
+    friction.slide_stiffness_n_per_m = 200.0;
     for (const haptics::TriangleMesh& mesh : organ_set().meshes) {
       dbs.push_back(std::make_unique<MeshDatabase>(MeshDatabase::build(mesh)));
       sds.push_back(std::make_unique<SegmentDatabase>(SegmentDatabase::build(*dbs.back())));
+      shading.push_back(std::make_unique<haptics::ShadingNormals>(
+          haptics::ShadingNormals::build(*dbs.back(), 40.0 * M_PI / 180.0)));
       HapticObject o;
       o.mesh = dbs.back().get();
       o.segments = sds.back().get();
       o.law.stiffness_n_per_m = 800.0;
+      o.friction = &friction;
+      if (textured) {
+        o.texture = &texture;
+      } else {
+        o.shading = shading.back().get();
+      }
       objects.push_back(o);
       triangles += o.mesh->face_count();
     }
@@ -122,9 +143,11 @@ struct OrganScene {
 
 // The gripper's hinge slides 2 mm deep over the liver near a vertex, jaws half open, the shaft
 // leaning 30° off the outward normal; the jaws open and close at 1 Hz.
-void BM_GripperStep(benchmark::State& state) {
-  static OrganScene sc;
-  state.SetLabel(organ_set().label);
+void BM_GripperStep(benchmark::State& state, bool textured) {
+  static OrganScene shaded_scene(false);
+  static OrganScene textured_scene(true);
+  OrganScene& sc = textured ? textured_scene : shaded_scene;
+  state.SetLabel(organ_set().label + (textured ? ", textured + friction" : ", shaded + friction"));
   const MeshDatabase& liver = *sc.dbs[0];
   const int32_t v0 = liver.vertex_count() / 3;
   const Eigen::Vector3d p0 = liver.position(v0);
@@ -181,10 +204,17 @@ void BM_GripperStep(benchmark::State& state) {
   state.counters["limit_rate"] = limits;
   state.counters["refills"] = refills;
   state.counters["tree_sweeps"] = tree_sweeps;
+  int64_t slips = 0;
+  for (int i = 0; i < 3; ++i) slips += gripper.proxy(i).stats().stick_to_slide;
+  state.counters["slips_per_s"] =
+      static_cast<double>(slips) / (kDt * static_cast<double>(gripper.proxy(0).stats().steps));
 }
 // Registered with the scene's triangle count as its argument (47396 for the OpenHELP meshes).
 const bool kGripperStepRegistered = [] {
-  benchmark::RegisterBenchmark("BM_GripperStep", BM_GripperStep)
+  benchmark::RegisterBenchmark("BM_GripperStep", BM_GripperStep, false)
+      ->Arg(organ_set().triangles)
+      ->Iterations(100000);
+  benchmark::RegisterBenchmark("BM_GripperStepTextured", BM_GripperStep, true)
       ->Arg(organ_set().triangles)
       ->Iterations(100000);
   return true;

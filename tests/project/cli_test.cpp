@@ -141,6 +141,44 @@ TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesStiffnessTimesDepth) {
   EXPECT_EQ(rows, 21);
 }
 
+// An open mesh is a thin, two-sided surface for the segment probe too: a rod lifted into a
+// square plate (y = 0, normal +y) from below is pushed back down.
+TEST(CliProbe, SegmentProbeAcceptsAnOpenMeshAndFeelsItFromBelow) {
+  TempDir dir;
+  const auto mesh = dir.write("plate.obj",
+                              "v -0.05 0 -0.05\nv 0.05 0 -0.05\nv 0.05 0 0.05\nv -0.05 0 0.05\n"
+                              "f 1 3 2\nf 1 4 3\n");
+  std::string path = "x1,y1,z1,x2,y2,z2\n";
+  // From 10.5 mm below to 9.5 mm above, in 1 mm steps (a rod exactly on the plane of a
+  // two-sided surface has no side to be held on).
+  for (int i = 0; i <= 20; ++i) {
+    const double y = -0.0105 + 0.001 * i;
+    path += "-0.02," + std::to_string(y) + ",0.01,0.02," + std::to_string(y) + ",0.01\n";
+  }
+  const auto csv = dir.write("path.csv", path);
+  const auto out = dir.path() / "out.csv";
+  const CommandResult r =
+      run_command(cli() + " probe --mesh " + mesh.string() + " --path " + csv.string() +
+                  " --probe segment --stiffness 400 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(out);
+  std::string line;
+  std::getline(in, line);
+  int rows = 0;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::vector<std::string> c;
+    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 17U) << line;
+    const double y = -0.0105 + 0.001 * rows;
+    // Held below the plate: the force pushes down by k times how far above it the rod is.
+    EXPECT_NEAR(std::stod(c[8]), -400.0 * std::max(0.0, y), 1e-5) << line;
+    EXPECT_LE(std::stod(c[2]), 2e-6) << "the ideal rod stays below the plate: " << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 21);
+}
+
 TEST(CliProbe, BadPathRowsAreNamedByLine) {
   TempDir dir;
   const auto mesh = dir.write(
