@@ -194,10 +194,11 @@ void MainWindow::update_loops() {
   const int64_t steps = m.steps - last_model_steps_;
   last_haptic_tick_ = h.tick;
   last_model_steps_ = m.steps;
-  QString text = QString("haptic %1 Hz (worst late %2 us, %3 missed) | model %4 Hz | %5 tool")
+  // Late ticks: each sent zero force for one tick and the forces ramped back by themselves.
+  QString text = QString("haptic %1 Hz (worst late %2 us, %3 late ticks) | model %4 Hz | %5 tool")
                      .arg(ticks)
                      .arg(h.worst_lateness_s * 1e6, 0, 'f', 0)
-                     .arg(h.missed_deadlines)
+                     .arg(h.late_ticks)
                      .arg(steps)
                      .arg(active_tool_ == 0 ? "left" : "right");
   const std::vector<std::string> warnings = session_.scheduling_warnings();

@@ -236,8 +236,8 @@ class SegmentProxy {
     Eigen::Vector3d q_O = Eigen::Vector3d::Zero();
     Eigen::Vector3d n_O = Eigen::Vector3d::UnitY();
   };
-  /// The surface point of a contact: on_plane_W on the contact plane, followed by local search
-  /// to the primitive under it where shading or a texture needs one.
+  /// The surface point of a contact: on_plane_W on the contact plane, with the contact's feature
+  /// as the primitive under it where shading or a texture needs one.
   [[nodiscard]] SurfacePoint surface_point(const HapticObject& o, const SegmentContact& contact,
                                            const Eigen::Vector3d& on_plane_W) const noexcept;
   /// The penetration vector for the force law: -depth n (flat), along the shaded normal (§6.1,

@@ -7,7 +7,6 @@
 #include <cmath>
 
 #include "haptics/height_field.h"
-#include "haptics/point_proxy.h"
 #include "haptics/segment_proxy.h"
 #include "haptics/shading_normals.h"
 #include "haptics/texture_force.h"
@@ -18,20 +17,13 @@ SegmentProxy::SurfacePoint SegmentProxy::surface_point(
     const HapticObject& o, const SegmentContact& contact,
     const Eigen::Vector3d& on_plane_W) const noexcept {
   SurfacePoint s;
-  const Eigen::Isometry3d inv = o.pose_WO.inverse();
-  s.q_O = inv * on_plane_W;
+  s.q_O = o.pose_WO.inverse() * on_plane_W;
   s.n_O = o.pose_WO.linear().transpose() * contact.normal_W;
-  if ((o.shading != nullptr || o.texture != nullptr) &&
-      contact.primitive.kind != PrimitiveKind::kNone) {
-    // The contact's feature is near the point (an end point's face, the edge crossed, a face of
-    // the flat the probe lies on): the point proxy's local search finds the primitive under it in
-    // a few rounds (chapter 4), and shading interpolates over that one.
-    Eigen::Vector3d q;
-    int32_t rounds = 0;
-    s.primitive =
-        PointProxy::local_search(o.segments->mesh(), contact.primitive, s.q_O, &q, &rounds);
-    s.q_O = q;
-  }
+  // The contact's feature is the primitive under the point: for an end point, what this tick's
+  // local search found nearest to it (chapter 4); for a segment–edge contact, the edge; for a
+  // probe lying on a face, a face of that flat (whose triangles' corner normals differ by
+  // less than θε, so which one interpolates hardly matters).
+  if (o.shading != nullptr || o.texture != nullptr) s.primitive = contact.primitive;
   return s;
 }
 

@@ -45,6 +45,8 @@ nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::strin
   j["scenario"] = scenario;
   j["mode"] = fast ? "fast" : "realtime";
   j["haptic"] = loop_json(m.haptic);
+  // Ticks the watchdog zeroed for starting late, the forces ramping back (no pause, no event).
+  j["haptic"]["late_ticks"] = m.late_ticks;
   j["model"] = loop_json(m.model);
   j["paused"] = m.paused;
   j["watchdog_events"] = nlohmann::ordered_json::array();

@@ -44,8 +44,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 std::string_view to_string(WatchdogReason reason) {
   switch (reason) {
-    case WatchdogReason::kOverrun:
-      return "haptic tick overran";
+    case WatchdogReason::kStall:
+      return "haptic loop stalled";
     case WatchdogReason::kNonFinite:
       return "non-finite force";
     case WatchdogReason::kDeviceDisconnected:
@@ -90,6 +90,13 @@ Result<std::unique_ptr<Session>> Session::create(
     std::shared_ptr<const SessionModel> model,
     std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices) {
   if (model == nullptr) return diagnostic("no session model");
+  const RuntimeSettings& rs = model->settings();
+  if (!(rs.late_tick_ramp_s >= 0.0 && rs.late_tick_ramp_s <= 0.1)) {
+    return diagnostic("watchdog: expected a late tick ramp of 0 to 0.1 s");
+  }
+  if (!(rs.stall_s > 0.0) || !(rs.overrun_periods > 0.0)) {
+    return diagnostic("watchdog: expected a positive stall time and overrun periods");
+  }
   std::unique_ptr<Session> s(new Session());
   s->model_ = std::move(model);
   for (auto& per_reason : s->last_trip_tick_) per_reason.fill(-2);
@@ -202,22 +209,43 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   publish_haptic(snap, lateness_s);
 }
 
-// Resume, the overrun check, a model's fault, and the surfaces as the modelling loop last
+// Resume, the tick's timing, a model's fault, and the surfaces as the modelling loop last
 // deformed them (already refitted there): the proxies feel them from this tick on.
 const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noexcept {
   if (resume_requested_.exchange(false, std::memory_order_relaxed) &&
       paused_.load(std::memory_order_relaxed)) {
     paused_.store(false, std::memory_order_relaxed);
     gain_ = 0.0;
+    ramp_s_ = model_->settings().resume_ramp_s;
   }
-  const SessionTiming& timing = model_->timing();
-  if (lateness_s > model_->settings().overrun_periods * timing.dt_s) {
-    trip(tick, -1, WatchdogReason::kOverrun);
-  }
+  check_timing(tick, lateness_s);
   const ModelSnapshot& model = model_to_haptic_.latest();
   if (model.fault) trip(tick, -1, WatchdogReason::kModelFault, model.fault);
   if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
   return model;
+}
+
+// A stall pauses; a late tick only zeroes this tick's commands and restarts the ramp back.
+// In real time a stall's missed ticks then run back to back (absolute deadlines), each less
+// late than the one before: those still a stall's lateness trip again as the same lasting event
+// (trip()); the rest are late while paused, where zero is sent anyway, so they are not counted
+// as late ticks. The catch-up of a shorter hold-up is a run of late ticks: zero until the loop
+// is back on time, then one ramp.
+void Session::check_timing(int64_t tick, double lateness_s) noexcept {
+  const RuntimeSettings& settings = model_->settings();
+  if (lateness_s >= settings.stall_s) {
+    trip(tick, -1, WatchdogReason::kStall);
+    return;
+  }
+  if (lateness_s <= settings.overrun_periods * model_->timing().dt_s ||
+      paused_.load(std::memory_order_relaxed)) {
+    return;
+  }
+  ++late_ticks_;
+  late_tick_ = true;
+  // The ramp starts again from zero; a slower one under way (a resume's) keeps its pace.
+  if (!(gain_ < 1.0 && ramp_s_ > settings.late_tick_ramp_s)) ramp_s_ = settings.late_tick_ramp_s;
+  gain_ = 0.0;
 }
 
 // Reads tool i's device, records the sample, and puts the tool through its trocar. False (and
@@ -302,23 +330,28 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   return handle_command(k, force, out.torque_W, squeeze);
 }
 
-// Limits, the watchdog's zero, and the resume ramp; then write, and hash what was sent.
+// Limits, the watchdog's zero, and the ramp back (after a resume or a late tick); then write,
+// and hash what was sent.
 void Session::send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
                             const HapticSnapshot& snap) noexcept {
   const double dt = model_->timing().dt_s;
-  const double ramp_s = model_->settings().resume_ramp_s;
   const bool paused = paused_.load(std::memory_order_relaxed);
-  if (!paused && gain_ < 1.0) gain_ = ramp_s > 0.0 ? std::min(1.0, gain_ + dt / ramp_s) : 1.0;
+  const bool late = late_tick_;
+  late_tick_ = false;
+  if (!paused && !late && gain_ < 1.0) {
+    gain_ = ramp_s_ > 0.0 ? std::min(1.0, gain_ + dt / ramp_s_) : 1.0;
+  }
   std::array<hardware::DeviceCommand, 2> sent{};
   if (!paused) {
+    // On a late tick too, so that a non-finite command still trips on the tick it appears.
     for (size_t i = 0; i < 2; ++i) {
       const hardware::LimitedCommand l = tools_[i].limiter.apply(wanted[i], dt, gain_);
       if (l.non_finite) trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
       sent[i] = l.command;
     }
   }
-  // Paused before this tick or by it: zero, past the rate limit.
-  if (paused_.load(std::memory_order_relaxed)) {
+  // Paused before this tick or by it, or a late tick: zero, past the rate limit.
+  if (late || paused_.load(std::memory_order_relaxed)) {
     for (size_t i = 0; i < 2; ++i) sent[i] = tools_[i].limiter.zero();
   }
   for (size_t i = 0; i < 2; ++i) {
@@ -342,6 +375,7 @@ void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
   if (lateness_s > LoopStats::kMissedLateS) ++missed_deadlines_;
   snap.worst_lateness_s = worst_lateness_s_;
   snap.missed_deadlines = missed_deadlines_;
+  snap.late_ticks = late_ticks_;
   if (!events_.empty()) {
     snap.last_reason = events_.back().reason;
     snap.last_model_fault = events_.back().model_fault;
@@ -395,7 +429,7 @@ void Session::run_fast() {
   const auto t0 = std::chrono::steady_clock::now();
   for (int64_t tick = 0; tick < timing.max_ticks; ++tick) {
     if (stop_.load(std::memory_order_relaxed)) break;
-    const double late = tick == injected_late_tick_ ? injected_late_s_ : 0.0;
+    const double late = injected_lateness(tick);
     const auto a = std::chrono::steady_clock::now();
     haptic_tick(tick, late);
     haptic_stats_.add(late, seconds_since(a));
@@ -409,6 +443,14 @@ void Session::run_fast() {
   const double elapsed = seconds_since(t0);
   haptic_stats_.set_elapsed(elapsed);
   model_stats_.set_elapsed(elapsed);
+}
+
+double Session::injected_lateness(int64_t tick) const noexcept {
+  double late = 0.0;
+  for (size_t i = 0; i < injected_late_count_; ++i) {
+    if (injected_late_[i].tick == tick) late = injected_late_[i].late_s;
+  }
+  return late;
 }
 
 void Session::run_realtime() {
@@ -510,6 +552,7 @@ SessionMetrics Session::run() {
   m.model = model_stats_;
   m.paused = paused_.load();
   m.events = events_;
+  m.late_ticks = late_ticks_;
   m.recorded_ticks = static_cast<int64_t>(recordings_[0].samples.size());
   m.dropped_samples = dropped_samples_;
   // Each loop hashes its own state (no sharing between threads); the two are combined here.

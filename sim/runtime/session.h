@@ -20,11 +20,13 @@
 /// same ticks run in lockstep in the calling thread as fast as possible, so a run is a pure
 /// function of its inputs (state_hash) — replays reproduce a recorded session bit for bit.
 ///
-/// Watchdog: a haptic tick starting more than 2 periods late, a non-finite force, a device that
-/// reports an error or a disconnect, or a model that met a non-finite value in the modelling
-/// step (its fault published with the step's snapshot, which the next haptic tick reads) sends
-/// zero force on that tick, pauses the session (forces stay zero; proxies, models and recording
-/// go on) and records why; resume() ramps the forces back in.
+/// Watchdog: a haptic tick starting more than 2 periods late (a late tick) sends zero force on
+/// that tick and ramps the forces back by itself within 50 ms; it is counted, nothing else. A
+/// stall (a tick starting 20 ms late or more), a non-finite force, a device that reports an
+/// error or a disconnect, or a model that met a non-finite value in the modelling step (its
+/// fault published with the step's snapshot, which the next haptic tick reads) sends zero force
+/// on that tick, pauses the session (forces stay zero; proxies, models and recording go on) and
+/// records why; resume() ramps the forces back in.
 ///
 /// Model apart from state: everything fixed once the session is set up is one SessionModel
 /// (sim/setup/session_model.h) that both loops read `const`; the session owns only state,
@@ -58,7 +60,7 @@
 namespace lap::sim {
 
 enum class WatchdogReason : uint8_t {
-  kOverrun,
+  kStall,  ///< a haptic tick started RuntimeSettings::stall_s late or more
   kNonFinite,
   kDeviceDisconnected,
   kDeviceError,
@@ -70,7 +72,7 @@ inline constexpr size_t kWatchdogReasons = 5;
 struct WatchdogEvent {
   int64_t tick = 0;
   int32_t tool = -1;  ///< 0 left, 1 right, -1 the loop itself
-  WatchdogReason reason = WatchdogReason::kOverrun;
+  WatchdogReason reason = WatchdogReason::kStall;
   ModelFault model_fault;  ///< kModelFault: which model, on which organ
 };
 
@@ -89,7 +91,8 @@ struct HapticSnapshot {
   // The loop's own figures, for the app to show while the session runs.
   double worst_lateness_s = 0.0;  ///< so far
   int64_t missed_deadlines = 0;   ///< ticks started more than 2 ms late, so far
-  WatchdogReason last_reason = WatchdogReason::kOverrun;  ///< of the latest event, if any
+  int64_t late_ticks = 0;         ///< ticks the watchdog zeroed for starting late, so far
+  WatchdogReason last_reason = WatchdogReason::kStall;  ///< of the latest event, if any
   ModelFault last_model_fault;  ///< the latest event's model, when it was a model fault
 };
 
@@ -113,6 +116,9 @@ struct SessionMetrics {
   LoopStats model;
   bool paused = false;
   std::vector<WatchdogEvent> events;
+  /// Late ticks (RuntimeSettings::overrun_periods): each sent zero and the forces ramped back;
+  /// not events. Ticks late while paused (a stall's catch-up among them) are not counted.
+  int64_t late_ticks = 0;
   int64_t recorded_ticks = 0;
   int64_t dropped_samples = 0;  ///< inputs not recorded because the recording was full
   uint64_t state_hash = 0;
@@ -156,11 +162,14 @@ class Session {
   void resume() { resume_requested_.store(true, std::memory_order_relaxed); }
   [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_relaxed); }
 
-  /// Tests (fast mode): make tick `tick` start `late_s` late, as a stalled loop would.
-  void inject_lateness(int64_t tick, double late_s) {
-    injected_late_tick_ = tick;
-    injected_late_s_ = late_s;
+  /// Tests (fast mode): make tick `tick` start `late_s` late, as a loop held up would; up to
+  /// kMaxInjectedLateness ticks, one call each (false once full).
+  bool inject_lateness(int64_t tick, double late_s) {
+    if (injected_late_count_ >= kMaxInjectedLateness) return false;
+    injected_late_[injected_late_count_++] = {tick, late_s};
+    return true;
   }
+  static constexpr size_t kMaxInjectedLateness = 16;
   /// Tests (fast mode): the modelling steps from haptic tick `tick` on, `steps` of them, put a
   /// non-finite value into model `kind` (TissueWorld::inject_non_finite), as a numerical
   /// blow-up would.
@@ -198,6 +207,8 @@ class Session {
   Session() = default;
   void haptic_tick(int64_t tick, double lateness_s) noexcept;
   const ModelSnapshot& take_up_model(int64_t tick, double lateness_s) noexcept;
+  void check_timing(int64_t tick, double lateness_s) noexcept;
+  [[nodiscard]] double injected_lateness(int64_t tick) const noexcept;
   bool read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept;
   hardware::DeviceCommand tool_command(size_t i, const ToolKinematics& k,
                                        const ModelSnapshot& model, ToolSnapshot* ts,
@@ -253,14 +264,23 @@ class Session {
   std::atomic<bool> resume_requested_{false};
   std::atomic<bool> stop_{false};
   std::atomic<bool> haptic_done_{false};
+  /// The factor on every command, ramping back to 1 at 1 / ramp_s_ per second after a resume
+  /// or a late tick.
   double gain_ = 1.0;
+  double ramp_s_ = 0.0;
+  bool late_tick_ = false;  ///< this tick started late: it sends zero (send_commands)
+  int64_t late_ticks_ = 0;
   std::vector<WatchdogEvent> events_;  ///< capacity reserved at set-up
   int64_t events_dropped_ = 0;
   /// The last tick each tool (left, right, the loop itself) tripped for each reason: a fault
   /// tripping again on the next tick is the same lasting fault, not a new event.
   std::array<std::array<int64_t, kWatchdogReasons>, 3> last_trip_tick_{};
-  int64_t injected_late_tick_ = -1;
-  double injected_late_s_ = 0.0;
+  struct InjectedLateness {
+    int64_t tick = -1;
+    double late_s = 0.0;
+  };
+  std::array<InjectedLateness, kMaxInjectedLateness> injected_late_{};  ///< no allocation
+  size_t injected_late_count_ = 0;
   double max_force_sent_n_ = 0.0;
   double worst_lateness_s_ = 0.0;
   int64_t missed_deadlines_ = 0;

@@ -14,7 +14,20 @@ struct RuntimeSettings {
   double duration_s = 10.0;    ///< the session ends here, or when every device has finished
   double resume_ramp_s = 0.5;  ///< forces ramp from 0 to full over this after resume()
   double record_s = -1.0;      ///< inputs kept for this long (reserved at start); < 0: the duration
-  double overrun_periods = 2.0;  ///< a tick later than this many periods trips the watchdog
+  /// The watchdog's timing (docs/architecture.md, "The watchdog"). A desktop kernel starts a
+  /// tick more than 2 ms late now and then (an idle real-time sleep loop shows the same), and
+  /// pausing the session for each would interrupt a trainee several times a minute. So:
+  /// - a *late tick* starts more than `overrun_periods` periods late: the device has held its
+  ///   last command too long, so this tick sends zero force, torque and squeeze, and the forces
+  ///   ramp back by themselves over `late_tick_ramp_s`; counted (`late_ticks`), no pause, no event;
+  /// - a *stall* starts at least `stall_s` late (no tick for 20 ms or more): too long to pass
+  ///   over, so the session pauses as for a fault (forces zero until resume()).
+  double overrun_periods = 2.0;
+  double stall_s = 0.020;
+  /// Short enough that a single late tick goes unnoticed: the forces are back within 100 ms
+  /// (Session::create refuses a longer ramp); long enough that they come back as a ramp, not as
+  /// a step the hand feels as a knock. A slower ramp under way (a resume) keeps its pace.
+  double late_tick_ramp_s = 0.05;
   /// The haptic loop sleeps until this long before its deadline, then spins: a thread woken
   /// from a kernel sleep on these machines is now and then 100-300 µs late, which a 200 µs
   /// spin absorbs (at the cost of a fifth of a core while the loop runs at 1 kHz).

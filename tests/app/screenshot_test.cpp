@@ -158,6 +158,7 @@ TEST(Screenshot, TheSessionIsSavedForReviewWhenItEnds) {
   EXPECT_EQ(json["mode"], "realtime") << json;
   EXPECT_EQ(json["recorded_ticks"], samples) << json;
   EXPECT_TRUE(json["haptic"].contains("achieved_rate_hz")) << json;
+  EXPECT_TRUE(json["haptic"]["late_ticks"].is_number_integer()) << json;
   EXPECT_EQ(json["paused"], false) << json;
   EXPECT_TRUE(json["watchdog_events"].is_array() && json["watchdog_events"].empty()) << json;
 }

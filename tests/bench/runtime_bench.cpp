@@ -128,6 +128,7 @@ void run_runtime(benchmark::State& state, bool isolate_by_default, const Graphic
     state.counters["graphics_frames"] = static_cast<double>(frames);
     state.counters["graphics_rate_hz"] = static_cast<double>(frames) / duration;
     state.counters["watchdog_events"] = static_cast<double>(m.events.size());
+    state.counters["late_ticks"] = static_cast<double>(m.late_ticks);
   }
 }
 

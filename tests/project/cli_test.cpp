@@ -260,7 +260,7 @@ TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {
                   " --left phantom --right simulated --duration 0.3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(json_field(r.out, "left"), "\"ok\"") << r.out;
-  // Real time: a busy machine may pause the session for a late tick, but every tick ran and
+  // Real time: a busy machine may pause the session for a stall, but every tick ran and
   // its inputs were kept.
   EXPECT_EQ(json_field(r.out, "recorded_ticks"), "300") << r.out;
 }

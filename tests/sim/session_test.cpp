@@ -198,6 +198,9 @@ TEST(Session, TheFastLoopAllocatesNothingPerTick) {
   // and the metrics allocate, the ticks do not.
   auto count_for = [&](double duration) {
     auto s = scripted_session(fast(duration));
+    // A late tick and a stall too, within the shorter run: neither allocates.
+    s->inject_lateness(50, 0.005);
+    s->inject_lateness(150, 0.030);
     test::AllocationCounter counter;
     const SessionMetrics m = s->run();
     return counter.count();
@@ -236,6 +239,12 @@ TEST(Session, BadSettingsAndScenesAreClearErrors) {
   auto bad_rates = Session::create(scene, std::move(d), rs);
   EXPECT_FALSE(bad_rates.ok());
   EXPECT_EQ(bad_rates.message(), "rates: expected 0 < model rate <= haptic rate");
+  rs = RuntimeSettings{};
+  rs.late_tick_ramp_s = 0.2;  // a late tick's forces must be back within 100 ms
+  d = with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
+  auto slow_ramp = Session::create(scene, std::move(d), rs);
+  EXPECT_FALSE(slow_ramp.ok());
+  EXPECT_EQ(slow_ramp.message(), "watchdog: expected a late tick ramp of 0 to 0.1 s");
   Scene no_tools = scene;
   no_tools.scenario.tools.clear();
   d = with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));

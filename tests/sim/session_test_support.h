@@ -8,6 +8,7 @@
 #include <array>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <thread>
@@ -60,15 +61,18 @@ inline hardware::ScriptedTrajectory push_and_hold(const Scene& scene, int side) 
   return t;
 }
 
-// A device that misbehaves at one tick: a NaN position, an error, a disconnect, or a stall.
+// A device that misbehaves at one tick: a NaN position, an error, a disconnect, or a stall (its
+// read holds the haptic loop for kStallMs, longer than RuntimeSettings::stall_s).
 class FaultyDevice final : public hardware::HapticDevice {
  public:
   enum class Fault { kNone, kNaN, kError, kDisconnect, kStall };
+  static constexpr int kStallMs = 30;
   FaultyDevice(hardware::ScriptedTrajectory t, Fault fault, int64_t at)
       : inner_(std::move(t), "faulty"), fault_(fault), at_(at) {}
   Status start() override { return inner_.start(); }
   void stop() override {}
   DeviceStatus read(int64_t tick, double dt, hardware::DeviceSample* out) noexcept override {
+    if (on_read) on_read(tick);
     const DeviceStatus st = inner_.read(tick, dt, out);
     if (tick != at_) return st;
     switch (fault_) {
@@ -80,7 +84,7 @@ class FaultyDevice final : public hardware::HapticDevice {
       case Fault::kDisconnect:
         return DeviceStatus::kDisconnected;
       case Fault::kStall:
-        std::this_thread::sleep_for(std::chrono::milliseconds(6));
+        std::this_thread::sleep_for(std::chrono::milliseconds(kStallMs));
         return st;
       case Fault::kNone:
         break;
@@ -95,6 +99,9 @@ class FaultyDevice final : public hardware::HapticDevice {
   [[nodiscard]] std::string_view name() const override { return "faulty"; }
   [[nodiscard]] std::string last_error() const override { return {}; }
   std::vector<hardware::DeviceCommand> commands;  // reserved by the test
+  /// Called at the start of every read, on the haptic thread (in fast mode: the test's own), to
+  /// act on the session at a chosen tick.
+  std::function<void(int64_t tick)> on_read;
 
  private:
   hardware::ScriptedDevice inner_;
@@ -124,12 +131,14 @@ inline RuntimeSettings fast(double duration) {
   return s;
 }
 
-// Real time, for device faults: a busy test machine's late ticks must not pause first.
+// Real time, for device faults: a busy test machine's late ticks must not cut the force, nor
+// its stalls pause first.
 inline RuntimeSettings device_fault_run(double duration) {
   RuntimeSettings s;
   s.duration_s = duration;
   s.realtime_priority = false;
   s.overrun_periods = 1e6;
+  s.stall_s = 1e6;
   return s;
 }
 
