@@ -24,8 +24,8 @@ LocalDeformationModel LocalDeformationModel::build(const haptics::MeshDatabase& 
     throw std::invalid_argument("local deformation: radius_m must be positive, got " +
                                 std::to_string(settings.radius_m));
   }
-  if (!(settings.surface_share > 0.0 && settings.surface_share <= 1.0)) {
-    throw std::invalid_argument("local deformation: surface_share must be in (0, 1], got " +
+  if (!(settings.surface_share > 0.0 && settings.surface_share < 1.0)) {
+    throw std::invalid_argument("local deformation: surface_share must be in (0, 1), got " +
                                 std::to_string(settings.surface_share));
   }
   if (!(settings.max_displacement_m > 0.0)) {
@@ -88,7 +88,8 @@ DeformationContact rest_contact_at(const LocalDeformationModel& model,
                                    haptics::PrimitiveRef primitive, const Eigen::Vector3d& point_O,
                                    const Eigen::Vector3d& force_O, double stiffness_n_per_m) {
   DeformationContact c;
-  c.penetration_O = force_O / stiffness_n_per_m;
+  // Where the force law puts the tool: force / k beyond the point on the deformed surface.
+  const Eigen::Vector3d tool_O = point_O + force_O / stiffness_n_per_m;
   switch (primitive.kind) {
     case haptics::PrimitiveKind::kFace: {
       const auto& fv = topology.face_vertices(primitive.index);
@@ -119,8 +120,12 @@ DeformationContact rest_contact_at(const LocalDeformationModel& model,
       break;
     }
     case haptics::PrimitiveKind::kNone:
-      break;  // face stays -1: deform() refuses it
+      c.penetration_O = force_O / stiffness_n_per_m;
+      return c;  // face stays -1: deform() refuses it
   }
+  // The tool's displacement into the rest surface: its depth below the deformed surface plus
+  // that surface's own displacement at the point.
+  c.penetration_O = tool_O - c.point_O;
   return c;
 }
 
@@ -166,14 +171,17 @@ constexpr uint8_t kChanged = 2U;
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
             LocalDeformationState* state) noexcept {
   auto& flags = state->flags;
+  auto& positions = state->positions;
   // Back to rest where the last call displaced.
   state->changed.clear();
   for (int32_t v : state->displaced) {
-    state->positions[v] = model.rest_position(v);
+    positions[v] = model.rest_position(v);
     flags[v] = kChanged;
     state->changed.push_back(v);
   }
   state->displaced.clear();
+  const double r = model.settings().radius_m;
+  const double r2 = r * r;
   bool ok = true;
   for (const DeformationContact& c : contacts) {
     if (c.face < 0 || c.face >= model.face_count() || !c.point_O.allFinite() ||
@@ -187,13 +195,17 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
     // Any vertex of the contact face is within h of Pt: its list covers the radius.
     const int32_t start = model.face_vertices(c.face)[0];
     for (int32_t v : model.neighbours(start)) {
-      const double w = model.weight((model.rest_position(v) - c.point_O).norm());
+      // D² ≥ R² exactly when D ≥ R (a correctly rounded root of R² is R): such a vertex
+      // weighs nothing, and needs no root.
+      const double d2 = (model.rest_position(v) - c.point_O).squaredNorm();
+      if (!(d2 < r2)) continue;
+      const double w = model.weight(std::sqrt(d2));
       if (w <= 0.0) continue;
       if (c.conform) {
         const Eigen::Vector3d d = w * p;
         if (d.squaredNorm() > state->conforming[v].squaredNorm()) state->conforming[v] = d;
       } else {
-        state->positions[v] += w * p;
+        positions[v] += w * p;
       }
       if ((flags[v] & kDisplaced) == 0) {
         flags[v] |= kDisplaced;
@@ -205,27 +217,33 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
       }
     }
   }
-  for (int32_t v : state->displaced) {
-    state->positions[v] += state->conforming[v];
-    state->conforming[v].setZero();
-  }
-  // A bound against a runaway contact, not physics.
+  // The conforming displacements, then the bound against a runaway contact (not physics), and
+  // the deepest displacement, in one pass.
   state->clamped = 0;
   const double max_d = model.settings().max_displacement_m;
+  const double max_d2 = max_d * max_d;
+  double deepest2 = 0.0;
   for (int32_t v : state->displaced) {
-    const Eigen::Vector3d d = state->positions[v] - model.rest_position(v);
-    const double len = d.norm();
-    if (len > max_d) {
-      state->positions[v] = model.rest_position(v) + d * (max_d / len);
+    Eigen::Vector3d& position = positions[v];
+    position += state->conforming[v];
+    state->conforming[v].setZero();
+    const Eigen::Vector3d d = position - model.rest_position(v);
+    double len2 = d.squaredNorm();
+    if (len2 > max_d2) {
+      position = model.rest_position(v) + d * (max_d / std::sqrt(len2));
       ++state->clamped;
+      len2 = max_d2;
     }
+    deepest2 = std::max(deepest2, len2);
   }
+  state->deepest_m = std::sqrt(deepest2);
   if (!ok) {
     for (int32_t v : state->displaced) {
-      state->positions[v] = model.rest_position(v);
+      positions[v] = model.rest_position(v);
       flags[v] &= static_cast<uint8_t>(~kDisplaced);
     }
     state->displaced.clear();
+    state->deepest_m = 0.0;
   }
   for (int32_t v : state->changed) flags[v] &= static_cast<uint8_t>(~kChanged);
   return ok;

@@ -11,11 +11,23 @@
 /// within h of it and its list holds every vertex within R of Pt (triangle inequality): the step
 /// visits one list, whatever the mesh size.
 ///
-/// The contact is given on the rest shape (point and penetration in the object frame); sim/
-/// maps a proxy's contact on the deformed surface back to the rest shape through the contact
-/// face's barycentric coordinates. The surface then takes `surface_share` of the penetration and
-/// the proxy feels the rest, so the felt surface is the deformed one (MeshDatabase::
-/// set_positions) with an effective stiffness (1 − share) k.
+/// The contact is given on the rest shape: Pt on the rest surface and P, the tool's displacement
+/// into the rest surface (object frame). The surface takes `surface_share` s of it (the dent's
+/// centre moves s P) and the proxy feels the rest, against the deformed surface (MeshDatabase::
+/// set_positions). sim/ gets P from a proxy's contact on the deformed surface (rest_contact): the
+/// contact point's place on its primitive mapped back to the rest shape, and P = (point +
+/// force / k) − that rest point, i.e. how deep below the deformed surface the force law put the
+/// tool (force / k) plus how far that surface is from rest there.
+///
+/// Felt stiffness: a tool held x into the rest surface (quasi-static, the dent settled, one
+/// contact, the surface flat over R) sinks the dent's centre s x and feels k (x − s x): the
+/// felt stiffness is (1 − s) k, s being exactly the fraction of the tool's displacement the
+/// surface takes. The dent reaches s x in the first step that sees the contact (P is measured
+/// against the surface the force was): it does not creep towards it. (Had P been force / k
+/// alone — the depth below the dented surface — the dent d would settle where d = s (x − d),
+/// d = s x / (1 + s), and the tool feel k / (1 + s).) On a coarse mesh with the linear profile
+/// the surface between vertices lies a little above the dent's centre, so a contact inside a
+/// face feels slightly stiffer.
 ///
 /// Model (immutable: rest shape, lists) apart from state (positions, moved vertices). deform()
 /// allocates nothing once the state is sized; it never throws.
@@ -38,15 +50,19 @@ enum class DeformationProfile : uint8_t {
 struct LocalDeformationSettings {
   double radius_m = 0.02;  ///< R
   DeformationProfile profile = DeformationProfile::kLinear;
-  double surface_share = 0.5;  ///< share of the penetration the surface takes, (0, 1]
+  /// s: the fraction of the tool's displacement into the rest surface that the dent takes, in
+  /// (0, 1); the tool feels (1 − s) k (the header's note). At 1 the surface would give way
+  /// entirely and push back with nothing.
+  double surface_share = 0.5;
   /// Largest displacement of any vertex [m]: a safety bound against a runaway contact.
   double max_displacement_m = 0.02;
 };
 
 /// One contact, on the rest shape, object frame.
 struct DeformationContact {
-  Eigen::Vector3d point_O = Eigen::Vector3d::Zero();        ///< Pt, on the rest surface [m]
-  Eigen::Vector3d penetration_O = Eigen::Vector3d::Zero();  ///< P, how far the tool is in [m]
+  Eigen::Vector3d point_O = Eigen::Vector3d::Zero();  ///< Pt, on the rest surface [m]
+  /// P: the tool's displacement into the rest surface, from Pt [m]
+  Eigen::Vector3d penetration_O = Eigen::Vector3d::Zero();
   int32_t face = -1;  ///< the rest-shape face Pt lies on (its vertices start the search)
   /// The surface conforms to this contact: it takes the full penetration (not surface_share of
   /// it), and conforming contacts combine by the largest displacement at each vertex instead of
@@ -97,14 +113,18 @@ struct LocalDeformationState {
   std::vector<uint8_t> flags;               ///< n_v: bit 0 displaced, bit 1 changed (scratch)
   std::vector<Eigen::Vector3d> conforming;  ///< n_v: the largest conforming displacement (scratch)
   int32_t clamped = 0;                      ///< vertices held at max_displacement_m, last call
+  double deepest_m = 0.0;  ///< largest displacement of any vertex from rest, last call [m]
   /// Sized and at rest for a model (setup; allocates).
   explicit LocalDeformationState(const LocalDeformationModel& model);
 };
 
-/// The contact, on the rest shape, of a force pushing on the deformed surface (a catheter's
-/// reaction, §7.6.3; a proxy's contact): the point keeps its barycentric place on its primitive,
-/// mapped from the deformed positions to the rest ones, and the penetration is force / stiffness
-/// (the organ's haptic stiffness), so the dent answers the push as the proxies feel it.
+/// The contact, on the rest shape, of a force pushing on the deformed surface (a proxy's contact;
+/// a catheter's reaction, §7.6.3): the point keeps its barycentric place on its primitive, mapped
+/// from the deformed positions to the rest ones, and the penetration is where the force law puts
+/// the tool — the point plus force / stiffness (the organ's haptic stiffness) — measured from
+/// that rest point: the tool's displacement into the rest surface, so that the dent takes
+/// surface_share of it (the header's felt stiffness). A point on the rest surface (the
+/// catheter's contacts, found there) gives force / stiffness.
 [[nodiscard]] DeformationContact rest_contact(const LocalDeformationModel& model,
                                               const haptics::MeshDatabase& deformed,
                                               haptics::PrimitiveRef primitive,
@@ -125,8 +145,9 @@ struct LocalDeformationState {
 
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
 /// rest). Afterwards `changed` lists every vertex whose position changed since the previous call
-/// (what MeshDatabase::set_positions(positions, changed) needs). A contact that is not finite or
-/// names no face is skipped (the others are applied) and the call returns false.
+/// (what MeshDatabase::set_positions(positions, changed) needs) and `deepest_m` the largest
+/// displacement. A contact that is not finite or names no face makes the call return false and
+/// leave the surface at rest (`changed` then lists the vertices that went back).
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
             LocalDeformationState* state) noexcept;
 

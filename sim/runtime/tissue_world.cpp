@@ -139,13 +139,16 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
   OrganState& s = organs_[static_cast<size_t>(organ)];
   int32_t n = models::catheter_dents(*t.local, *t.rest, Eigen::Isometry3d::Identity(),
                                      t.stiffness_n_per_m, reactions, s.dents);
-  // Each tool contact's force comes from how deep its segment lies below the dent the last
-  // step left, so the dents and the forces alternate between the loops. Contacts near one
-  // another (a tool's three segments on one spot, or both tools) share one push: each
-  // dents by its force over the number of contacts within R of it. Summed in full, n
-  // contacts on one spot would dent n times share of the penetration: from n = 2 on the
-  // dent overshoots the tool and swings back through it, and the proxies, whose tool did
-  // not move, lose the surface (the tool ends up inside the organ with no force).
+  // Each tool contact's penetration is its tool's displacement into the rest surface (its
+  // depth below the dent the haptic loop felt, force / k, plus that dent's depth there:
+  // rest_contact), so the dent takes surface_share of the tool's displacement and the tool
+  // feels (1 - share) k (models/local_deformation.h). Contacts near one another (a tool's
+  // three segments on one spot, or both tools) share one push: each dents by its penetration
+  // over the number of contacts within R of it, so n contacts on one spot take share of
+  // their (mean) displacement once. Summed in full, they would take n times share of it: from
+  // n = 1 / share on (2 at the default 0.5) the dent would reach or pass the tool, and the
+  // proxies, whose tool did not move, lose the surface (the tool ends up inside the organ with
+  // no force).
   const double reach2 = t.local->settings().radius_m * t.local->settings().radius_m;
   auto contacts_near = [&](const Eigen::Vector3d& p) {
     int32_t count = 0;
@@ -161,11 +164,10 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
     for (int32_t c = 0; c < tool.contact_count && tool.valid; ++c) {
       const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
       if (tc.organ != organ || n >= static_cast<int32_t>(s.dents.size())) continue;
-      const Eigen::Vector3d share_of_push =
-          tc.force_on_organ_W / static_cast<double>(contacts_near(tc.point_W));
-      const models::DeformationContact dent =
+      models::DeformationContact dent =
           models::rest_contact(*t.local, *t.rest, s.local->positions, tc.primitive, tc.point_W,
-                               share_of_push, t.stiffness_n_per_m);
+                               tc.force_on_organ_W, t.stiffness_n_per_m);
+      dent.penetration_O /= static_cast<double>(contacts_near(tc.point_W));
       // A contact that finds no face on the rest shape is no dent (as catheter_dents skips
       // it): deform() would refuse it, and that is not a model fault.
       if (dent.face >= 0) s.dents[static_cast<size_t>(n++)] = dent;
@@ -179,11 +181,7 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
     injected_ = ModelFaultKind::kNone;  // the first locally deformed organ only
   }
   const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get());
-  for (const int32_t v : s.local->displaced) {
-    deepest_dent_ =
-        std::max(deepest_dent_,
-                 (s.local->positions[static_cast<size_t>(v)] - t.local->rest_position(v)).norm());
-  }
+  deepest_dent_ = std::max(deepest_dent_, s.local->deepest_m);
   return ok;
 }
 

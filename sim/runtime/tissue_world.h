@@ -11,7 +11,8 @@
 ///    (catheter_contacts.h; each particle kept on its side of the open duct);
 /// 3. the catheter steps (its contacts and grasps inside its implicit step);
 /// 4. organs under local deformation (`model: local`) are dented by the tools' contacts (the
-///    proxies' reactions mapped back to the rest shape, share of the penetration as set) and by
+///    proxies' reactions mapped back to the rest shape, surface_share of the tool's displacement
+///    into the rest surface: the tool feels (1 − share) k, local_deformation.h) and by
 ///    the catheter (conforming: the groove meets it);
 /// 5. the duct (`model: modal-shell`; its shell fitted to the organ's mesh, duct_fit.h) takes the
 ///    tools' and the catheter's reactions and its grasp anchors, and its modes step.

@@ -1,5 +1,6 @@
 // Local deformation (§6.5) against its formula, computed by brute force over every vertex, on a
-// generated plate and box and on the real OpenHELP liver; and the point proxy feeling the dent.
+// generated plate and box and on the real OpenHELP liver; the point proxy feeling the dent; and
+// the stiffness a tool pressing into a dented organ feels, against (1 − share) k.
 
 #include "models/local_deformation.h"
 
@@ -12,6 +13,7 @@
 
 #include "haptics/point_proxy.h"
 #include "haptics/setup/mesh_generators.h"
+#include "sim/runtime/tissue_world.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
@@ -212,8 +214,9 @@ TEST(LocalDeformation, RealLiverAgainstBruteForce) {
       static_cast<double>(model.neighbour_entries()) / model.vertex_count());
 }
 
-// A push on the deformed surface (a catheter's reaction) becomes a contact on the rest shape:
-// the point keeps its barycentric place on its face, the penetration is force / stiffness.
+// A push on the deformed surface (a proxy's contact) becomes a contact on the rest shape: the
+// point keeps its barycentric place on its face, and the penetration is the tool's displacement
+// into the rest surface: force / stiffness below the deformed point, measured from the rest one.
 TEST(LocalDeformation, RestContactMapsAPushOnTheDeformedSurfaceBackToRest) {
   haptics::MeshDatabase db =
       haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 10));
@@ -245,7 +248,15 @@ TEST(LocalDeformation, RestContactMapsAPushOnTheDeformedSurfaceBackToRest) {
                                   bary.z() * model.rest_position(fv[2]);
   EXPECT_EQ(c.face, face);
   EXPECT_LT((c.point_O - on_rest).norm(), 1e-15);
-  EXPECT_LT((c.penetration_O - force / 400.0).norm(), 1e-18);
+  EXPECT_LT((c.penetration_O - (on_deformed + force / 400.0 - on_rest)).norm(), 1e-17);
+  // The surface there is 0.3 mm or more below rest: the tool is in deeper than force / k.
+  EXPECT_GT((on_rest - on_deformed).y(), 3e-4);
+  // On the rest surface (the catheter's contacts) it is force / stiffness.
+  const haptics::MeshDatabase rest =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 10));
+  const DeformationContact cr =
+      rest_contact(model, rest, {haptics::PrimitiveKind::kFace, face}, on_rest, force, 400.0);
+  EXPECT_LT((cr.penetration_O - force / 400.0).norm(), 1e-17);
   // On an edge: the point's place along it, and a face of the edge.
   const int32_t e = db.face_edges(face)[0];
   const auto& ev = db.edge_vertices(e);
@@ -295,6 +306,107 @@ TEST(LocalDeformation, PointProxyFeelsTheDeformedSurface) {
   }
   // The rest surface is at 0.05; the dent's centre at 0.05 - 0.5 * 0.008 = 0.046.
   EXPECT_NEAR(first_contact_y, 0.046, 1e-4);
+}
+
+// What a tool pressing quasi-statically into a locally deformed organ feels. A point proxy's HIP
+// is lowered x = 4 mm below the flat top of a box (stiffness k) straight under a vertex and held
+// there; every fifth haptic tick (200 Hz) its contact goes to the modelling loop as a tool
+// contact (sim::ToolModelInput, as the session sends it), and the proxy then feels the dented
+// surface. Once the dent has settled, force / x must be (1 − s) k, s = surface_share, as
+// local_deformation.h derives: the dent takes s of the tool's displacement. Taking the
+// penetration as force / k alone (the depth below the dented surface, as before) settles at
+// k / (1 + s) instead: 10 % stiffer at s = 0.3, 56 % at s = 0.6; the tolerance is 2 %.
+struct FeltPress {
+  double force_n = 0.0;    // on the tool, settled
+  double dent_m = 0.0;     // the surface's deepest displacement, settled
+  double last_change = 0;  // of the force over the last modelling step [N]
+  int32_t contact_ticks = 0;
+};
+
+FeltPress press_box_top(double share, DeformationProfile profile, double k, double depth) {
+  sim::Scene scene;
+  sim::Organ organ;
+  organ.name = "box";
+  organ.mesh = haptics::make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 20);  // 5 mm squares
+  organ.model = ModelKind::kLocal;
+  organ.material.stiffness_n_per_m = k;
+  scene.organs.push_back(std::move(organ));
+  sim::TissueWorldSettings ws;
+  ws.local.surface_share = share;
+  ws.local.profile = profile;
+  ws.local.radius_m = 0.02;
+  ws.catheter_start_W = Eigen::Vector3d(1.0, 1.0, 1.0);  // far from the box: no contact
+  const std::unique_ptr<sim::TissueWorld> world =
+      sim::TissueWorld::build(scene, ws, nullptr).value();
+  const haptics::TriangleMesh& rest = world->surface(0);
+  haptics::MeshDatabase db = haptics::MeshDatabase::build(rest);
+  haptics::HapticObject object;
+  object.mesh = &db;
+  object.law.stiffness_n_per_m = k;
+  object.law.max_force_n = 100.0;
+  haptics::PointProxy proxy;
+  const Eigen::Vector3d top(0.0, 0.05, 0.0);  // a vertex: the centre of the top face
+  Eigen::Vector3d hip = top + Eigen::Vector3d(0.0, 0.002, 0.0);
+  proxy.reset(hip);
+  std::array<sim::ToolModelInput, 2> tools{};
+  tools[0].valid = true;
+  tools[0].jaws.opening_rad = 0.8;
+  std::vector<sim::SurfaceDeformation> published = world->make_deformations();
+  std::vector<Eigen::Vector3d> positions = rest.positions;
+  FeltPress r;
+  double last_force = 0.0;
+  for (int32_t tick = 0; tick < 400; ++tick) {
+    hip.y() = std::max(top.y() - depth, hip.y() - 1e-4);  // down 0.1 mm per tick, then held
+    const haptics::PointProxyOutput out = proxy.step({&object, 1}, hip, 1e-3);
+    tools[0].contact_count = 0;
+    if (out.contact_count > 0) {
+      ++r.contact_ticks;
+      sim::ToolContact& c = tools[0].contacts[0];
+      c.organ = 0;
+      c.primitive = out.primitive;
+      c.point_W = out.ihip_W;
+      c.force_on_organ_W = -out.force_W;
+      tools[0].contact_count = 1;
+    }
+    r.force_n = out.force_W.norm();
+    if (tick % 5 != 4) continue;
+    // The modelling step, and the proxy's surface taking its deformation up.
+    world->step(tools, 0.005);
+    world->write_deformations(&published);
+    positions = rest.positions;
+    const sim::SurfaceDeformation& d = published[0];
+    for (int32_t i = 0; i < d.count; ++i) {
+      positions[static_cast<size_t>(d.vertex[static_cast<size_t>(i)])] =
+          d.position[static_cast<size_t>(i)];
+    }
+    db.set_positions(positions);
+    r.dent_m = world->deepest_dent_m();
+    r.last_change = std::abs(r.force_n - last_force);
+    last_force = r.force_n;
+  }
+  return r;
+}
+
+TEST(LocalDeformation, APressingToolFeelsOneMinusShareTimesTheStiffness) {
+  const double k = 300.0;
+  const double x = 0.004;
+  for (const DeformationProfile profile :
+       {DeformationProfile::kLinear, DeformationProfile::kSmooth}) {
+    for (const double share : {0.3, 0.6}) {
+      const FeltPress p = press_box_top(share, profile, k, x);
+      const double felt = p.force_n / x;
+      const double expected = (1.0 - share) * k;
+      std::printf(
+          "[ local deformation ] %s, share %.1f: felt %.2f N/m, (1 - s) k = %.2f, k / (1 + s) = "
+          "%.2f; dent %.4f mm of s x = %.4f mm\n",
+          profile == DeformationProfile::kLinear ? "linear" : "smooth", share, felt, expected,
+          k / (1.0 + share), 1e3 * p.dent_m, 1e3 * share * x);
+      EXPECT_GT(p.contact_ticks, 350);
+      EXPECT_NEAR(felt, expected, 0.02 * expected) << "share " << share;
+      EXPECT_NEAR(p.dent_m, share * x, 0.02 * share * x) << "share " << share;
+      EXPECT_LT(p.last_change, 1e-6 * p.force_n) << "not settled";
+    }
+  }
 }
 
 }  // namespace
