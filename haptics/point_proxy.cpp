@@ -149,13 +149,7 @@ void PointProxy::reset(const Eigen::Vector3d& hip_W) {
 
 Eigen::Vector3d PointProxy::texture_penetration(const HapticObject& o, const Eigen::Vector3d& q_O,
                                                 const Eigen::Vector3d& n_O, double s) noexcept {
-  // §6.3.1: depth under the textured surface = height at the nearest point - nearest distance.
-  const HeightSample t = o.texture->sample(q_O);
-  const double d = t.height_m - s;
-  if (!(d > 0.0)) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d m_O = perturbed_normal(n_O, t.gradient);
-  const double kh = o.texture_k * o.texture->max_height_m();
-  return o.pose_WO.linear() * textured_penetration(d, kh, n_O, m_O);
+  return o.pose_WO.linear() * haptics::texture_penetration(*o.texture, o.texture_k, q_O, n_O, s);
 }
 
 void PointProxy::find_hover(std::span<const HapticObject> objects,

@@ -30,8 +30,8 @@
 ///
 /// Surface properties (chapter 6; the thesis applies them to the ray-based probe too, at its
 /// contact points; segment_proxy_surface.cpp): at each contact, the virtual probe's equilibrium
-/// point projected onto the contact plane is the surface point, followed to the primitive under
-/// it. There the object's force shading (§6.1) turns the spring along the shaded normal, its
+/// point projected onto the contact plane is the surface point, on the contact's feature. There
+/// the object's force shading (§6.1) turns the spring along the shaded normal, its
 /// texture (§6.3, eq. 6-2/6-4) perturbs it, and its stick-slip friction (§6.2) adds a tangential
 /// force, with one friction state per contact kept from tick to tick (by object, and by order
 /// among that object's contacts).
@@ -229,15 +229,14 @@ class SegmentProxy {
                            SegmentProxyOutput* out) noexcept;
 
   // Surface properties at a contact (chapter 6, segment_proxy_surface.cpp).
-  /// Where a contact acts on its object's surface (object frame): the point, the primitive
-  /// under it (kNone where no property needs one) and the contact's normal.
+  /// Where a contact acts on its object's surface (object frame): the primitive under it, the
+  /// point and the contact's normal.
   struct SurfacePoint {
     PrimitiveRef primitive;
     Eigen::Vector3d q_O = Eigen::Vector3d::Zero();
     Eigen::Vector3d n_O = Eigen::Vector3d::UnitY();
   };
-  /// The surface point of a contact: on_plane_W on the contact plane, with the contact's feature
-  /// as the primitive under it where shading or a texture needs one.
+  /// The surface point of a contact: on_plane_W on the contact plane, on the contact's feature.
   [[nodiscard]] SurfacePoint surface_point(const HapticObject& o, const SegmentContact& contact,
                                            const Eigen::Vector3d& on_plane_W) const noexcept;
   /// The penetration vector for the force law: -depth n (flat), along the shaded normal (§6.1,

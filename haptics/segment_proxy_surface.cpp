@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "haptics/height_field.h"
 #include "haptics/segment_proxy.h"
 #include "haptics/shading_normals.h"
 #include "haptics/texture_force.h"
@@ -16,32 +15,23 @@ namespace lap::haptics {
 SegmentProxy::SurfacePoint SegmentProxy::surface_point(
     const HapticObject& o, const SegmentContact& contact,
     const Eigen::Vector3d& on_plane_W) const noexcept {
-  SurfacePoint s;
-  s.q_O = o.pose_WO.inverse() * on_plane_W;
-  s.n_O = o.pose_WO.linear().transpose() * contact.normal_W;
   // The contact's feature is the primitive under the point: for an end point, what this tick's
   // local search found nearest to it (chapter 4); for a segment–edge contact, the edge; for a
-  // probe lying on a face, a face of that flat (whose triangles' corner normals differ by
-  // less than θε, so which one interpolates hardly matters).
-  if (o.shading != nullptr || o.texture != nullptr) s.primitive = contact.primitive;
-  return s;
+  // probe lying on a face, a face of that flat (whose triangles' corner normals differ by less
+  // than θε, so which one interpolates hardly matters).
+  return {contact.primitive, o.pose_WO.inverse() * on_plane_W,
+          o.pose_WO.linear().transpose() * contact.normal_W};
 }
 
 Eigen::Vector3d SegmentProxy::surface_penetration(const HapticObject& o, const SurfacePoint& s,
                                                   double depth,
                                                   const Eigen::Vector3d& normal_W) noexcept {
-  if (s.primitive.kind == PrimitiveKind::kNone) return -depth * normal_W;
   if (o.texture != nullptr) {
-    // §6.3.1: the depth under the textured surface is the height at the surface point minus the
-    // nearest distance (-depth below the contact plane); d <= 0 in a trough: no force (§6.6:
-    // a texture wins over shading).
-    const HeightSample t = o.texture->sample(s.q_O);
-    const double d = t.height_m + depth;
-    if (!(d > 0.0)) return Eigen::Vector3d::Zero();
-    const Eigen::Vector3d m_O = perturbed_normal(s.n_O, t.gradient);
-    const double kh = o.texture_k * o.texture->max_height_m();
-    return o.pose_WO.linear() * textured_penetration(d, kh, s.n_O, m_O);
+    // §6.3.1 with the nearest distance -depth below the contact plane (§6.6: a texture wins
+    // over shading).
+    return o.pose_WO.linear() * texture_penetration(*o.texture, o.texture_k, s.q_O, s.n_O, -depth);
   }
+  if (o.shading == nullptr || s.primitive.kind == PrimitiveKind::kNone) return -depth * normal_W;
   // §6.1, Figure 6-3: along the shaded normal, on the side the contact is on (two-sided walls
   // are touched from behind too).
   Eigen::Vector3d shaded = o.shading->normal(o.segments->mesh(), s.primitive, s.q_O);

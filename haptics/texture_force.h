@@ -36,4 +36,18 @@ namespace lap::haptics {
   return -d * m;
 }
 
+/// §6.3.1 at a contact point q of a textured surface (texture t, K of eq. 6-4), unit outward
+/// normal n there and nearest distance s of the probe (negative below the surface): the depth
+/// under the textured surface d = h(q) - s, and the penetration of eq. 6-4 (same frame as q and
+/// n); zero when the probe is outside the textured surface (d <= 0, Figure 6-5). Both proxies use
+/// it.
+[[nodiscard]] inline Eigen::Vector3d texture_penetration(const HeightField& t, double texture_k,
+                                                         const Eigen::Vector3d& q,
+                                                         const Eigen::Vector3d& n, double s) {
+  const HeightSample h = t.sample(q);
+  const double d = h.height_m - s;
+  if (!(d > 0.0)) return Eigen::Vector3d::Zero();
+  return textured_penetration(d, texture_k * t.max_height_m(), n, perturbed_normal(n, h.gradient));
+}
+
 }  // namespace lap::haptics

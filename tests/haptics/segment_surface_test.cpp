@@ -192,8 +192,8 @@ INSTANTIATE_TEST_SUITE_P(TipAndLying, SegmentFriction, ::testing::Values(Pose::k
                            return std::string(info.param == Pose::kTip ? "Tip" : "Lying");
                          });
 
-// A frictionless probe, and friction on another object than the one touched, add no friction.
-TEST(SegmentFrictionScope, OnlyTheTouchedObjectsFrictionActs) {
+// An object without friction adds none: the probe moved sideways feels no tangential force.
+TEST(SegmentFrictionScope, AFrictionlessObjectAddsNoFriction) {
   const FrictionBlock block;
   HapticObject o = block.object();
   o.friction = nullptr;

@@ -16,6 +16,14 @@ namespace {
 std::string cli() { return (bin_dir() / "laptrainer-cli").string(); }
 std::string app() { return (bin_dir() / "laptrainer").string(); }
 
+// The cells of one CSV row.
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::stringstream ss(line);
+  std::vector<std::string> c;
+  for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+  return c;
+}
+
 TEST(CliValidate, DefaultScenarioIsOk) {
   const CommandResult r = run_command(cli() + " validate --scenario " +
                                       (source_dir() / "scenarios/default.yaml").string());
@@ -87,9 +95,7 @@ TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
             "tick,ihip_x,ihip_y,ihip_z,force_x,force_y,force_z,contact_kind,primitive_id,step_ns");
   int rows = 0;
   while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::vector<std::string> c;
-    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    const std::vector<std::string> c = csv_cells(line);
     ASSERT_EQ(c.size(), 10U) << line;
     const double hip_y = 0.060 - 0.001 * rows;
     const double depth = std::max(0.0, 0.05 - hip_y);
@@ -125,9 +131,7 @@ TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesStiffnessTimesDepth) {
             "force_z,torque_x,torque_y,torque_z,contact_type,primitive_kind,primitive_id,step_ns");
   int rows = 0;
   while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::vector<std::string> c;
-    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    const std::vector<std::string> c = csv_cells(line);
     ASSERT_EQ(c.size(), 17U) << line;
     const double y = 0.060 - 0.001 * rows;
     const double depth = std::max(0.0, 0.05 - y);
@@ -166,9 +170,7 @@ TEST(CliProbe, SegmentProbeAcceptsAnOpenMeshAndFeelsItFromBelow) {
   std::getline(in, line);
   int rows = 0;
   while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::vector<std::string> c;
-    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    const std::vector<std::string> c = csv_cells(line);
     ASSERT_EQ(c.size(), 17U) << line;
     const double y = -0.0105 + 0.001 * rows;
     // Held below the plate: the force pushes down by k times how far above it the rod is.
