@@ -2,49 +2,22 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <limits>
 
 namespace lap::haptics {
 
-namespace {
-
-// Outward rounding without branches (refit does it for every leaf, and a data-dependent
-// branch here mispredicts half the time): convert to the nearest float, then always step one
-// float further out. The box may be one float step wider than needed; it is never narrower.
-inline float below(double x) {
-  const auto f = static_cast<float>(x);
-  uint32_t b = 0;
-  std::memcpy(&b, &f, sizeof b);
-  // Positive: one step smaller; zero or negative: one step more negative (-0 and +0 alike).
-  b = f > 0.0f ? b - 1U : (b | 0x80000000U) + 1U;
-  float r = 0.0f;
-  std::memcpy(&r, &b, sizeof r);
-  return r;
-}
-
-inline float above(double x) {
-  const auto f = static_cast<float>(x);
-  uint32_t b = 0;
-  std::memcpy(&b, &f, sizeof b);
-  b = f < 0.0f ? b - 1U : (b & 0x7fffffffU) + 1U;
-  float r = 0.0f;
-  std::memcpy(&r, &b, sizeof r);
-  return r;
-}
-
-}  // namespace
-
 BoundingVolumeTree::PartialRefit::PartialRefit(const BoundingVolumeTree& tree)
-    : stamp(tree.nodes_.size(), 0), parent(tree.nodes_.size(), -1), depth(tree.nodes_.size(), 0) {
-  nodes.reserve(tree.nodes_.size());
-  order.reserve(tree.nodes_.size());
+    : count(tree.nodes_.size(), 0),
+      marks((tree.nodes_.size() + 63) / 64, 0),
+      leaf_bits(marks.size(), 0),
+      parent(tree.nodes_.size(), -1) {
   int32_t primitives = 0;
   for (const BvhNode& n : tree.nodes_) primitives += n.count;
   leaf_of.assign(static_cast<size_t>(primitives), -1);
   for (size_t i = 0; i < tree.nodes_.size(); ++i) {
     const BvhNode& n = tree.nodes_[i];
     if (n.count > 0) {
+      leaf_bits[i >> 6U] |= uint64_t{1} << (i & 63U);
       for (int32_t k = n.first; k < n.first + n.count; ++k) {
         leaf_of[static_cast<size_t>(k)] = static_cast<int32_t>(i);
       }
@@ -53,24 +26,17 @@ BoundingVolumeTree::PartialRefit::PartialRefit(const BoundingVolumeTree& tree)
       parent[static_cast<size_t>(n.first)] = static_cast<int32_t>(i);
     }
   }
-  // Parents come before their children in the layout, so one pass sets every depth.
-  for (size_t i = 1; i < tree.nodes_.size(); ++i) {
-    depth[i] = static_cast<uint8_t>(depth[static_cast<size_t>(parent[i])] + 1);
-  }
 }
 
-void BoundingVolumeTree::PartialRefit::begin() {
-  nodes.clear();
-  if (++epoch == 0) {  // wrapped: old stamps could collide
-    std::fill(stamp.begin(), stamp.end(), 0U);
-    epoch = 1;
-  }
+void BoundingVolumeTree::PartialRefit::clear() {
+  std::fill(count.begin(), count.end(), 0);
+  std::fill(marks.begin(), marks.end(), uint64_t{0});
 }
 
 void BoundingVolumeTree::set_box(BvhNode& node, const Eigen::AlignedBox3d& box) {
   for (int a = 0; a < 3; ++a) {
-    node.lo[a] = below(box.min()[a]);
-    node.hi[a] = above(box.max()[a]);
+    node.lo[a] = float_below(box.min()[a]);
+    node.hi[a] = float_above(box.max()[a]);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "haptics/mesh_database.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <functional>
 #include <numeric>
@@ -277,6 +278,15 @@ struct FaceParts {
   double dot_b;       // (a - b).(c - b)
 };
 
+// u / len, the first two components as one packed division: the same quotients bit for bit
+// (IEEE division is correctly rounded either way), for one pass through the divider instead of
+// two. The normal updates are bound by the divider's throughput (seven divisions and a square
+// root per face).
+inline Eigen::Vector3d divided(const Eigen::Vector3d& u, double len) {
+  const Eigen::Array2d xy = Eigen::Array2d(u.x(), u.y()) / len;
+  return {xy[0], xy[1], u.z() / len};
+}
+
 inline FaceParts face_parts(const std::array<int32_t, 3>& t,
                             const std::vector<Eigen::Vector3d>& p) {
   const Eigen::Vector3d& a = p[t[0]];
@@ -288,15 +298,37 @@ inline FaceParts face_parts(const std::array<int32_t, 3>& t,
   const Eigen::Vector3d n = ab.cross(ac);
   const double twice_area = n.norm();
   if (!(twice_area > 0.0)) return {Eigen::Vector3d::UnitY(), 0.0, 0.0, 0.0};
-  return {n / twice_area, twice_area, ab.dot(ac), -ab.dot(bc)};
+  return {divided(n, twice_area), twice_area, ab.dot(ac), -ab.dot(bc)};
 }
 
-// The corner angles from {twice_area, dot_a, dot_b} (zero for a degenerate face).
+// The corner angles from {twice_area, dot_a, dot_b} (zero for a degenerate face): corner_angle()
+// (corner_angle.h) at the first two corners, both at once in the lanes of one vector, the same
+// operations in the same order per lane (so the same bits, MeshDatabase.CornerAnglesOfAFace
+// checks it): four divisions in two passes through the divider instead of four. y > 0, so the
+// ratio min(y, |x|) / max(y, |x|) is corner_angle()'s y / |x| or |x| / y, in [0, 1].
 inline std::array<double, 3> corner_angles(const std::array<double, 3>& y_dots) {
-  if (!(y_dots[0] > 0.0)) return {0.0, 0.0, 0.0};
-  const double angle_a = corner_angle(y_dots[0], y_dots[1]);
-  const double angle_b = corner_angle(y_dots[0], y_dots[2]);
-  return {angle_a, angle_b, 3.14159265358979323846 - angle_a - angle_b};
+  constexpr double kPi = 3.14159265358979323846;
+  const double y = y_dots[0];
+  if (!(y > 0.0)) return {0.0, 0.0, 0.0};
+  const Eigen::Array2d x(y_dots[1], y_dots[2]);
+  const Eigen::Array2d ax = x.abs();
+  const Eigen::Array2d ys = Eigen::Array2d::Constant(y);
+  const Eigen::Array2d t = ys.min(ax) / ys.max(ax);
+  // detail::atan_unit(t) per lane.
+  const Eigen::Array2d nearest = t * detail::kAtanSteps + 0.5;
+  const std::array<int, 2> k = {static_cast<int>(nearest[0]), static_cast<int>(nearest[1])};
+  const Eigen::Array2d c = Eigen::Array2d(k[0], k[1]) / detail::kAtanSteps;
+  const Eigen::Array2d d = (t - c) / (1.0 + t * c);
+  const Eigen::Array2d d2 = d * d;
+  const Eigen::Array2d series = d * (1.0 + d2 * (-1.0 / 3 + d2 * (1.0 / 5 + d2 * (-1.0 / 7))));
+  const auto& table = detail::atan_table();
+  const Eigen::Array2d atan_t = Eigen::Array2d(table[k[0]], table[k[1]]) + series;
+  std::array<double, 2> angle{};
+  for (int i = 0; i < 2; ++i) {
+    const double a = y <= ax[i] ? atan_t[i] : 0.5 * kPi - atan_t[i];
+    angle[i] = x[i] < 0.0 ? kPi - a : a;
+  }
+  return {angle[0], angle[1], kPi - angle[0] - angle[1]};
 }
 
 inline FaceShape face_shape(const std::array<int32_t, 3>& t,
@@ -307,7 +339,7 @@ inline FaceShape face_shape(const std::array<int32_t, 3>& t,
 
 inline Eigen::Vector3d unit_or_up(const Eigen::Vector3d& n) {
   const double len = n.norm();
-  return len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitY();
+  return len > 0.0 ? divided(n, len) : Eigen::Vector3d::UnitY();
 }
 
 }  // namespace
@@ -408,18 +440,59 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   refit_tree();
 }
 
+VertexSetDelta::VertexSetDelta(int32_t vertex_count)
+    : state(static_cast<size_t>(std::max(vertex_count, 0)), 0) {
+  for (auto* list : {&current, &entered, &left, &previous}) list->reserve(state.size());
+}
+
+bool VertexSetDelta::update(std::span<const int32_t> list) {
+  entered.clear();
+  left.clear();
+  if (list.size() == current.size() && std::equal(list.begin(), list.end(), current.begin())) {
+    return false;
+  }
+  previous.swap(current);  // no allocation: both keep their reserved capacity
+  current.clear();
+  for (const int32_t v : list) {
+    uint8_t& st = state[static_cast<size_t>(v)];
+    if ((st & 2U) != 0) continue;  // listed twice
+    st |= 2U;
+    current.push_back(v);
+    if ((st & 1U) == 0) entered.push_back(v);
+  }
+  for (const int32_t v : previous) {
+    uint8_t& st = state[static_cast<size_t>(v)];
+    if ((st & 2U) == 0) left.push_back(v);
+    st = 0;
+  }
+  for (const int32_t v : current) state[static_cast<size_t>(v)] = 1;
+  ++version_;
+  return true;
+}
+
+void VertexSetDelta::clear() {
+  current.clear();
+  entered.clear();
+  left.clear();
+  std::fill(state.begin(), state.end(), uint8_t{0});
+  version_ += 2;
+}
+
 MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
-    : face_stamp(static_cast<size_t>(db.face_count()), 0),
-      vertex_stamp(static_cast<size_t>(db.vertex_count()), 0),
-      corner_start(static_cast<size_t>(db.vertex_count()) + 1, 0),
+    : corner_start(static_cast<size_t>(db.vertex_count()) + 1, 0),
       corners(static_cast<size_t>(db.face_count()) * 3),
       face_angles(static_cast<size_t>(db.face_count())),
       angles_of(&db),
       angles_revision(db.revision()),
+      region_of(&db),
+      moved(db.vertex_count()),
+      face_moved_corners(static_cast<size_t>(db.face_count()), 0),
+      vertex_region_faces(static_cast<size_t>(db.vertex_count()), 0),
+      face_bits((static_cast<size_t>(db.face_count()) + 63) / 64, 0),
+      vertex_bits((static_cast<size_t>(db.vertex_count()) + 63) / 64, 0),
       tree(db.tree()) {
   dirty_faces.reserve(static_cast<size_t>(db.face_count()));
   dirty_vertices.reserve(static_cast<size_t>(db.vertex_count()));
-  last_moved.reserve(static_cast<size_t>(db.vertex_count()));
   for (int32_t f = 0; f < db.face_count(); ++f) {
     for (const int32_t v : db.face_vertices(f)) ++corner_start[static_cast<size_t>(v) + 1];
   }
@@ -434,38 +507,117 @@ MeshUpdateScratch::MeshUpdateScratch(const MeshDatabase& db)
   }
 }
 
-// The faces around the moved vertices (they changed shape), their vertices (whose normals
-// change), and the tree nodes above those faces, ordered for the refit; remembered for the
-// next call.
-void MeshDatabase::find_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const {
-  if (++s->epoch == 0) {  // wrapped: old stamps could collide
-    for (auto* stamps : {&s->face_stamp, &s->vertex_stamp}) {
-      std::fill(stamps->begin(), stamps->end(), 0U);
+void MeshUpdateScratch::clear_region() {
+  moved.clear();
+  std::fill(face_moved_corners.begin(), face_moved_corners.end(), uint8_t{0});
+  std::fill(vertex_region_faces.begin(), vertex_region_faces.end(), uint16_t{0});
+  std::fill(face_bits.begin(), face_bits.end(), uint64_t{0});
+  std::fill(vertex_bits.begin(), vertex_bits.end(), uint64_t{0});
+  tree.clear();
+  dirty_faces.clear();
+  dirty_vertices.clear();
+}
+
+namespace {
+
+inline void flip_bit(std::vector<uint64_t>& bits, int32_t i) {
+  bits[static_cast<size_t>(i) >> 6U] ^= uint64_t{1} << (static_cast<unsigned>(i) & 63U);
+}
+
+// Calls visit(i) for each set bit i, ascending.
+template <typename Visit>
+inline void for_each_bit(const std::vector<uint64_t>& bits, const Visit& visit) {
+  for (size_t w = 0; w < bits.size(); ++w) {
+    for (uint64_t b = bits[w]; b != 0; b &= b - 1) {
+      visit(static_cast<int32_t>(w * 64 + static_cast<size_t>(std::countr_zero(b))));
     }
-    s->epoch = 1;
   }
-  const uint32_t epoch = s->epoch;
-  // The faces around moved vertices changed shape, and so did the normals of their vertices.
-  s->dirty_faces.clear();
-  s->dirty_vertices.clear();
-  s->tree.begin();
-  for (int32_t v : moved) {
+}
+
+}  // namespace
+
+// Face f joins the region: its vertices' normals and its leaf's box now depend on the update.
+void MeshDatabase::add_region_face(int32_t f, MeshUpdateScratch* s) const {
+  flip_bit(s->face_bits, f);
+  s->tree.add(f);
+  for (const int32_t w : face_vertices_[f]) {
+    if (s->vertex_region_faces[static_cast<size_t>(w)]++ == 0) flip_bit(s->vertex_bits, w);
+  }
+}
+
+void MeshDatabase::drop_region_face(int32_t f, MeshUpdateScratch* s) const {
+  flip_bit(s->face_bits, f);
+  s->tree.remove(f);
+  for (const int32_t w : face_vertices_[f]) {
+    if (--s->vertex_region_faces[static_cast<size_t>(w)] == 0) flip_bit(s->vertex_bits, w);
+  }
+}
+
+// The region follows the moved vertices: a vertex that starts moving adds the faces around it
+// that had no moved corner, one that stops drops those left with none. A vertex moving in both
+// calls changes nothing, so a dent sliding by a face costs its rim, not its area.
+void MeshDatabase::update_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const {
+  if (s->region_of != this) {
+    s->clear_region();
+    s->region_of = this;
+  }
+  if (!s->moved.update(moved)) {
+    ++s->regions_reused;
+    return;
+  }
+  ++s->regions_updated;
+  // Entered first: a face that keeps a moved corner never leaves and comes back.
+  for (const int32_t v : s->moved.entered) {
     for (const int32_t c : s->corners_of(v)) {
-      const int32_t f = c >> 2;
-      if (s->face_stamp[f] == epoch) continue;
-      s->face_stamp[f] = epoch;
-      s->dirty_faces.push_back(f);
-      s->tree.mark(f);
-      for (int32_t w : face_vertices_[f]) {
-        if (s->vertex_stamp[w] == epoch) continue;
-        s->vertex_stamp[w] = epoch;
-        s->dirty_vertices.push_back(w);
+      if (s->face_moved_corners[static_cast<size_t>(c >> 2)]++ == 0) add_region_face(c >> 2, s);
+    }
+  }
+  for (const int32_t v : s->moved.left) {
+    for (const int32_t c : s->corners_of(v)) {
+      if (--s->face_moved_corners[static_cast<size_t>(c >> 2)] == 0) drop_region_face(c >> 2, s);
+    }
+  }
+}
+
+// The normals of the region, in memory order (faces and vertices ascending): each face once, its
+// normal and corner angles, then each vertex of those faces sums its faces' shares (§4.2),
+// reshaped or not, as update_normals() does. Lists the faces and vertices it recomputed.
+void MeshDatabase::update_region_normals(MeshUpdateScratch* s) {
+  // In two passes, the second only the arctangents (from y = |e1 x e2| and the corners' dot
+  // products, parked in face_angles): a short loop of independent iterations, which the
+  // processor overlaps far better than the whole shape's long chain.
+  s->dirty_faces.clear();
+  for_each_bit(s->face_bits, [&](int32_t f) {
+    s->dirty_faces.push_back(f);
+    const FaceParts parts = face_parts(face_vertices_[f], positions_);
+    face_normals_[f] = parts.unit;
+    s->face_angles[f] = {parts.twice_area, parts.dot_a, parts.dot_b};
+  });
+  for (const int32_t f : s->dirty_faces) s->face_angles[f] = corner_angles(s->face_angles[f]);
+  s->dirty_vertices.clear();
+  for_each_bit(s->vertex_bits, [&](int32_t w) {
+    s->dirty_vertices.push_back(w);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const int32_t c : s->corners_of(w)) {
+      sum += s->face_angles[c >> 2][c & 3] * face_normals_[c >> 2];
+    }
+    vertex_normals_[w] = unit_or_up(sum);
+  });
+  s->angles_of = this;
+  s->angles_revision = revision_;
+}
+
+// The tree: the leaves holding the region's faces and their ancestors, each once.
+void MeshDatabase::refit_region(MeshUpdateScratch* s) {
+  tree_.refit_marked(s->tree, [this](int32_t f, double* lo, double* hi) {
+    for (int32_t v : face_vertices_[f]) {
+      const Eigen::Vector3d& p = positions_[v];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = p[a] < lo[a] ? p[a] : lo[a];
+        hi[a] = p[a] > hi[a] ? p[a] : hi[a];
       }
     }
-  }
-  BoundingVolumeTree::order_marked(&s->tree);
-  s->last_moved.assign(moved.begin(), moved.end());  // within the reserved capacity
-  s->region_of = this;
+  });
 }
 
 void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
@@ -479,44 +631,9 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
     }
   }
   ++revision_;
-  const bool same_region = s->region_of == this && moved.size() == s->last_moved.size() &&
-                           std::equal(moved.begin(), moved.end(), s->last_moved.begin());
-  if (same_region) {
-    ++s->regions_reused;
-  } else {
-    find_region(moved, s);
-    ++s->regions_found;
-  }
-  // Each reshaped face once: its normal and corner angles. In two passes, the second only the
-  // arctangents (from y = |e1 x e2| and the corners' dot products, parked in face_angles): a
-  // short loop of independent iterations, which the processor overlaps far better than the
-  // whole shape's long chain.
-  for (int32_t f : s->dirty_faces) {
-    const FaceParts parts = face_parts(face_vertices_[f], positions_);
-    face_normals_[f] = parts.unit;
-    s->face_angles[f] = {parts.twice_area, parts.dot_a, parts.dot_b};
-  }
-  for (int32_t f : s->dirty_faces) s->face_angles[f] = corner_angles(s->face_angles[f]);
-  // Each touched vertex sums its faces' shares (§4.2), reshaped or not, as update_normals().
-  for (int32_t w : s->dirty_vertices) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const int32_t c : s->corners_of(w)) {
-      sum += s->face_angles[c >> 2][c & 3] * face_normals_[c >> 2];
-    }
-    vertex_normals_[w] = unit_or_up(sum);
-  }
-  s->angles_of = this;
-  s->angles_revision = revision_;
-  // The tree: the leaves holding those faces and their ancestors, each once.
-  tree_.refit_ordered(s->tree, [this](int32_t f, double* lo, double* hi) {
-    for (int32_t v : face_vertices_[f]) {
-      const Eigen::Vector3d& p = positions_[v];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = p[a] < lo[a] ? p[a] : lo[a];
-        hi[a] = p[a] > hi[a] ? p[a] : hi[a];
-      }
-    }
-  });
+  update_region(moved, s);
+  update_region_normals(s);
+  refit_region(s);
 }
 
 size_t MeshDatabase::memory_bytes() const {

@@ -45,13 +45,41 @@ struct MeshDatabaseSettings {
 
 class MeshDatabase;
 
-/// Workspace of MeshDatabase::set_positions(positions, moved, scratch) for one database: stamps
-/// that mark what a set of moved vertices touches (each visited once), the faces around each
-/// vertex as a flat list (CSR: no fan walks in the update), each face's corner angles as last
-/// computed (so a vertex at the rim of a dent sums its unmoved faces' shares without trigonometry),
-/// and the tree's partial refit. Sized and filled at setup; kept by whoever deforms the database
-/// (not in the database, which the haptic loop reads). Memory: 44 bytes per face and 16 per
-/// vertex, and the tree's refit workspace.
+/// A set of vertices followed from one call to the next (the vertices a deformation moved):
+/// update() replaces it by a new list and says which vertices entered and which left, so what
+/// is derived from the set (a region of faces, marks in a tree) changes by the difference only.
+/// version() counts the changes, so that something derived elsewhere can tell whether it missed
+/// one (the segment database's edge tree follows the mesh's moved set this way). Sized for a
+/// vertex count at setup; update() allocates nothing.
+struct VertexSetDelta {
+  explicit VertexSetDelta(int32_t vertex_count);
+  /// Makes `list` (vertices in range; one listed twice counts once) the set. Returns false, with
+  /// entered and left empty and the version kept, when `list` equals the last one entry for
+  /// entry (a dent held still); else the version moves on by one.
+  bool update(std::span<const int32_t> list);
+  /// Empties the set (O(vertex count)). The version moves on by two: entered and left do not say
+  /// what changed, so a follower must start afresh from `current`.
+  void clear();
+  [[nodiscard]] uint64_t version() const { return version_; }
+  std::vector<int32_t> current;  // reserved n_v: the set, as listed, without repeats
+  std::vector<int32_t> entered;  // reserved n_v: after update(): in the set, not in the last one
+  std::vector<int32_t> left;     // reserved n_v: after update(): in the last set, not in this one
+
+ private:
+  std::vector<int32_t> previous;  // reserved n_v: the last set during update()
+  std::vector<uint8_t> state;     // n_v: bit 0 in `current`, bit 1 listed in this update()
+  uint64_t version_ = 0;
+};
+
+/// Workspace of MeshDatabase::set_positions(positions, moved, scratch) for one database: the faces
+/// around each vertex as a flat list (CSR: no fan walks in the update), each face's corner angles
+/// as last computed (so a vertex at the rim of a dent sums its unmoved faces' shares without
+/// trigonometry), and the region of the last call kept from call to call — the faces with a
+/// moved vertex (they changed shape), those faces' vertices (their normals changed) and the tree
+/// nodes above those faces — each with a count of what holds it there, so a dent that slides or
+/// changes shape adds and drops only the difference. Sized and filled at setup; kept by whoever
+/// deforms the database (not in the database, which the haptic loop reads). Memory: about 41
+/// bytes per face and 27 per vertex, and the tree's refit workspace.
 struct MeshUpdateScratch {
   explicit MeshUpdateScratch(const MeshDatabase& db);
   /// The (face, corner) pairs around vertex v, each packed as 4 face + corner, faces ascending.
@@ -60,25 +88,30 @@ struct MeshUpdateScratch {
     const auto e = static_cast<size_t>(corner_start[static_cast<size_t>(v) + 1]);
     return {corners.data() + b, e - b};
   }
-  uint32_t epoch = 0;
-  std::vector<uint32_t> face_stamp;    // n_f
-  std::vector<uint32_t> vertex_stamp;  // n_v: a vertex of a touched face
-  std::vector<int32_t> dirty_faces;    // reserved n_f; after set_positions(): the faces it reshaped
+  /// Empties the region (O(n)): done when the workspace meets another database.
+  void clear_region();
+  std::vector<int32_t> dirty_faces;     // reserved n_f; after set_positions(): the faces it
+                                        // reshaped, ascending
   std::vector<int32_t> dirty_vertices;  // reserved n_v; after set_positions(): the vertices
-                                        // whose normals it recomputed
+                                        // whose normals it recomputed, ascending
   std::vector<int32_t> corner_start;    // n_v + 1
   std::vector<int32_t> corners;         // 3 n_f
   std::vector<std::array<double, 3>> face_angles;  // n_f [rad]: valid for angles_of at
                                                    // angles_revision (else recomputed)
   const MeshDatabase* angles_of = nullptr;
   uint64_t angles_revision = 0;
-  BoundingVolumeTree::PartialRefit tree;  // the face tree's local refit
-  // The last moved list and whose: the same list again (a dent held still, whatever its depth)
-  // reuses the touched faces, vertices and ordered tree nodes found for it.
-  std::vector<int32_t> last_moved;  // reserved n_v
+  // The region, for region_of: the moved vertices; per face, its corners among them (in the
+  // region when > 0); per vertex, its faces in the region (dirty when > 0); the same as bits,
+  // which the update walks in memory order; the face tree's marks.
   const MeshDatabase* region_of = nullptr;
-  int64_t regions_found = 0;   // calls that found their region
-  int64_t regions_reused = 0;  // calls that reused the last one
+  VertexSetDelta moved;
+  std::vector<uint8_t> face_moved_corners;    // n_f, 0..3
+  std::vector<uint16_t> vertex_region_faces;  // n_v, up to MeshDatabase::kMaxFan
+  std::vector<uint64_t> face_bits;            // n_f bits
+  std::vector<uint64_t> vertex_bits;          // n_v bits
+  BoundingVolumeTree::PartialRefit tree;      // the face tree's local refit
+  int64_t regions_updated = 0;  // calls whose moved vertices differed from the last call's
+  int64_t regions_reused = 0;   // calls with the same moved list as the last (a dent held still)
 };
 
 class MeshDatabase {
@@ -94,16 +127,17 @@ class MeshDatabase {
   /// The same when only `moved` vertices changed (local deformation, §6.5): normals are
   /// recomputed only around them; the tree is refitted. No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved);
-  /// The same, with a workspace that visits each touched face, vertex and tree node once: each
-  /// reshaped face's normal and corner angles are computed once, each touched vertex sums its
+  /// The same, with a workspace that keeps the region the moved vertices touch from call to
+  /// call: only the vertices that started or stopped moving since the last call change it (a
+  /// dent held still changes nothing, one sliding along the surface a rim's width). Each face of
+  /// the region gets its normal and corner angles once, each vertex of those faces sums its
   /// faces' angle-weighted normals from those (the faces that did not move from the angles
-  /// cached in the workspace), and only the touched leaves and their ancestors are refitted,
-  /// each once. Cost proportional to the deformed region, not to the mesh. The normals equal
-  /// the full update's bit for bit (same terms, same order). The same `moved` list as the last
-  /// call's (a dent held still, at whatever depth) reuses the faces, vertices and tree nodes
-  /// found then. A workspace used with another database, or after this one moved by another
-  /// route, first recomputes its cached angles (O(n), once). `moved` lists each vertex once.
-  /// No allocation.
+  /// cached in the workspace), and only the tree nodes above the region are refitted, each once.
+  /// Cost proportional to the deformed region and its change, not to the mesh. The normals equal
+  /// the full update's bit for bit (same terms, same order), the boxes the full refit's. A
+  /// workspace used with another database (a copy with the same topology), or after this one
+  /// moved by another route, first recomputes its cached angles (O(n), once), and after another
+  /// database its region. No allocation.
   void set_positions(std::span<const Eigen::Vector3d> positions, std::span<const int32_t> moved,
                      MeshUpdateScratch* scratch);
   /// The three parts of set_positions, for callers that schedule them apart: copy the
@@ -209,7 +243,12 @@ class MeshDatabase {
   static int32_t first_corner_of_single_fan(int32_t v, const Fan& fan);
 
   void update_vertex_normal(int32_t v);
-  void find_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const;
+  // The stages of set_positions(positions, moved, scratch), in order.
+  void update_region(std::span<const int32_t> moved, MeshUpdateScratch* s) const;
+  void add_region_face(int32_t f, MeshUpdateScratch* s) const;
+  void drop_region_face(int32_t f, MeshUpdateScratch* s) const;
+  void update_region_normals(MeshUpdateScratch* s);
+  void refit_region(MeshUpdateScratch* s);
   friend struct MeshUpdateScratch;
   [[nodiscard]] Eigen::Vector3d compute_face_normal(int32_t f) const;
 

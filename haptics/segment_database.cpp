@@ -238,22 +238,33 @@ void SegmentDatabase::refit_edge_tree() {
   });
 }
 
-void SegmentDatabase::refit_edge_tree(std::span<const int32_t> moved_faces,
-                                      SegmentUpdateScratch* s) {
-  const MeshDatabase& mesh = *mesh_;
-  const bool same_region =
-      s->region_of == this && moved_faces.size() == s->last_faces.size() &&
-      std::equal(moved_faces.begin(), moved_faces.end(), s->last_faces.begin());
-  if (!same_region) {
-    s->tree.begin();
-    for (const int32_t f : moved_faces) {
-      for (const int32_t leaf : s->face_leaves[static_cast<size_t>(f)]) s->tree.mark_node(leaf);
+void SegmentDatabase::refit_moved_edges(const VertexSetDelta& moved, SegmentUpdateScratch* s) {
+  const bool same_set = s->follows == &moved && s->region_of == this;
+  if (same_set && moved.version() == s->version + 1) {
+    // One change: a vertex that starts moving marks the leaves of its edges, one that stops
+    // unmarks them (a leaf stays marked while another moved vertex holds it).
+    for (const int32_t v : moved.entered) {
+      for (const int32_t leaf : s->leaves_of(v)) s->tree.add_to_leaf(leaf);
     }
-    BoundingVolumeTree::order_marked(&s->tree);
-    s->last_faces.assign(moved_faces.begin(), moved_faces.end());  // within the reserved capacity
+    for (const int32_t v : moved.left) {
+      for (const int32_t leaf : s->leaves_of(v)) s->tree.remove_from_leaf(leaf);
+    }
+  } else if (!same_set || moved.version() != s->version) {
+    // Another set, or a change missed (what moved then is not known): mark afresh, and refit
+    // everything this once.
+    s->tree.clear();
+    for (const int32_t v : moved.current) {
+      for (const int32_t leaf : s->leaves_of(v)) s->tree.add_to_leaf(leaf);
+    }
+    s->follows = &moved;
+    s->version = moved.version();
     s->region_of = this;
+    refit_edge_tree();
+    return;
   }
-  edge_tree_.refit_ordered(s->tree, [&](int32_t k, double* lo, double* hi) {
+  s->version = moved.version();
+  const MeshDatabase& mesh = *mesh_;
+  edge_tree_.refit_marked(s->tree, [&](int32_t k, double* lo, double* hi) {
     for (int32_t v : s->slot_vertices[static_cast<size_t>(k)]) {
       const Eigen::Vector3d& p = mesh.position(v);
       for (int a = 0; a < 3; ++a) {
@@ -265,24 +276,26 @@ void SegmentDatabase::refit_edge_tree(std::span<const int32_t> moved_faces,
 }
 
 SegmentUpdateScratch::SegmentUpdateScratch(const SegmentDatabase& db)
-    : face_leaves(static_cast<size_t>(db.mesh().face_count()), {-1, -1, -1}),
+    : leaf_start(static_cast<size_t>(db.mesh().vertex_count()) + 1, 0),
       slot_vertices(db.tree_edges().size()),
       tree(db.edge_tree()) {
-  last_faces.reserve(face_leaves.size());
   const MeshDatabase& mesh = db.mesh();
   const std::span<const int32_t> edges = db.tree_edges();
-  std::vector<int32_t> slot(static_cast<size_t>(mesh.edge_count()), -1);
+  // Each vertex's (leaf) pairs, then sorted and made distinct per vertex (CSR).
+  std::vector<std::array<int32_t, 2>> pairs;
+  pairs.reserve(2 * edges.size());
   for (size_t k = 0; k < edges.size(); ++k) {
-    slot[static_cast<size_t>(edges[k])] = static_cast<int32_t>(k);
     slot_vertices[k] = mesh.edge_vertices(edges[k]);
+    for (const int32_t v : slot_vertices[k]) pairs.push_back({v, tree.leaf_of[k]});
   }
-  for (int32_t f = 0; f < mesh.face_count(); ++f) {
-    for (int j = 0; j < 3; ++j) {
-      const int32_t k = slot[static_cast<size_t>(mesh.face_edges(f)[static_cast<size_t>(j)])];
-      face_leaves[static_cast<size_t>(f)][static_cast<size_t>(j)] =
-          k >= 0 ? tree.leaf_of[static_cast<size_t>(k)] : -1;
-    }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  leaves.reserve(pairs.size());
+  for (const auto& [v, leaf] : pairs) {
+    ++leaf_start[static_cast<size_t>(v) + 1];
+    leaves.push_back(leaf);
   }
+  std::partial_sum(leaf_start.begin(), leaf_start.end(), leaf_start.begin());
 }
 
 double SegmentDatabase::face_crossing(int32_t f, const Eigen::Vector3d& p0,

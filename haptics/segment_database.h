@@ -13,8 +13,9 @@
 /// And the two first-contact queries of §5.3: an end point's path crossing a face (A.5, A.7)
 /// and the moving segment crossing an edge (A.8), both exact.
 ///
-/// Built once after the MeshDatabase (setup, may allocate); refit_edge_tree() follows a
-/// deformation without allocating. The queries allocate nothing and never throw.
+/// Built once after the MeshDatabase (setup, may allocate); refit_edge_tree() and
+/// refit_moved_edges() follow a deformation without allocating. The queries allocate nothing and
+/// never throw.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -116,10 +117,12 @@ class SegmentDatabase {
 
   /// Recomputes the edge tree's boxes after the mesh moved (topology and convexity kept).
   void refit_edge_tree();
-  /// The same after a local deformation: only the edges of `moved_faces` — every face with a
-  /// moved vertex, so every edge that moved (MeshUpdateScratch::dirty_faces after the mesh's
-  /// set_positions) — and their leaves' ancestors. Equal to refit_edge_tree(). No allocation.
-  void refit_edge_tree(std::span<const int32_t> moved_faces, struct SegmentUpdateScratch* s);
+  /// The same after the mesh's set_positions(positions, moved, mesh_scratch), given
+  /// mesh_scratch.moved: the leaves holding an edge with a moved vertex and their ancestors. The
+  /// marks are kept in the workspace from call to call and follow the moved set's changes (a
+  /// vertex that starts or stops moving); a workspace that missed one (or meets another set)
+  /// marks afresh and refits the whole tree once. Equal to refit_edge_tree(). No allocation.
+  void refit_moved_edges(const VertexSetDelta& moved, struct SegmentUpdateScratch* s);
 
   [[nodiscard]] const BoundingVolumeTree& edge_tree() const { return edge_tree_; }
   /// The mesh edge in each slot of the edge tree (tree order).
@@ -153,16 +156,24 @@ class SegmentDatabase {
   BoundingVolumeTree edge_tree_;
 };
 
-/// Workspace of SegmentDatabase::refit_edge_tree(moved_faces, scratch), sized and filled at
-/// setup: what the refit would otherwise look up through three arrays per edge.
+/// Workspace of SegmentDatabase::refit_moved_edges(moved, scratch), sized and filled at setup:
+/// the edge-tree leaves each vertex's contactable edges lie in, the vertices of each tree slot,
+/// and the marks of the moved set it last followed.
 struct SegmentUpdateScratch {
   explicit SegmentUpdateScratch(const SegmentDatabase& db);
-  std::vector<std::array<int32_t, 3>> face_leaves;    // per mesh face: the edge-tree leaf of each
-                                                      // of its edges, -1 if not contactable
+  /// The distinct edge-tree leaves holding vertex v's contactable edges.
+  [[nodiscard]] std::span<const int32_t> leaves_of(int32_t v) const {
+    const auto b = static_cast<size_t>(leaf_start[static_cast<size_t>(v)]);
+    const auto e = static_cast<size_t>(leaf_start[static_cast<size_t>(v) + 1]);
+    return {leaves.data() + b, e - b};
+  }
+  std::vector<int32_t> leaf_start;                    // n_v + 1
+  std::vector<int32_t> leaves;                        // CSR, per vertex ascending
   std::vector<std::array<int32_t, 2>> slot_vertices;  // per edge-tree slot: the edge's vertices
   BoundingVolumeTree::PartialRefit tree;
-  // The last moved faces and whose: the same list again reuses the ordered nodes.
-  std::vector<int32_t> last_faces;  // reserved n_f
+  // What the marks follow: the set, at which version, for which database.
+  const VertexSetDelta* follows = nullptr;
+  uint64_t version = 0;
   const SegmentDatabase* region_of = nullptr;
 };
 

@@ -33,15 +33,32 @@ struct DeviceCommand {
   Eigen::Vector3d force_W = Eigen::Vector3d::Zero();   ///< at the driven point [N]
   Eigen::Vector3d torque_W = Eigen::Vector3d::Zero();  ///< [N m]; 0 on 3-DOF arms
   double squeeze_n = 0.0;  ///< actuated gripper: force resisting closure [N]
+  /// The stiffness behind force_W at the driven point [N/m]: the sum of every spring acting
+  /// there in parallel (sim/runtime/trocar_tool.h, StiffnessBudget). CommandLimiter scales the
+  /// force and torque so that this times the scale stays within max_stiffness_n_per_m; 0: none
+  /// stated (nothing scaled). Devices ignore it.
+  double stiffness_n_per_m = 0.0;
 };
 
 /// What a device can safely render; the runtime clamps every command to these.
+///
+/// The defaults are a PHANToM Omni's, rounded down: SensAble's specification sheet gives 3.3 N
+/// peak, 0.88 N continuous and 1.02–2.31 N/mm depending on the axis (the continuous figure is
+/// also what the device reports for HD_NOMINAL_MAX_CONTINUOUS_FORCE), hence 3.0 N, 0.88 N and
+/// 1000 N/m. For comparison, the PHANToM Premium 1.5's sheet gives 8.5 N peak, 1.4 N continuous
+/// and 3.5 N/mm. Each driver sets its own device's figures (phantom_device.cpp reads them from
+/// the device).
 struct DeviceLimits {
-  // Project defaults for a PHANToM-class arm; each driver sets its own device's figures.
-  double max_force_n = 3.0;
+  double max_force_n = 3.0;  ///< peak: no single command above it
+  /// Sustained output: a thermal (I²t) model of the motors keeps the running mean of |F|² at or
+  /// below this squared (command_limiter.h). 0, or at least max_force_n: no sustained bound.
+  double max_continuous_force_n = 0.88;
+  /// The thermal model's time constant [s]. Estimate: of the order of the winding time constant
+  /// of the small coreless DC motors such arms use (tens of seconds); shorter is safer.
+  double thermal_time_constant_s = 10.0;
   double max_torque_nm = 0.0;              ///< 0: the arm renders no torque
   double max_squeeze_n = 5.0;              ///< actuated gripper
-  double max_stiffness_n_per_m = 1000.0;   ///< highest contact stiffness rendered stably
+  double max_stiffness_n_per_m = 1000.0;   ///< highest stiffness at the handle rendered stably
   double max_force_rate_n_per_s = 1000.0;  ///< rate limit on force changes
   Eigen::AlignedBox3d workspace_W{Eigen::Vector3d::Constant(-1.0), Eigen::Vector3d::Constant(1.0)};
 };

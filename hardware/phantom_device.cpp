@@ -8,6 +8,10 @@
 namespace lap::hardware {
 namespace {
 
+// HD_NOMINAL_MAX_CONTINUOUS_FORCE [N]: 0x2604 in OpenHaptics' hdDefines.h, next to
+// HD_NOMINAL_MAX_FORCE (0x2603, hd::kNominalMaxForce).
+constexpr hd::HDenum kNominalMaxContinuousForce = 0x2604;
+
 std::string hex(unsigned int code) {
   char buf[16];
   std::snprintf(buf, sizeof(buf), "0x%04x", code);
@@ -51,10 +55,15 @@ Status PhantomDevice::start() {
                     : "needs calibration: run Touch Diagnostic's calibration, then start again");
   }
   double max_force = 0.0;
+  double max_continuous_force = 0.0;
   double max_stiffness_n_per_mm = 0.0;
   a.hdGetDoublev(hd::kNominalMaxForce, &max_force);
+  a.hdGetDoublev(kNominalMaxContinuousForce, &max_continuous_force);
   a.hdGetDoublev(hd::kNominalMaxStiffness, &max_stiffness_n_per_mm);
   if (max_force > 0.0) limits_.max_force_n = max_force;
+  // The force the motors sustain without overheating (SensAble's own examples ramp their force
+  // clamp down to it when the motors warm); CommandLimiter bounds the sustained output by it.
+  if (max_continuous_force > 0.0) limits_.max_continuous_force_n = max_continuous_force;
   if (max_stiffness_n_per_mm > 0.0) limits_.max_stiffness_n_per_m = 1000.0 * max_stiffness_n_per_mm;
   limits_.max_torque_nm = 0.0;  // a 3-DOF arm
   a.hdEnable(hd::kForceOutput);

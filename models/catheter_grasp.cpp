@@ -1,5 +1,6 @@
 #include "models/catheter_grasp.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -16,81 +17,318 @@ Eigen::Vector3d clamp_norm(const Eigen::Vector3d& f, double max) {
   const double n = f.norm();
   return n > max ? Eigen::Vector3d(f * (max / n)) : f;
 }
+double last_s(std::span<const Eigen::Vector3d> positions) {
+  return static_cast<double>(positions.size()) - 1.0;
+}
+
+// The part [t0, t1] of the segment p0 → p1 (jaw frame) inside the wedge: depth 0..L, |z| ≤ w/2,
+// |x| ≤ depth tan(half) + r. Cyrus–Beck clipping against the six half-spaces a·p + c ≤ 0.
+bool clip_to_wedge(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double length,
+                   double half_width, double tan_half, double radius, double* t0, double* t1) {
+  const std::array<Eigen::Vector4d, 6> planes = {
+      Eigen::Vector4d(0.0, 1.0, 0.0, 0.0),           // depth ≥ 0 (y ≤ 0)
+      Eigen::Vector4d(0.0, -1.0, 0.0, -length),      // depth ≤ L
+      Eigen::Vector4d(0.0, 0.0, 1.0, -half_width),   // z ≤ w/2
+      Eigen::Vector4d(0.0, 0.0, -1.0, -half_width),  // z ≥ −w/2
+      Eigen::Vector4d(1.0, tan_half, 0.0, -radius),  // x ≤ depth tan(half) + r
+      Eigen::Vector4d(-1.0, tan_half, 0.0, -radius),
+  };
+  const Eigen::Vector3d d = p1 - p0;
+  *t0 = 0.0;
+  *t1 = 1.0;
+  for (const Eigen::Vector4d& pl : planes) {
+    const Eigen::Vector3d a = pl.head<3>();
+    const double num = a.dot(p0) + pl.w();
+    const double den = a.dot(d);
+    if (den == 0.0) {
+      if (num > 0.0) return false;
+      continue;
+    }
+    const double t = -num / den;
+    if (den < 0.0) {
+      *t0 = std::max(*t0, t);
+    } else {
+      *t1 = std::min(*t1, t);
+    }
+    if (*t0 > *t1) return false;
+  }
+  return true;
+}
+
+// The gap the jaws leave the catheter's centre at `depth` along x: |x| ≤ depth tan(half) − r.
+double centre_gap(const GraspSettings& s, double depth, double half_rad, double radius) {
+  return std::max(0.0, std::clamp(depth, 0.0, s.jaw_length_m) * std::tan(half_rad) - radius);
+}
+
+// Moves v towards `to` by at most `step`.
+double approach(double v, double to, double step) { return v + std::clamp(to - v, -step, step); }
+
+// The jaws flatten the held section into the gap between them as they close: its centre into
+// the gap, its axis turned towards the mid-plane (its length kept) until its ends are inside.
+void flatten(const GraspSettings& s, const JawFrame& jaws, double radius, GraspState* g) {
+  const double half = 0.5 * jaws.opening_rad;
+  Eigen::Vector3d& c = g->center_J;
+  const double gap_c = centre_gap(s, -c.y(), half, radius);
+  c.x() = approach(c.x(), std::clamp(c.x(), -gap_c, gap_c), s.flatten_step_m);
+  const double h = g->half_length_m;
+  const double gap_ends = std::min(centre_gap(s, -held_end_J(*g, 0).y(), half, radius),
+                                   centre_gap(s, -held_end_J(*g, 1).y(), half, radius));
+  Eigen::Vector3d& a = g->axis_J;
+  const double limit = h > 0.0 ? gap_ends / h : 1.0;
+  a.x() = approach(a.x(), std::clamp(a.x(), -limit, limit), s.flatten_step_m / std::max(h, 1e-6));
+  const double in_plane = std::hypot(a.y(), a.z());
+  const double keep = std::sqrt(std::max(0.0, 1.0 - a.x() * a.x()));
+  if (in_plane > 1e-12) {
+    a.y() *= keep / in_plane;
+    a.z() *= keep / in_plane;
+  } else {
+    a.z() = keep;  // along the jaws' opening: laid across them
+  }
+}
+
+void capture(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model,
+             std::span<const Eigen::Vector3d> positions, GraspState* g) {
+  const double wedge = std::max(g->closing_from_rad, jaws.opening_rad);
+  const HeldSection sec = section_between_jaws(s, jaws, wedge, model, positions);
+  if (!sec.found()) return;
+  // Held: the section's extent in the jaws' mid-plane (a catheter crossing through the jaws
+  // is pinched over their width), at least the jaw's width.
+  const Eigen::Vector3d e0 = to_jaw(jaws, point_at(positions, sec.s0));
+  const Eigen::Vector3d e1 = to_jaw(jaws, point_at(positions, sec.s1));
+  const double half_m =
+      std::max(0.5 * std::hypot(e1.y() - e0.y(), e1.z() - e0.z()), 0.5 * s.jaw_width_m);
+  const double half = half_m / model.rest_length_m();
+  const double end = last_s(positions);
+  if (2.0 * half > end) return;
+  g->half_length_s = half;
+  g->half_length_m = half_m;
+  g->center_s = std::clamp(0.5 * (sec.s0 + sec.s1), half, end - half);
+  // Held where its ends are now (no force step on catching it); flatten() lays it between
+  // the jaws.
+  const Eigen::Vector3d a = to_jaw(jaws, point_at(positions, g->center_s - half));
+  const Eigen::Vector3d b = to_jaw(jaws, point_at(positions, g->center_s + half));
+  g->center_J = 0.5 * (a + b);
+  g->axis_J =
+      (b - a).norm() > 1e-12 ? Eigen::Vector3d((b - a).normalized()) : Eigen::Vector3d::UnitZ();
+  g->held = true;
+  g->sliding = false;
+  g->slid_m = 0.0;
+}
+
+// The held points: the section's two ends and the particles between them (on the catheter).
+template <typename Visit>
+void for_each_held_point(const GraspState& g, std::span<const Eigen::Vector3d> positions,
+                         Visit visit) {
+  const double s0 = std::max(held_end_s(g, 0), 0.0);
+  const double s1 = std::min(held_end_s(g, 1), last_s(positions));
+  visit(s0);
+  for (double p = std::floor(s0) + 1.0; p < s1; p += 1.0) visit(p);
+  visit(s1);
+}
+
+// The held points' mean offset from where the jaws hold them, along the held axis (material
+// ahead of its place on the line: > 0), and how many there are.
+double mean_axial_offset(const JawFrame& jaws, std::span<const Eigen::Vector3d> positions,
+                         const GraspState& g, const Eigen::Vector3d& axis, int* count) {
+  double sum = 0.0;
+  *count = 0;
+  for_each_held_point(g, positions, [&](double at) {
+    sum += (point_at(positions, at) - to_world(jaws, held_point_J(g, at))).dot(axis);
+    ++*count;
+  });
+  return *count > 0 ? sum / *count : 0.0;
+}
+
+// After a step in which the held section slipped (Coulomb, solved in the catheter's step:
+// catheter_model.h), the held material is re-read where it now lies at the jaws: the
+// section's material coordinate moves by the axial slide, so sticking starts unloaded.
+void follow_slide(const JawFrame& jaws, const CatheterModel& model,
+                  std::span<const Eigen::Vector3d> positions, GraspState* g) {
+  const Eigen::Vector3d axis = jaws.rotation_WJ * g->axis_J;  // towards increasing s
+  int count = 0;
+  const double offset = mean_axial_offset(jaws, positions, *g, axis, &count);
+  // Moving the held material by Δ along the centre line moves its points by Δ τ: the axial
+  // offset changes by (τ · axis) Δ.
+  const Eigen::Vector3d chord =
+      point_at(positions, held_end_s(*g, 1)) - point_at(positions, held_end_s(*g, 0));
+  const double along = std::max(chord.normalized().dot(axis), 0.3);
+  const double shift_m = -offset / along;
+  g->center_s += shift_m / model.rest_length_m();
+  g->slid_m += std::abs(shift_m);
+}
+
+// Ties the catheter's point at material coordinate `at` to its place on the held line, and
+// adds the reaction to the tool's wrench (the model's step decides whether it sticks).
+void hold_point(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model, double at,
+                const GraspState& g, CatheterState* cath, GraspOutput* out) {
+  CenterlineAnchor a;
+  a.segment = std::min(static_cast<int32_t>(at), model.particle_count() - 2);
+  a.t = at - a.segment;
+  a.target_W = to_world(jaws, held_point_J(g, at));
+  a.stiffness_n_per_m = s.attach_stiffness_n_per_m;
+  a.damping_n_s_per_m = s.attach_damping_n_s_per_m;
+  if (!add_anchor(model, a, cath)) return;
+  const Eigen::Vector3d x = point_at(std::span<const Eigen::Vector3d>(cath->positions), at);
+  const Eigen::Vector3d v = point_at(std::span<const Eigen::Vector3d>(cath->velocities), at);
+  const Eigen::Vector3d on_tool =
+      -clamp_norm(a.stiffness_n_per_m * (a.target_W - x) - a.damping_n_s_per_m * v, s.max_force_n);
+  out->force_on_tool_W += on_tool;
+  out->torque_on_tool_W += (a.target_W - jaws.hinge_W).cross(on_tool);
+}
 
 }  // namespace
+
+double held_end_s(const GraspState& grasp, int k) {
+  return k == 0 ? grasp.center_s - grasp.half_length_s : grasp.center_s + grasp.half_length_s;
+}
+
+Eigen::Vector3d held_point_J(const GraspState& grasp, double s) {
+  const double along = grasp.half_length_s > 0.0 ? (s - grasp.center_s) / grasp.half_length_s : 0.0;
+  return grasp.center_J + along * grasp.half_length_m * grasp.axis_J;
+}
+
+Eigen::Vector3d held_end_J(const GraspState& grasp, int k) {
+  return k == 0 ? Eigen::Vector3d(grasp.center_J - grasp.half_length_m * grasp.axis_J)
+                : Eigen::Vector3d(grasp.center_J + grasp.half_length_m * grasp.axis_J);
+}
+
+Eigen::Vector3d point_at(std::span<const Eigen::Vector3d> positions, double s) {
+  if (positions.size() < 2) return positions.empty() ? Eigen::Vector3d::Zero() : positions[0];
+  const double c = std::clamp(s, 0.0, last_s(positions));
+  const auto i = std::min(static_cast<size_t>(c), positions.size() - 2);
+  const double t = c - static_cast<double>(i);
+  return (1.0 - t) * positions[i] + t * positions[i + 1];
+}
+
+HeldSection section_between_jaws(const GraspSettings& s, const JawFrame& jaws, double wedge_rad,
+                                 const CatheterModel& model,
+                                 std::span<const Eigen::Vector3d> positions) noexcept {
+  const double tan_half = std::tan(std::clamp(0.5 * wedge_rad, 0.0, 1.4));
+  HeldSection best;
+  HeldSection piece;
+  Eigen::Vector3d p0 = positions.empty() ? Eigen::Vector3d::Zero() : to_jaw(jaws, positions[0]);
+  for (size_t i = 0; i + 1 < positions.size(); ++i) {
+    const Eigen::Vector3d p1 = to_jaw(jaws, positions[i + 1]);
+    double t0 = 0.0;
+    double t1 = 0.0;
+    if (clip_to_wedge(p0, p1, s.jaw_length_m, 0.5 * s.jaw_width_m, tan_half, model.radius_m(), &t0,
+                      &t1)) {
+      const double a = static_cast<double>(i) + t0;
+      const double b = static_cast<double>(i) + t1;
+      if (piece.found() && a <= piece.s1 + 1e-9) {
+        piece.s1 = b;  // continues the piece
+      } else {
+        piece = {a, b};
+      }
+      if (!best.found() || piece.s1 - piece.s0 > best.s1 - best.s0) best = piece;
+    }
+    p0 = p1;
+  }
+  return best;
+}
 
 GraspOutput update_grasp(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model,
                          CatheterState* cath, GraspState* grasp) noexcept {
   GraspOutput out;
-  const double r = model.radius_m();
-  const double half = 0.5 * jaws.opening_rad;
-  if (grasp->grasping() && jaws.opening_rad > s.release_above_rad) {
-    for (int32_t k = 0; k < grasp->count; ++k) {
-      cath->anchor_stiffness[grasp->particle[k]] = 0.0;
-      cath->anchor_damping[grasp->particle[k]] = 0.0;
-    }
-    grasp->count = 0;
+  const std::span<const Eigen::Vector3d> positions(cath->positions);
+  // The opening from which the jaws are closing: a new peak whenever they open.
+  if (jaws.opening_rad >= grasp->last_opening_rad) grasp->closing_from_rad = jaws.opening_rad;
+  grasp->last_opening_rad = jaws.opening_rad;
+  if (grasp->held && jaws.opening_rad > s.release_above_rad) {
+    grasp->held = false;
     out.released_now = true;
   }
-  if (!grasp->grasping() && jaws.opening_rad < s.grasp_below_rad) {
-    // The particles inside the jaws' wedge (within the catheter's radius of it).
-    for (int32_t i = 0; i < model.particle_count() && grasp->count < GraspState::kMaxGrasped; ++i) {
-      const Eigen::Vector3d p = to_jaw(jaws, cath->positions[i]);
-      const double depth = -p.y();  // along the jaws from the hinge
-      if (depth < 0.0 || depth > s.jaw_length_m || std::abs(p.z()) > r) continue;
-      if (std::abs(p.x()) > depth * std::tan(half) + r) continue;
-      grasp->particle[grasp->count] = i;
-      grasp->anchor_J[grasp->count] = Eigen::Vector3d(0.0, p.y(), 0.0);  // centred between jaws
-      ++grasp->count;
-    }
-    out.grasped_now = grasp->grasping();
+  if (!grasp->held && jaws.opening_rad < s.grasp_below_rad) {
+    capture(s, jaws, model, positions, grasp);
+    out.grasped_now = grasp->held;
   }
-  for (int32_t k = 0; k < grasp->count; ++k) {
-    const int32_t i = grasp->particle[k];
-    // The attachment spring is one of the catheter's anchors, so the implicit step keeps it
-    // stable however stiff (as an explicit force it would need dt < 2 sqrt(m / k) ≈ 0.5 ms).
-    const Eigen::Vector3d target = to_world(jaws, grasp->anchor_J[k]);
-    cath->anchor_target[i] = target;
-    cath->anchor_stiffness[i] = s.attach_stiffness_n_per_m;
-    cath->anchor_damping[i] = s.attach_damping_n_s_per_m;
-    out.force_on_tool_W -= clamp_norm(s.attach_stiffness_n_per_m * (target - cath->positions[i]) -
-                                          s.attach_damping_n_s_per_m * cath->velocities[i],
-                                      s.max_force_n);
-  }
+  if (!grasp->held) return out;
+  // Follow a slide in the last step, then flatten the section further (flattening moves it
+  // across the catheter, not along: it is no pull).
+  if (grasp->sliding) follow_slide(grasp->jaws, model, positions, grasp);
   out.squeeze_n = grasp_squeeze(s, jaws, model, *grasp);
+  flatten(s, jaws, model.radius_m(), grasp);
+  grasp->jaws = jaws;
+  if (grasp->center_s < 0.0 || grasp->center_s > last_s(positions)) {
+    grasp->held = false;  // slid off the end
+    grasp->sliding = false;
+    out.slipped_out = true;
+    out.squeeze_n = 0.0;
+    return out;
+  }
+  // The section's two ends and the particles between them, each tied to its place on the held
+  // line (the jaws keep the section straight: a particle left free inside it would be a hinge),
+  // with Coulomb friction 2 μ N along it, two jaw faces each pressed by the squeeze.
+  const int32_t first = cath->anchor_count;
+  for_each_held_point(*grasp, positions,
+                      [&](double at) { hold_point(s, jaws, model, at, *grasp, cath, &out); });
+  grasp->friction_slot = add_anchor_friction(jaws.rotation_WJ * grasp->axis_J,
+                                             2.0 * s.friction * out.squeeze_n, first, cath);
+  out.sliding = grasp->sliding;
   return out;
+}
+
+void finish_grasp_step(const CatheterState& catheter, GraspState* grasp) noexcept {
+  const int32_t slot = grasp->friction_slot;
+  if (!grasp->held || slot < 0 || slot >= catheter.friction_count) {
+    grasp->sliding = false;
+    grasp->friction_n = 0.0;
+    return;
+  }
+  const AnchorFrictionResult& r = catheter.friction_results[static_cast<size_t>(slot)];
+  grasp->sliding = r.slipped;
+  grasp->friction_n = r.slipped ? std::abs(r.axial_force_n) : 0.0;
+  // The friction on the catheter resists the slide: the catheter moves against it.
+  grasp->slide_sign = r.axial_force_n > 0.0 ? -1.0 : 1.0;
 }
 
 double grasp_squeeze(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model,
                      const GraspState& grasp) noexcept {
-  const double r = model.radius_m();
-  const double half = 0.5 * jaws.opening_rad;
-  double squeeze = 0.0;
-  for (int32_t k = 0; k < grasp.count; ++k) {
-    // The jaws' gap at this depth against the catheter's diameter.
-    const double depth = -grasp.anchor_J[k].y();
-    const double gap = 2.0 * depth * std::sin(half);
-    squeeze += s.squeeze_stiffness_n_per_m * std::max(0.0, 2.0 * r - gap);
-  }
-  return squeeze;
+  if (!grasp.held) return 0.0;
+  // The jaws' gap at the held section's depth against the catheter's diameter.
+  const double depth = std::clamp(-grasp.center_J.y(), 0.0, s.jaw_length_m);
+  const double gap = 2.0 * depth * std::sin(0.5 * jaws.opening_rad);
+  return s.squeeze_stiffness_n_per_m * std::max(0.0, 2.0 * model.radius_m() - gap);
 }
 
-Eigen::Vector3d coupling_force(const GraspSettings& s, const JawFrame& jaws,
-                               std::span<const Eigen::Vector3d> positions,
-                               const GraspState& grasp) noexcept {
-  Eigen::Vector3d f = Eigen::Vector3d::Zero();
-  for (int32_t k = 0; k < grasp.count; ++k) {
-    const auto p = static_cast<size_t>(grasp.particle[k]);
-    if (p >= positions.size()) continue;
-    const Eigen::Vector3d target = to_world(jaws, grasp.anchor_J[k]);
-    f -= clamp_norm(s.attach_stiffness_n_per_m * (target - positions[p]), s.max_force_n);
+GraspWrench coupling_wrench(const GraspSettings& s, const HapticJaws& now,
+                            const CatheterModel& model, const CatheterMotion& catheter,
+                            const GraspState& grasp) noexcept {
+  GraspWrench w;
+  const auto n = static_cast<size_t>(model.particle_count());
+  if (!grasp.held || catheter.positions.size() != n || catheter.velocities.size() != n ||
+      !(now.tick_s > 0.0)) {
+    return w;
   }
-  return f.allFinite() ? f : Eigen::Vector3d::Zero();
-}
-
-Eigen::Vector3d coupling_force(const GraspSettings& s, const JawFrame& jaws,
-                               const CatheterState& cath, const GraspState& grasp) noexcept {
-  return coupling_force(s, jaws, std::span<const Eigen::Vector3d>(cath.positions), grasp);
+  int count = 0;
+  for_each_held_point(grasp, catheter.positions, [&](double) { ++count; });
+  const Eigen::Vector3d axis = grasp.jaws.rotation_WJ * grasp.axis_J;
+  const Eigen::Matrix3d across =
+      grasp.sliding ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() - axis * axis.transpose())
+                    : Eigen::Matrix3d::Identity();
+  const double k_c = s.coupling_stiffness_n_per_m / count;
+  const double b_c = s.coupling_damping_n_s_per_m / count;
+  auto couple = [&](double at) {
+    const Eigen::Vector3d p_J = held_point_J(grasp, at);
+    const Eigen::Vector3d x = point_at(catheter.positions, at);
+    const Eigen::Vector3d v = point_at(catheter.velocities, at);
+    // The model's own anchor force when it stepped, and the friction share while slipping.
+    const Eigen::Vector3d at_step = to_world(grasp.jaws, p_J);
+    Eigen::Vector3d on_catheter =
+        across * (s.attach_stiffness_n_per_m * (at_step - x) - s.attach_damping_n_s_per_m * v);
+    if (grasp.sliding) on_catheter -= grasp.slide_sign * grasp.friction_n / count * axis;
+    // The jaws since then, against where the held point is heading.
+    const Eigen::Vector3d target = to_world(now.jaws, p_J);
+    const Eigen::Vector3d target_velocity = (target - to_world(now.jaws_before, p_J)) / now.tick_s;
+    on_catheter +=
+        across * (k_c * (target - at_step - now.since_step_s * v) + b_c * (target_velocity - v));
+    const Eigen::Vector3d on_tool = -clamp_norm(on_catheter, s.max_force_n);
+    w.force_W += on_tool;
+    w.torque_W += (target - now.jaws.hinge_W).cross(on_tool);
+  };
+  for_each_held_point(grasp, catheter.positions, couple);
+  if (!w.force_W.allFinite() || !w.torque_W.allFinite()) return {};
+  return w;
 }
 
 }  // namespace lap::models

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -123,9 +124,6 @@ CatheterState::CatheterState(const CatheterModel& model, const Eigen::Vector3d& 
   velocities.assign(n, Eigen::Vector3d::Zero());
   external_force.assign(n, Eigen::Vector3d::Zero());
   fixed.assign(n, 0);
-  anchor_target.assign(n, Eigen::Vector3d::Zero());
-  anchor_stiffness.assign(n, 0.0);
-  anchor_damping.assign(n, 0.0);
   contact_normal.assign(n, Eigen::Vector3d::UnitZ());
   contact_offset.assign(n, 0.0);
   contact_stiffness.assign(n, 0.0);
@@ -148,9 +146,12 @@ double catheter_energy(const CatheterModel& model, const CatheterState& state) {
     const double dl = (state.positions[i + 1] - state.positions[i]).norm() - model.rest_length_m();
     e += 0.5 * model.stretch_stiffness() * dl * dl;
   }
+  for (int32_t a = 0; a < state.anchor_count; ++a) {
+    const CenterlineAnchor& an = state.anchors[static_cast<size_t>(a)];
+    const Vec3 d = an.target_W - centerline_point(model, state.positions, an.segment, an.t);
+    e += 0.5 * an.stiffness_n_per_m * d.squaredNorm();
+  }
   for (int i = 0; i < n; ++i) {
-    e += 0.5 * state.anchor_stiffness[i] *
-         (state.anchor_target[i] - state.positions[i]).squaredNorm();
     // A contact is linearised as a two-sided spring over a step; its energy likewise.
     const double gap = state.contact_offset[i] - state.contact_normal[i].dot(state.positions[i]);
     e += 0.5 * state.contact_stiffness[i] * gap * gap;
@@ -161,6 +162,41 @@ double catheter_energy(const CatheterModel& model, const CatheterState& state) {
     e += 0.5 * model.bending_stiffness() * (t1 - t2).squaredNorm();
   }
   return e;
+}
+
+Eigen::Vector3d centerline_point(const CatheterModel& model,
+                                 const std::vector<Eigen::Vector3d>& positions, int32_t segment,
+                                 double t) {
+  const int32_t last = std::min(model.particle_count(), static_cast<int32_t>(positions.size())) - 2;
+  const auto i = static_cast<size_t>(std::clamp(segment, 0, std::max(last, 0)));
+  const double u = std::clamp(t, 0.0, 1.0);
+  return (1.0 - u) * positions[i] + u * positions[i + 1];
+}
+
+bool add_anchor(const CatheterModel& model, const CenterlineAnchor& anchor,
+                CatheterState* state) noexcept {
+  const bool on_catheter = anchor.segment >= 0 && anchor.segment + 1 < model.particle_count() &&
+                           anchor.t >= 0.0 && anchor.t <= 1.0;
+  if (!on_catheter || state->anchor_count >= CatheterState::kMaxAnchors) return false;
+  state->anchors[static_cast<size_t>(state->anchor_count++)] = anchor;
+  return true;
+}
+
+int32_t add_anchor_friction(const Eigen::Vector3d& axis_W, double limit_n, int32_t first_anchor,
+                            CatheterState* state) noexcept {
+  const int32_t count = state->anchor_count - first_anchor;
+  if (state->friction_count >= CatheterState::kMaxFrictions || first_anchor < 0 || count <= 0 ||
+      !axis_W.allFinite() || !(std::abs(axis_W.norm() - 1.0) < 1e-6) || !(limit_n >= 0.0)) {
+    return -1;
+  }
+  const int32_t slot = state->friction_count++;
+  state->frictions[static_cast<size_t>(slot)] = {axis_W, limit_n, first_anchor, count};
+  return slot;
+}
+
+void clear_anchors(CatheterState* state) noexcept {
+  state->anchor_count = 0;
+  state->friction_count = 0;
 }
 
 double catheter_gravity_energy(const CatheterModel& model, const CatheterState& state) {
@@ -177,8 +213,8 @@ void add_rhs(CatheterState* state, int i, const Vec3& f) noexcept {
   for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += f(c);
 }
 
-// Each particle's own terms: mass, gravity, drag, its anchor (a grasp) and its contact with a
-// surface, into its diagonal block and the right-hand side f − dt K v.
+// Each particle's own terms: mass, gravity, drag and its contact with a surface, into its
+// diagonal block and the right-hand side f − dt K v.
 void assemble_particle_terms(const CatheterModel& model, CatheterState* state, double dt) noexcept {
   const int n = model.particle_count();
   const auto& x = state->positions;
@@ -187,15 +223,7 @@ void assemble_particle_terms(const CatheterModel& model, CatheterState* state, d
     const Vec3 f = state->external_force[i] + model.mass_of(i) * model.settings().gravity_m_per_s2 -
                    model.settings().drag_n_s_per_m * v[i];
     for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] = f(c);
-    double diag = model.mass_of(i) + dt * model.settings().drag_n_s_per_m;
-    const double ka = state->anchor_stiffness[i];
-    if (ka > 0.0 || state->anchor_damping[i] > 0.0) {
-      // f = k_a (target − x) − c_a v; K = k_a I, D = c_a I; rhs gets f − dt K v.
-      const Vec3 fa =
-          ka * (state->anchor_target[i] - x[i]) - state->anchor_damping[i] * v[i] - dt * ka * v[i];
-      for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += fa(c);
-      diag += dt * dt * ka + dt * state->anchor_damping[i];
-    }
+    const double diag = model.mass_of(i) + dt * model.settings().drag_n_s_per_m;
     Mat3 block = diag * Mat3::Identity();
     const double kc = state->contact_stiffness[i];
     if (kc > 0.0) {
@@ -209,6 +237,73 @@ void assemble_particle_terms(const CatheterModel& model, CatheterState* state, d
     }
     add_block(&state->band, i, i, block);
   }
+}
+
+// The friction group an anchor belongs to (-1: none).
+int32_t friction_of(const CatheterState& state, int32_t anchor) {
+  for (int32_t g = 0; g < state.friction_count; ++g) {
+    const AnchorFriction& f = state.frictions[static_cast<size_t>(g)];
+    if (anchor >= f.first_anchor && anchor < f.first_anchor + f.anchor_count) return g;
+  }
+  return -1;
+}
+
+// Anchors on the centre line: x_a = (1 − t) x_i + t x_{i+1} = wᵀ x with w = (1 − t, t);
+// f = P (k (target − x_a) − c v_a) acts on the two particles by w, with P = I − a aᵀ across
+// the axis a of a slipping friction group (else I); K = k w wᵀ ⊗ P, D = c w wᵀ ⊗ P. A slipping
+// group's anchors also carry their share of its limit, against the direction it slipped.
+void assemble_anchors(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const auto& x = state->positions;
+  const auto& v = state->velocities;
+  for (int32_t a = 0; a < state->anchor_count; ++a) {
+    const CenterlineAnchor& an = state->anchors[static_cast<size_t>(a)];
+    const int i = an.segment;
+    if (i < 0 || i + 1 >= model.particle_count()) continue;
+    const int32_t g = friction_of(*state, a);
+    const bool slips = g >= 0 && state->slipping[static_cast<size_t>(g)];
+    Mat3 across = Mat3::Identity();
+    Vec3 friction = Vec3::Zero();
+    if (slips) {
+      const AnchorFriction& fr = state->frictions[static_cast<size_t>(g)];
+      across -= fr.axis_W * fr.axis_W.transpose();
+      const double sign =
+          state->friction_results[static_cast<size_t>(g)].axial_force_n > 0.0 ? 1.0 : -1.0;
+      friction = sign * fr.limit_n / fr.anchor_count * fr.axis_W;
+    }
+    const std::array<double, 2> w = {1.0 - an.t, an.t};
+    const Vec3 xa = w[0] * x[i] + w[1] * x[i + 1];
+    const Vec3 va = w[0] * v[i] + w[1] * v[i + 1];
+    const double k = an.stiffness_n_per_m;
+    const double c = an.damping_n_s_per_m;
+    const Vec3 f = across * (k * (an.target_W - xa) - c * va - dt * k * va) + friction;
+    add_rhs(state, i, w[0] * f);
+    add_rhs(state, i + 1, w[1] * f);
+    const Mat3 s = (dt * dt * k + dt * c) * across;
+    add_block(&state->band, i, i, w[0] * w[0] * s);
+    add_block(&state->band, i + 1, i + 1, w[1] * w[1] * s);
+    add_block(&state->band, i + 1, i, w[0] * w[1] * s);
+  }
+}
+
+// Each friction group's axial force on the catheter for velocities v + Δv (Δv in rhs) and the
+// positions they lead to, after a solve that held it sticking.
+double sticking_axial_force(const CatheterModel& model, const CatheterState& state, int32_t g,
+                            double dt) {
+  const AnchorFriction& fr = state.frictions[static_cast<size_t>(g)];
+  double f = 0.0;
+  for (int32_t a = fr.first_anchor; a < fr.first_anchor + fr.anchor_count; ++a) {
+    const CenterlineAnchor& an = state.anchors[static_cast<size_t>(a)];
+    const int i = an.segment;
+    if (i < 0 || i + 1 >= model.particle_count()) continue;
+    auto v_new = [&](int p) {
+      return Vec3(state.velocities[p] +
+                  Eigen::Map<const Vec3>(state.rhs.data() + static_cast<ptrdiff_t>(3) * p));
+    };
+    const Vec3 va = (1.0 - an.t) * v_new(i) + an.t * v_new(i + 1);
+    const Vec3 xa = (1.0 - an.t) * state.positions[i] + an.t * state.positions[i + 1] + dt * va;
+    f += (an.stiffness_n_per_m * (an.target_W - xa) - an.damping_n_s_per_m * va).dot(fr.axis_W);
+  }
+  return f;
 }
 
 // Stretch springs and their damping between neighbours. False for a zero-length segment.
@@ -282,18 +377,45 @@ void clamp_fixed_particles(const CatheterModel& model, CatheterState* state) noe
   }
 }
 
-// One linearly implicit backward-Euler step; external forces are read, not cleared. Its stages:
-// assemble (M + dt D + dt² K) Δv = dt (f − dt K v) in the band, clamp the fixed particles, solve,
-// integrate.
-bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) noexcept {
-  const int n = model.particle_count();
+// Assembles (M + dt D + dt² K) Δv = dt (f − dt K v) in the band, clamps the fixed particles and
+// solves; Δv in rhs.
+bool assemble_and_solve(const CatheterModel& model, CatheterState* state, double dt) noexcept {
   std::fill(state->band.begin(), state->band.end(), 0.0);
   assemble_particle_terms(model, state, dt);
+  assemble_anchors(model, state, dt);
   if (!assemble_stretch(model, state, dt)) return false;
   assemble_bending(model, state, dt);
   for (double& r : state->rhs) r *= dt;
   clamp_fixed_particles(model, state);
-  if (!band_cholesky_solve(&state->band, &state->rhs, 3 * n)) return false;
+  return band_cholesky_solve(&state->band, &state->rhs, 3 * model.particle_count());
+}
+
+// One linearly implicit backward-Euler step; external forces are read, not cleared. Friction
+// groups are solved sticking first; a group whose sticking force exceeds its limit slips, and
+// the step is solved again.
+bool implicit_step(const CatheterModel& model, CatheterState* state, double dt) noexcept {
+  const int n = model.particle_count();
+  std::fill(state->slipping.begin(), state->slipping.end(), false);
+  if (!assemble_and_solve(model, state, dt)) return false;
+  bool any_slip = false;
+  for (int32_t g = 0; g < state->friction_count; ++g) {
+    const double f = sticking_axial_force(model, *state, g, dt);
+    const auto slot = static_cast<size_t>(g);
+    state->friction_results[slot] = {false, f};
+    if (std::abs(f) > state->frictions[slot].limit_n) {
+      state->slipping[slot] = true;
+      state->friction_results[slot].slipped = true;
+      any_slip = true;
+    }
+  }
+  if (any_slip && !assemble_and_solve(model, state, dt)) return false;
+  for (int32_t g = 0; g < state->friction_count; ++g) {
+    const auto slot = static_cast<size_t>(g);
+    if (state->slipping[slot]) {
+      state->friction_results[slot].axial_force_n = std::copysign(
+          state->frictions[slot].limit_n, state->friction_results[slot].axial_force_n);
+    }
+  }
   auto& x = state->positions;
   auto& v = state->velocities;
   for (int i = 0; i < n; ++i) {
@@ -311,6 +433,36 @@ double total_energy(const CatheterModel& model, const CatheterState& state) {
   return catheter_energy(model, state) + catheter_gravity_energy(model, state);
 }
 
+// For the energy guard, the anchors of groups that slipped in the step: the axial part of their
+// springs' energy at `positions` (free along the axis while slipping, so not energy the step
+// holds), and the work their friction did from `before` to the positions now.
+struct SlipTerms {
+  double axial_energy_before = 0.0;
+  double axial_energy_after = 0.0;
+  double friction_work = 0.0;
+};
+SlipTerms slip_terms(const CatheterState& state, std::span<const Vec3> before) {
+  SlipTerms t;
+  for (int32_t g = 0; g < state.friction_count; ++g) {
+    const auto slot = static_cast<size_t>(g);
+    if (!state.slipping[slot]) continue;
+    const AnchorFriction& fr = state.frictions[slot];
+    const double share = state.friction_results[slot].axial_force_n / fr.anchor_count;
+    for (int32_t a = fr.first_anchor; a < fr.first_anchor + fr.anchor_count; ++a) {
+      const CenterlineAnchor& an = state.anchors[static_cast<size_t>(a)];
+      const auto i = static_cast<size_t>(an.segment);
+      const Vec3 x0 = (1.0 - an.t) * before[i] + an.t * before[i + 1];
+      const Vec3 x1 = (1.0 - an.t) * state.positions[i] + an.t * state.positions[i + 1];
+      const double d0 = (an.target_W - x0).dot(fr.axis_W);
+      const double d1 = (an.target_W - x1).dot(fr.axis_W);
+      t.axial_energy_before += 0.5 * an.stiffness_n_per_m * d0 * d0;
+      t.axial_energy_after += 0.5 * an.stiffness_n_per_m * d1 * d1;
+      t.friction_work += share * fr.axis_W.dot(x1 - x0);
+    }
+  }
+  return t;
+}
+
 // Implicit step(s) over dt; a step that gains more energy than the external forces put in is
 // redone as two half steps (linearly implicit Euler is dissipative only as dt shrinks on a
 // strongly nonlinear, non-convex bending energy), down to dt / 2^depth.
@@ -320,7 +472,7 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
     state->saved_positions[depth * n + i] = state->positions[i];
     state->saved_velocities[depth * n + i] = state->velocities[i];
   }
-  const double e0 = total_energy(model, *state);
+  double e0 = total_energy(model, *state);
   if (!implicit_step(model, state, dt)) return false;
   if (depth + 1 >= CatheterState::kGuardDepth) return true;
   double work = 0.0;
@@ -328,7 +480,13 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
     work +=
         state->external_force[i].dot(state->positions[i] - state->saved_positions[depth * n + i]);
   }
-  const double e1 = total_energy(model, *state);
+  const SlipTerms slip = slip_terms(
+      *state,
+      std::span<const Vec3>(state->saved_positions.data() + static_cast<ptrdiff_t>(depth) * n,
+                            static_cast<size_t>(n)));
+  work += slip.friction_work;
+  const double e1 = total_energy(model, *state) - slip.axial_energy_after;
+  e0 -= slip.axial_energy_before;
   // Rises below rounding (relative 1e-13, or 1e-16 J near rest) are not energy gained.
   if (e1 <= e0 + std::max(work, 0.0) + 1e-13 * std::abs(e0) + kEnergyFloorJ) return true;
   ++state->guard_refinements;

@@ -23,6 +23,7 @@
 /// Model (immutable) apart from state (per instance), as in MuJoCo's mjModel and mjData.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -65,16 +66,53 @@ class CatheterModel {
   double k_b_ = 0.0;
 };
 
+/// A spring (and damper) from a point of the catheter's centre line to a target: segment
+/// `segment` (particles segment and segment + 1), a fraction `t` of the way along it. A grasp
+/// holds the catheter by two of these at the ends of the section between its jaws (§7.6.3), so
+/// it holds wherever the catheter lies, between particles too, and transmits a moment. Inside
+/// the implicit solve: stable however stiff (as an explicit force it would need dt < 2 sqrt(m /
+/// k) ≈ 0.3 ms).
+struct CenterlineAnchor {
+  int32_t segment = 0;
+  double t = 0.0;  ///< in [0, 1]
+  Eigen::Vector3d target_W = Eigen::Vector3d::Zero();
+  double stiffness_n_per_m = 0.0;
+  double damping_n_s_per_m = 0.0;
+};
+
+/// Coulomb friction on a group of anchors (a grasp's held section, §7.6.3): along `axis_W` the
+/// anchors bear at most `limit_n` together. Each step solves them sticking; if their axial force
+/// at the end of the step exceeds the limit, the step is solved again with the group slipping:
+/// held across the axis only, and `limit_n` against the sticking force's direction (exact
+/// Coulomb for the step, with no overshoot: the catheter slides only where sticking would have
+/// needed more than the limit).
+struct AnchorFriction {
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();
+  double limit_n = 0.0;
+  int32_t first_anchor = 0;
+  int32_t anchor_count = 0;
+};
+/// What a friction group did in the last step.
+struct AnchorFrictionResult {
+  bool slipped = false;
+  double axial_force_n = 0.0;  ///< on the catheter along the axis (sticking: what it bore)
+};
+
 struct CatheterState {
   std::vector<Eigen::Vector3d> positions;       ///< n x 3 [m]
   std::vector<Eigen::Vector3d> velocities;      ///< n x 3 [m/s]
   std::vector<Eigen::Vector3d> external_force;  ///< n x 3 [N], cleared by each step
   std::vector<uint8_t> fixed;                   ///< n: 1 = held in place (clamp)
-  /// Anchors: a spring (and damper) from particle i to a target, inside the implicit solve so
-  /// that stiff attachments (a grasp, §7.6.3) stay stable at the modelling step. Stiffness 0: none.
-  std::vector<Eigen::Vector3d> anchor_target;  ///< n [m]
-  std::vector<double> anchor_stiffness;        ///< n [N/m]
-  std::vector<double> anchor_damping;          ///< n [N s/m]
+  /// Anchors on the centre line (grasps); the first anchor_count count.
+  static constexpr int32_t kMaxAnchors = 16;  ///< two grasps of up to 6 anchors, and spare
+  std::array<CenterlineAnchor, kMaxAnchors> anchors{};
+  int32_t anchor_count = 0;
+  static constexpr int32_t kMaxFrictions = 2;  ///< a grasp per tool
+  std::array<AnchorFriction, kMaxFrictions> frictions{};
+  int32_t friction_count = 0;
+  /// Per friction slot, what it did in the last step (kept until a step overwrites it).
+  std::array<AnchorFrictionResult, kMaxFrictions> friction_results{};
+  std::array<bool, kMaxFrictions> slipping{};  ///< step workspace
   /// Contact planes (§7.6.3): particle i is pushed out along `contact_normal` while
   /// n · x < contact_offset, by a spring (and damper) along n only, inside the implicit solve.
   /// Set each modelling step by the contact search (catheter_contacts.h); stiffness 0: none.
@@ -97,14 +135,31 @@ struct CatheterState {
                 const Eigen::Vector3d& direction);
 };
 
-/// Kinetic + stretch + bending + anchor-spring energy (gravity and external forces excluded)
-/// [J].
+/// The centre line's point on segment `segment` at fraction t (clamped to the catheter).
+[[nodiscard]] Eigen::Vector3d centerline_point(const CatheterModel& model,
+                                               const std::vector<Eigen::Vector3d>& positions,
+                                               int32_t segment, double t);
+/// Adds an anchor; false (nothing added) when all kMaxAnchors are in use or it is not on the
+/// catheter.
+bool add_anchor(const CatheterModel& model, const CenterlineAnchor& anchor,
+                CatheterState* state) noexcept;
+/// Adds friction to the anchors from `first_anchor` to the last one added; its slot, or -1 when
+/// all are in use.
+int32_t add_anchor_friction(const Eigen::Vector3d& axis_W, double limit_n, int32_t first_anchor,
+                            CatheterState* state) noexcept;
+/// Removes the anchors and their friction (before the grasps set them for the next step); the
+/// last step's friction results stay readable.
+void clear_anchors(CatheterState* state) noexcept;
+
+/// Kinetic + stretch + bending + anchor-spring + contact energy (gravity and external forces
+/// excluded) [J].
 [[nodiscard]] double catheter_energy(const CatheterModel& model, const CatheterState& state);
 /// Potential energy in gravity [J] (relative to the origin).
 [[nodiscard]] double catheter_gravity_energy(const CatheterModel& model,
                                              const CatheterState& state);
 
-/// One step of dt (implicit, energy-guarded). External forces are applied and then cleared.
+/// One step of dt (implicit, energy-guarded). External forces are applied and then cleared;
+/// anchors stay until clear_anchors().
 /// Returns false (velocities zeroed) when the input or result is not finite or the system
 /// matrix is not positive definite.
 bool step_catheter(const CatheterModel& model, CatheterState* state, double dt) noexcept;

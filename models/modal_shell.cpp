@@ -243,8 +243,11 @@ DuctShell make_duct_shell(const DuctSettings& duct) {
 
 ModalShellSettings default_duct_modal_settings(const DuctSettings& duct) {
   ModalShellSettings s;
-  s.material.young_pa = 2e6;
+  // Bile duct wall: G = 166 kPa, 1060 kg/m³ (PMC6925591, Table 1); ν = 0.45 (estimate);
+  // E = 2 (1 + ν) G (DuctSettings' note).
+  constexpr double kShearModulusPa = 166e3;
   s.material.poisson = 0.45;
+  s.material.young_pa = 2.0 * (1.0 + s.material.poisson) * kShearModulusPa;
   s.material.density_kg_per_m3 = 1060.0;
   s.material.thickness_m = duct.wall_thickness_m;
   s.modes = 24;

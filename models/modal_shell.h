@@ -88,14 +88,18 @@ class ModalShellModel {
 void lowest_modes(const AssembledShell& shell, int32_t count, Eigen::VectorXd* omega,
                   Eigen::MatrixXd* phi_free);
 
-/// The default cystic duct (§7.4: 8–10 mm across): a straight tube, its two end rings held where
-/// it joins the gallbladder neck and the common bile duct, and the translations of one line
-/// along its underside held by the supporting membrane (it "can be deformed but not
-/// translated", §7.7). Project estimates, not measurements: wall E = 2 MPa, ν = 0.45,
-/// 1060 kg/m³.
+/// The default cystic duct: a straight tube, its two end rings held where it joins the
+/// gallbladder neck and the common bile duct, and the translations of one line along its
+/// underside held by the supporting membrane (it "can be deformed but not translated", §7.7).
+/// Anatomy, not the thesis' 8–10 mm (§7.4): 2–4 cm long, 2–3 mm across inside (Gray's
+/// Anatomy); here 3 mm inside with a 1 mm wall (the wall's thickness an estimate), 5 mm outside.
+/// The wall's material (default_duct_modal_settings()): bile duct shear modulus G = 166 kPa and
+/// 1060 kg/m³ (PMC6925591, Table 1, after Duch et al. 2004), ν = 0.45 (nearly incompressible
+/// soft tissue; estimate), E = 2 (1 + ν) G = 481 kPa. docs/tissue-parameters.md derives the
+/// stiffness it gives.
 struct DuctSettings {
-  double outer_diameter_m = 0.008;
-  double wall_thickness_m = 0.0008;
+  double outer_diameter_m = 0.005;
+  double wall_thickness_m = 0.001;
   double length_m = 0.03;
   int32_t around = 24;
   int32_t along = 30;
@@ -154,7 +158,8 @@ void clear_node_anchors(ModalShellState* state) noexcept;
 /// Advances the modes by dt (exact for a force held over the step) and updates `displacement`.
 /// With anchors, the modes couple (Φ_aᵀ k Φ_a is not diagonal): the step is then backward Euler
 /// on all m modes (an m x m SPD solve), unconditionally stable and damping the modes above the
-/// step's frequency, which for the duct (320 Hz and up against 200 Hz) the exact step nearly
+/// step's frequency, which for the default duct (modes from 142 Hz up against the 200 Hz step,
+/// ω dt ≥ 4.5, ζ = 0.3: three quarters of a mode's motion gone per step) the exact step nearly
 /// does too. Returns false (state at rest) on a non-finite force, anchor or dt.
 bool step_modal_shell(const ModalShellModel& model, ModalShellState* state, double dt) noexcept;
 

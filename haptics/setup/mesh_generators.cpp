@@ -226,10 +226,12 @@ TriangleMesh make_stand_in_gallbladder() {
 }
 
 TriangleMesh make_stand_in_cystic_duct() {
-  // Closed tube, 4.5 mm radius (9 mm outer diameter) and 3.5 cm long, leaving the gallbladder
-  // neck medially (+x), backwards and down towards the common bile duct. The modal-shell model
-  // replaces this surface in a later issue.
-  TriangleMesh m = make_cylinder(0.0045, 0.035, 24, 14);
+  // Closed tube, 2.5 mm radius (5 mm outer diameter: 3 mm inside with a 1 mm wall) and 3.5 cm
+  // long, leaving the gallbladder neck medially (+x), backwards and down towards the common bile
+  // duct. The cystic duct is 2–4 cm long and 2–3 mm across inside (Gray's Anatomy); the wall's
+  // thickness is an estimate (docs/tissue-parameters.md). The session fits its modal shell to
+  // this tube (sim/setup/duct_fit.h).
+  TriangleMesh m = make_cylinder(0.0025, 0.035, 24, 14);
   Eigen::Affine3d T = Eigen::Affine3d::Identity();
   T.translate(Eigen::Vector3d(-0.018, 0.018, -0.004));
   T.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(),

@@ -52,9 +52,10 @@ class DeformedSurface {
  private:
   std::vector<Eigen::Vector3d> rest_;
   std::vector<Eigen::Vector3d> positions_;
-  std::vector<int32_t> displaced_;
+  std::vector<int32_t> displaced_;   // by the last deformation applied
+  std::vector<int32_t> displacing_;  // by the one being applied (swapped with displaced_)
   std::vector<int32_t> changed_;
-  std::vector<uint8_t> flags_;  // bit 0: in changed_, bit 1: in displaced_ (this call)
+  std::vector<uint8_t> flags_;  // bit 0: in changed_, bit 1: displaced by this call
 };
 
 }  // namespace lap::sim

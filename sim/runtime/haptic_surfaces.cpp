@@ -50,7 +50,7 @@ int64_t HapticSurfaces::regions_reused() const {
 
 int64_t HapticSurfaces::regions_taken_up() const {
   int64_t n = 0;
-  for (const Organ& o : organs_) n += o.scratch->regions_reused + o.scratch->regions_found;
+  for (const Organ& o : organs_) n += o.scratch->regions_reused + o.scratch->regions_updated;
   return n;
 }
 

@@ -115,8 +115,10 @@ Result<std::unique_ptr<Session>> Session::create(
       return diagnostic("no device for the " + std::string(name) + " tool");
     const hardware::DeviceLimits& want = m.tool(side).device.limits;
     const hardware::DeviceLimits& have = tool.device->limits();
-    if (have.max_force_n != want.max_force_n || have.max_torque_nm != want.max_torque_nm ||
-        have.max_squeeze_n != want.max_squeeze_n ||
+    if (have.max_force_n != want.max_force_n ||
+        have.max_continuous_force_n != want.max_continuous_force_n ||
+        have.thermal_time_constant_s != want.thermal_time_constant_s ||
+        have.max_torque_nm != want.max_torque_nm || have.max_squeeze_n != want.max_squeeze_n ||
         have.max_stiffness_n_per_m != want.max_stiffness_n_per_m ||
         have.max_force_rate_n_per_s != want.max_force_rate_n_per_s ||
         !have.workspace_W.isApprox(want.workspace_W)) {
@@ -145,6 +147,7 @@ Result<std::unique_ptr<Session>> Session::create(
 
   ModelSnapshot m0;
   m0.catheter = s->world_->catheter().positions;
+  m0.catheter_velocities = s->world_->catheter().velocities;
   m0.organs = s->world_->make_deformations();
   s->model_to_haptic_.reset(m0);
   s->model_to_graphics_.reset(m0);
@@ -287,18 +290,31 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   Tool& tool = tools_[i];
   const haptics::GripperOutput out = tool.gripper.step(objects_, k.pose, model_->timing().dt_s);
   Eigen::Vector3d force = out.force_W;
+  Eigen::Vector3d torque = out.torque_W;
   double squeeze = out.squeeze_n;
   const TissueModel& tissue = model_->tissue();
   const models::GraspState& grasp = model.grasps[i];
+  const models::JawFrame jaws = jaw_frame(k.pose);
+  if (!tool.jaws_seen) tool.last_jaws = jaws;
+  tool.jaws_seen = true;
   if (grasp.grasping()) {
-    // The virtual coupling to the grasped catheter at the haptic rate, against the particles
-    // where the modelling loop last put them (catheter_grasp.h); the squeeze from the jaws'
-    // closure on it.
-    const models::JawFrame jaws = jaw_frame(k.pose);
-    force += models::coupling_force(tissue.settings().catheter_grasp, jaws, model.catheter, grasp);
+    // The virtual coupling to the grasped catheter at the haptic rate: the model's force at its
+    // last step and a local spring-damper on the jaws' motion since (catheter_grasp.h); the
+    // squeeze from the jaws' closure on it.
+    models::HapticJaws now;
+    now.jaws = jaws;
+    now.jaws_before = tool.last_jaws;
+    now.tick_s = model_->timing().dt_s;
+    now.since_step_s = static_cast<double>(std::max<int64_t>(tick - model.tick, 0)) * now.tick_s;
+    const models::GraspWrench w =
+        models::coupling_wrench(tissue.settings().catheter_grasp, now, tissue.catheter_model(),
+                                {model.catheter, model.catheter_velocities}, grasp);
+    force += w.force_W;
+    torque += w.torque_W;
     squeeze = std::max(squeeze, grasp_squeeze(tissue.settings().catheter_grasp, jaws,
                                               tissue.catheter_model(), grasp));
   }
+  tool.last_jaws = jaws;
   const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
   if (duct_grasp.grasping() && tissue.duct_organ() >= 0) {
     // The same for grasped tissue, against the duct's wall as this loop's database has it.
@@ -308,9 +324,10 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
     force += c.force_on_tool_W;
     squeeze = std::max(squeeze, c.squeeze_n);
   }
-  if (out.fault || !force.allFinite()) {
+  if (out.fault || !force.allFinite() || !torque.allFinite()) {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
     force.setZero();
+    torque.setZero();
   }
   ts->pose = k.pose;
   ts->contacts =
@@ -327,7 +344,22 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
       tc.force_on_organ_W = -c.force_W;
     }
   }
-  return handle_command(k, force, out.torque_W, squeeze);
+  // The stiffness budget at the handle (trocar_tool.h): the three segments' contacts and the
+  // grasp couplings in parallel, each through its lever; the limiter keeps it within the
+  // device's (command_limiter.h). The couplings are taken at the jaws' tip, the longest lever.
+  StiffnessBudget budget(k);
+  budget.add_contacts(tool.gripper, objects_);
+  const Eigen::Vector3d jaw_tip_W =
+      k.pose.hinge_W - tool.gripper.geometry().jaw_length_m * k.pose.shaft_dir_W;
+  if (grasp.grasping()) {  // the coupling to the held section (catheter_grasp.h)
+    budget.add(tissue.settings().catheter_grasp.coupling_stiffness_n_per_m, jaw_tip_W);
+  }
+  if (duct_grasp.grasping()) {  // a spring per grasped node (duct_grasp.h)
+    budget.add(duct_grasp.count * tissue.settings().duct_grasp.attach_stiffness_n_per_m, jaw_tip_W);
+  }
+  hardware::DeviceCommand command = handle_command(k, force, torque, squeeze);
+  command.stiffness_n_per_m = budget.at_handle_n_per_m();
+  return command;
 }
 
 // Limits, the watchdog's zero, and the ramp back (after a resume or a late tick); then write,
@@ -407,6 +439,7 @@ void Session::model_tick(int64_t tick) noexcept {
     m.tick = tick;
     m.steps = model_steps_;
     m.catheter = world_->catheter().positions;  // same size: no allocation
+    m.catheter_velocities = world_->catheter().velocities;
     m.grasps = world_->catheter_grasps();
     m.duct_grasps = world_->duct_grasps();
     m.squeeze = world_->squeeze();

@@ -97,9 +97,10 @@ struct HapticSnapshot {
 };
 
 struct ModelSnapshot {
-  int64_t tick = -1;                      ///< the haptic tick this step belongs to
-  int64_t steps = 0;                      ///< modelling steps so far
-  std::vector<Eigen::Vector3d> catheter;  ///< particle positions [m]
+  int64_t tick = -1;                                 ///< the haptic tick this step belongs to
+  int64_t steps = 0;                                 ///< modelling steps so far
+  std::vector<Eigen::Vector3d> catheter;             ///< particle positions [m]
+  std::vector<Eigen::Vector3d> catheter_velocities;  ///< [m/s]
   std::array<models::GraspState, 2> grasps{};
   std::array<models::DuctGraspState, 2> duct_grasps{};
   std::array<double, 2> squeeze{};         ///< of each tool's jaws on what they hold [N]
@@ -227,6 +228,8 @@ class Session {
     haptics::LaparoscopicGripper gripper;
     hardware::CommandLimiter limiter;
     Eigen::Vector3d axis_W = Eigen::Vector3d::UnitY();
+    models::JawFrame last_jaws;  ///< at the previous tick (the couplings' jaw velocity)
+    bool jaws_seen = false;
     bool started = false;
     bool finished = false;
     hardware::DeviceStatus status = hardware::DeviceStatus::kOk;

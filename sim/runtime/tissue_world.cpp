@@ -78,6 +78,7 @@ ModelFault TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double 
   if (!models::step_catheter(model_->catheter_model(), catheter_.get(), dt)) {
     fault = {ModelFaultKind::kCatheter, -1};
   }
+  for (models::GraspState& g : catheter_grasps_) models::finish_grasp_step(*catheter_, &g);
   deepest_dent_ = 0.0;
   for (int32_t i = 0; i < static_cast<int32_t>(organs_.size()); ++i) {
     OrganState& s = organs_[static_cast<size_t>(i)];
@@ -103,6 +104,7 @@ void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools) noexcept {
   const TissueWorldSettings& settings = model_->settings();
   const DuctTissue& duct = model_->duct();
   if (duct_state_) models::clear_node_anchors(duct_state_.get());
+  models::clear_anchors(catheter_.get());
   for (size_t t = 0; t < 2; ++t) {
     squeeze_[t] = 0.0;
     if (!tools[t].valid) continue;

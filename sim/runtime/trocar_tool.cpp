@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/friction.h"
+
 namespace lap::sim {
 
 ToolKinematics tool_kinematics(const TrocarToolSettings& settings,
@@ -46,6 +48,48 @@ hardware::DeviceCommand handle_command(const ToolKinematics& kinematics,
   c.torque_W = t_axial;
   c.squeeze_n = squeeze_n;
   return c;
+}
+
+double lever_gain_squared(const ToolKinematics& kinematics,
+                          const Eigen::Vector3d& point_W) noexcept {
+  // In the basis (u, e, w), e the point's direction off the axis, the handle force for a force
+  // F at the point is F_u (u + c e) − d (F_e e + F_w w), c = ρ/a, d = (u·r)/a (handle_command()
+  // with the torque r × F about the port): the block [[1, 0], [c, −d]] and −d. The largest
+  // eigenvalue of the block's AᵀA = [[1 + c², −c d], [−c d, d²]] is at least d², so it is g².
+  const Eigen::Vector3d& u = kinematics.axis_W;
+  const double a = kinematics.outside_m;
+  const Eigen::Vector3d port_W = kinematics.pose.hinge_W - kinematics.inside_m * u;
+  const Eigen::Vector3d r = point_W - port_W;
+  const double along = r.dot(u);
+  const double d = along / a;
+  const double c = (r - along * u).norm() / a;
+  const double trace = 1.0 + c * c + d * d;
+  return 0.5 * (trace + std::sqrt(std::max(0.0, trace * trace - 4.0 * d * d)));
+}
+
+double contact_stiffness_n_per_m(const haptics::HapticObject& object,
+                                 const Eigen::Vector3d& point_W) noexcept {
+  double k = object.law.stiffness_n_per_m;
+  if (object.friction != nullptr && object.friction->enabled()) {
+    const double factor = object.friction->map.factor(object.pose_WO.inverse() * point_W);
+    k = std::max(k, factor * object.friction->stick_stiffness_n_per_m);
+  }
+  return k;
+}
+
+void StiffnessBudget::add(double stiffness_n_per_m, const Eigen::Vector3d& point_W) noexcept {
+  if (!(stiffness_n_per_m > 0.0)) return;
+  total_n_per_m_ += stiffness_n_per_m * lever_gain_squared(kinematics_, point_W);
+}
+
+void StiffnessBudget::add_contacts(const haptics::LaparoscopicGripper& gripper,
+                                   std::span<const haptics::HapticObject> objects) noexcept {
+  for (int seg = 0; seg < 3; ++seg) {
+    for (const haptics::SegmentContact& c : gripper.proxy(seg).contacts()) {
+      if (c.object < 0 || static_cast<size_t>(c.object) >= objects.size()) continue;
+      add(contact_stiffness_n_per_m(objects[static_cast<size_t>(c.object)], c.point_W), c.point_W);
+    }
+  }
 }
 
 }  // namespace lap::sim

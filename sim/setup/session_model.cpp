@@ -2,8 +2,52 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "haptics/friction.h"
 
 namespace lap::sim {
+namespace {
+
+std::string number(double v, const char* format = "%.0f") {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+// The duct's wall stiffness across it at the middle of its top (the side away from the
+// membrane, local +y: duct_fit.h), from its modes: a unit force there moves it by the static
+// compliance Σ (φ_m · n)² / ω_m² (mass-normalised modes), n the outward normal.
+double duct_wall_stiffness(const DuctTissue& duct) {
+  if (duct.model == nullptr || duct.rest_D.empty()) return 0.0;
+  double z_min = std::numeric_limits<double>::infinity();
+  double z_max = -z_min;
+  for (const Eigen::Vector3d& p : duct.rest_D) {
+    z_min = std::min(z_min, p.z());
+    z_max = std::max(z_max, p.z());
+  }
+  const double z_mid = 0.5 * (z_min + z_max);
+  size_t top = 0;
+  for (size_t v = 1; v < duct.rest_D.size(); ++v) {
+    const Eigen::Vector3d& p = duct.rest_D[v];
+    const Eigen::Vector3d& q = duct.rest_D[top];
+    const double dz = std::abs(p.z() - z_mid) - std::abs(q.z() - z_mid);
+    if (dz < -1e-9 || (dz <= 1e-9 && p.y() > q.y())) top = v;
+  }
+  const Eigen::Vector3d n =
+      Eigen::Vector3d(duct.rest_D[top].x(), duct.rest_D[top].y(), 0.0).normalized();
+  const Eigen::MatrixXd& phi = duct.model->translation_modes();
+  const Eigen::VectorXd& omega = duct.model->omega();
+  double compliance = 0.0;
+  for (Eigen::Index m = 0; m < phi.cols(); ++m) {
+    const double along_n = phi.block<3, 1>(3 * static_cast<Eigen::Index>(top), m).dot(n);
+    compliance += along_n * along_n / (omega(m) * omega(m));
+  }
+  return compliance > 0.0 ? 1.0 / compliance : 0.0;
+}
+
+}  // namespace
 
 Result<std::shared_ptr<const SessionModel>> SessionModel::build(
     const Scene& scene, const RuntimeSettings& settings,
@@ -16,7 +60,8 @@ Result<std::shared_ptr<const SessionModel>> SessionModel::build(
   if (Status tools = m->build_tools(scene, devices); !tools.ok()) return tools.diagnostics();
   if (Status tissue = m->build_tissue(scene); !tissue.ok()) return tissue.diagnostics();
   m->build_surfaces(scene);
-  m->note_stiff_tissue(scene);
+  m->duct_wall_stiffness_n_per_m_ = duct_wall_stiffness(m->tissue_->duct());
+  m->note_stiffness_budget(scene);
   return std::shared_ptr<const SessionModel>(std::move(m));
 }
 
@@ -121,17 +166,93 @@ void SessionModel::build_surfaces(const Scene& scene) {
   }
 }
 
-void SessionModel::note_stiff_tissue(const Scene& scene) {
-  // A tissue stiffer than a device renders stably is worth saying before the session starts.
-  for (size_t i = 0; i < scene.organs.size(); ++i) {
-    for (const ToolModel& tool : tools_) {
-      const double k = objects_[i].law.stiffness_n_per_m;
-      const double k_max = tool.device.limits.max_stiffness_n_per_m;
-      if (k > k_max) {
-        notes_.push_back(scene.organs[i].name + ": stiffness " + std::to_string(k) +
-                         " N/m is above what " + tool.device.name + " renders stably (" +
-                         std::to_string(k_max) + " N/m); expect buzzing");
+double SessionModel::contact_stiffness_n_per_m(int32_t organ) const {
+  const haptics::HapticObject& o = objects_[static_cast<size_t>(organ)];
+  double k = o.law.stiffness_n_per_m;
+  if (o.friction != nullptr && o.friction->enabled()) {
+    k = std::max(k, o.friction->stick_stiffness_n_per_m);
+  }
+  return k;
+}
+
+double SessionModel::felt_stiffness_n_per_m(int32_t organ) const {
+  const double k = objects_[static_cast<size_t>(organ)].law.stiffness_n_per_m;
+  switch (tissue_->organ(organ).kind) {
+    case TissueKind::kLocal:
+      return (1.0 - tissue_->settings().local.surface_share) * k;
+    case TissueKind::kDuct:
+      return duct_wall_stiffness_n_per_m_ > 0.0
+                 ? 1.0 / (1.0 / k + 1.0 / duct_wall_stiffness_n_per_m_)
+                 : k;
+    case TissueKind::kFixed:
+      break;
+  }
+  return k;
+}
+
+void SessionModel::note_stiffness_budget(const Scene& scene) {
+  // The haptic loop keeps each tool's stiffness at the handle within its device's, tick by tick
+  // (sim/runtime/trocar_tool.h, hardware/command_limiter.h): worth telling beforehand where the
+  // budget will bind. Per tool: its three segments pressing each organ from the first touch on
+  // (the organ's point nearest the port: the shortest lever, so the least the hand feels there),
+  // holding the duct (the contacts and every grasped node's spring) and holding the catheter at
+  // the task's target (its haptic-rate coupling). On the axis a spring's lever² is
+  // max(1, (b/a)²).
+  const TissueWorldSettings& ws = tissue_->settings();
+  for (size_t side = 0; side < 2; ++side) {
+    const ToolModel& tool = tools_[side];
+    const TrocarToolSettings& t = tool.trocar;
+    const double k_max = tool.device.limits.max_stiffness_n_per_m;
+    if (!(k_max > 0.0)) continue;
+    auto lever2 = [&](const Eigen::Vector3d& p) {
+      const double b =
+          std::clamp((p - t.port_W).norm(), t.min_inside_m, t.shaft_length_m - t.min_outside_m);
+      const double ratio = b / (t.shaft_length_m - b);
+      return std::max(1.0, ratio * ratio);
+    };
+    std::string over;
+    auto item = [&](const std::string& what, const std::string& sum, double lever, double k) {
+      if (k * lever <= k_max) return;
+      if (!over.empty()) over += "; ";
+      over += what;
+      over += ": (" + sum + ") × lever² ";
+      over += number(lever, "%.2f");
+      over += " = " + number(k * lever);
+      over += " N/m, rendered at " + number(100.0 * k_max / (k * lever));
+      over += " %";
+    };
+    for (size_t i = 0; i < scene.organs.size(); ++i) {
+      const auto organ = static_cast<int32_t>(i);
+      double nearest = std::numeric_limits<double>::infinity();
+      Eigen::Vector3d p = t.port_W;
+      for (const Eigen::Vector3d& v : tissue_->surface(organ).positions) {
+        if ((v - t.port_W).norm() < nearest) {
+          nearest = (v - t.port_W).norm();
+          p = v;
+        }
       }
+      const double k = contact_stiffness_n_per_m(organ);
+      item(scene.organs[i].name + " from its first touch", "3 segments × " + number(k) + " N/m",
+           lever2(p), 3.0 * k);
+      if (organ == tissue_->duct_organ()) {
+        const double k_grasp =
+            models::DuctGraspState::kMaxNodes * ws.duct_grasp.attach_stiffness_n_per_m;
+        item("holding " + scene.organs[i].name,
+             "3 segments × " + number(k) + " + " +
+                 std::to_string(models::DuctGraspState::kMaxNodes) + " nodes × " +
+                 number(ws.duct_grasp.attach_stiffness_n_per_m) + " N/m",
+             lever2(p), 3.0 * k + k_grasp);
+      }
+    }
+    if (scene.scenario.catheter) {
+      const double k = ws.catheter_grasp.coupling_stiffness_n_per_m;
+      item("holding the catheter at the target", "the coupling's " + number(k) + " N/m",
+           lever2(scene.task_target_point()), k);
+    }
+    if (!over.empty()) {
+      notes_.push_back(std::string(side == 0 ? "left" : "right") + " tool: the stiffness at the " +
+                       "handle is above what " + tool.device.name + " renders stably (" +
+                       number(k_max) + " N/m) and is scaled down there: " + over);
     }
   }
 }

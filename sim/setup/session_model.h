@@ -60,9 +60,22 @@ class SessionModel {
   [[nodiscard]] std::vector<const haptics::MeshDatabase*> rest_databases() const;
   [[nodiscard]] std::vector<const haptics::SegmentDatabase*> rest_segment_databases() const;
   [[nodiscard]] std::vector<const haptics::ShadingNormals*> rest_shading() const;
-  /// What is worth telling before the session starts (the duct's modes rebuilt, a tissue
-  /// stiffer than a device renders stably).
+  /// What is worth telling before the session starts (the duct's modes rebuilt, a tool whose
+  /// stiffness budget at the handle is over its device's limit).
   [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
+  /// The stiffness a contact with organ i renders at the tool, tick by tick: its force law's k,
+  /// or its sticking friction spring where stiffer [N/m]. What the haptic loop's stiffness
+  /// budget counts per contact (sim/runtime/trocar_tool.h).
+  [[nodiscard]] double contact_stiffness_n_per_m(int32_t organ) const;
+  /// The stiffness the hand feels pressing organ i at the tool's tip once the tissue has given
+  /// way (quasi-static, before the lever): (1 − s) k for an organ that dents locally (s the
+  /// surface's share, models/local_deformation.h), k in series with the duct's own wall at its
+  /// middle (its modes' static compliance there, across the wall), k for a rigid organ [N/m].
+  /// docs/tissue-parameters.md derives each scenario value.
+  [[nodiscard]] double felt_stiffness_n_per_m(int32_t organ) const;
+  /// The duct's wall stiffness across it at the middle of its top, from its modes [N/m]; 0
+  /// without a duct.
+  [[nodiscard]] double duct_wall_stiffness_n_per_m() const { return duct_wall_stiffness_n_per_m_; }
   [[nodiscard]] const std::string& scenario_file() const { return scenario_file_; }
   /// Each organ's name, as the scenario gives it.
   [[nodiscard]] const std::vector<std::string>& organ_names() const { return organ_names_; }
@@ -73,7 +86,7 @@ class SessionModel {
   Status build_tools(const Scene& scene, const std::array<DeviceDescription, 2>& devices);
   Status build_tissue(const Scene& scene);
   void build_surfaces(const Scene& scene);
-  void note_stiff_tissue(const Scene& scene);
+  void note_stiffness_budget(const Scene& scene);
 
   RuntimeSettings settings_;
   SessionTiming timing_;
@@ -86,6 +99,7 @@ class SessionModel {
   std::vector<haptics::HapticObject> objects_;
   std::vector<std::string> notes_;
   std::vector<std::string> organ_names_;
+  double duct_wall_stiffness_n_per_m_ = 0.0;
 };
 
 }  // namespace lap::sim

@@ -36,7 +36,8 @@ struct TissueWorldSettings {
   Eigen::Vector3d catheter_start_W = Eigen::Vector3d::Zero();  ///< particle 0, held there
   Eigen::Vector3d catheter_direction_W = Eigen::Vector3d::UnitX();
   models::LocalDeformationSettings local;
-  double duct_wall_thickness_m = 0.0008;
+  /// The duct's wall (DuctSettings): about 1 mm (estimate), 3 mm inside a 5 mm duct.
+  double duct_wall_thickness_m = 0.001;
   models::GraspSettings catheter_grasp;
   models::DuctGraspSettings duct_grasp;
   std::filesystem::path mode_cache_dir;  ///< empty: default_mode_cache_dir()

@@ -143,7 +143,7 @@ void model_step(benchmark::State& state, int64_t ticks_per_face) {
   state.counters["duct_triangles"] = static_cast<double>(dbs.back()->face_count());
   state.counters["catheter_particles"] = world->catheter_model().particle_count();
   state.counters["catheter_contacts"] = world->catheter_contacts();
-  state.counters["catheter_grasped"] = world->catheter_grasps()[1].count;
+  state.counters["catheter_grasped"] = world->catheter_grasps()[1].grasping() ? 1.0 : 0.0;
   state.counters["guard_splits"] = static_cast<double>(world->catheter().guard_refinements);
 }
 // The dent held on each face for 20 ticks (0.1 s) while its depth changes every tick: the

@@ -249,7 +249,7 @@ TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
         local_edges.refit_edge_tree();
       } else {
         local.set_positions(positions, moved, &scratch);
-        local_edges.refit_edge_tree(scratch.dirty_faces, &edge_scratch);
+        local_edges.refit_moved_edges(scratch.moved, &edge_scratch);
       }
       plain.set_positions(positions, moved);
       full.set_positions(positions);

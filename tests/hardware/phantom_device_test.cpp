@@ -67,6 +67,7 @@ TEST_F(PhantomDeviceTest, ReadsMillimetresAsMetresInTheWorldAndSendsForcesInTheD
   const Status started = dev.start();
   ASSERT_TRUE(started.ok()) << started.message();
   EXPECT_EQ(dev.limits().max_force_n, 3.3);
+  EXPECT_EQ(dev.limits().max_continuous_force_n, 0.88);  // HD_NOMINAL_MAX_CONTINUOUS_FORCE
   EXPECT_NEAR(dev.limits().max_stiffness_n_per_m, 2310.0, 1e-9);
   EXPECT_EQ(fake.force_output_enabled(0), true);
   fake.set_state(0, {10.0, 20.0, 30.0}, {100.0, 0.0, 0.0}, 1);

@@ -179,7 +179,11 @@ DuctPush push_against_duct(bool outside, bool keep_side) {
   // beyond the clearance: the held catheter bends little), pushed +x.
   CatheterState cath =
       outside
-          ? CatheterState(model, Eigen::Vector3d(-0.0053, -0.012, 0.015), Eigen::Vector3d::UnitY())
+          // Just clear of the duct's outer surface (0.05 mm), crossing it.
+          ? CatheterState(model,
+                          Eigen::Vector3d(-(0.5 * duct.outer_diameter_m + model.radius_m() + 5e-5),
+                                          -0.012, 0.015),
+                          Eigen::Vector3d::UnitY())
           : CatheterState(model, Eigen::Vector3d(0.0, 0.0, 0.003), Eigen::Vector3d::UnitZ());
   if (outside) {
     // Held at both ends, as a hand and the trocar would: pushed free, it slides off the round,

@@ -63,6 +63,7 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
   duct_jaws.hinge_W = Eigen::Vector3d(0.015, 0.0, 0.5 * duct.length_m);
   duct_jaws.rotation_WJ << 0, 1, 0, 1, 0, 0, 0, 0, -1;
   int64_t duct_grasps = 0;
+  int64_t catheter_grasps = 0;
 
   int64_t allocations = 0;
   {
@@ -97,11 +98,16 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
 
       cath.external_force[40] = Eigen::Vector3d(0.0, 0.01 * std::sin(0.01 * step), 0.0);
       jaws.opening_rad = 0.5 + 0.4 * std::sin(0.02 * step);
-      (void)update_grasp({}, jaws, catheter, &cath, &grasp);
-      (void)coupling_force({}, jaws, cath, grasp);
+      // Over particle 21 while open (the tool follows the catheter), still while closed.
+      if (jaws.opening_rad > 0.45) jaws.hinge_W = cath.positions[21] + Eigen::Vector3d(0, 0.01, 0);
+      clear_anchors(&cath);
+      catheter_grasps += update_grasp({}, jaws, catheter, &cath, &grasp).grasped_now ? 1 : 0;
+      (void)coupling_wrench({}, {jaws, jaws, 0.001, 0.002}, catheter,
+                            {cath.positions, cath.velocities}, grasp);
       clear_contacts(&cath);
       const int32_t n = update_surface_contacts(block, block_pose, {}, &tracking, &cath, reactions);
       EXPECT_TRUE(step_catheter(catheter, &cath, 0.005));
+      finish_grasp_step(cath, &grasp);
       settle_reactions(cath, {reactions.data(), static_cast<size_t>(n)});
 
       apply_force_at(body, &body_state, Eigen::Vector3d(0.1, 0.0, 0.0),
@@ -113,6 +119,7 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
   EXPECT_EQ(allocations, 0);
   EXPECT_GT(cath.guard_refinements, 0);  // the guard's path was exercised too
   EXPECT_GT(duct_grasps, 2);             // and the duct's anchored step
+  EXPECT_GT(catheter_grasps, 2);         // and the catheter's grasp
 }
 
 }  // namespace

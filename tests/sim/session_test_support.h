@@ -67,8 +67,9 @@ class FaultyDevice final : public hardware::HapticDevice {
  public:
   enum class Fault { kNone, kNaN, kError, kDisconnect, kStall };
   static constexpr int kStallMs = 30;
-  FaultyDevice(hardware::ScriptedTrajectory t, Fault fault, int64_t at)
-      : inner_(std::move(t), "faulty"), fault_(fault), at_(at) {}
+  FaultyDevice(hardware::ScriptedTrajectory t, Fault fault, int64_t at,
+               const hardware::DeviceLimits& limits = {})
+      : inner_(std::move(t), "faulty", limits), fault_(fault), at_(at) {}
   Status start() override { return inner_.start(); }
   void stop() override {}
   DeviceStatus read(int64_t tick, double dt, hardware::DeviceSample* out) noexcept override {

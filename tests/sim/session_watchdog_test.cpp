@@ -130,7 +130,12 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 // A session of the left tool pushed in and held there, pressing on the organs (push_and_hold),
-// with lateness injected at some ticks: what it sent, and its metrics.
+// with lateness injected at some ticks: what it sent, and its metrics. The device has no
+// sustained-force bound and a stiffness limit the tool's budget never reaches: the runs compare
+// the ramps after a late tick or a pause with a run without them, and both limits keep a state
+// (the motors' heat, the stiffness scale recovering) that would make each command depend on what
+// was sent before, or on whether the session was paused (they have their own tests,
+// tests/hardware/command_limiter_test.cpp).
 struct HeldRun {
   std::vector<hardware::DeviceCommand> commands;
   SessionMetrics metrics;
@@ -142,8 +147,11 @@ HeldRun held_run(const std::vector<std::pair<int64_t, double>>& lateness,
                  const std::function<void(Session*, int64_t)>& on_read = {}) {
   HeldRun r;
   const Scene& scene = default_scene();
-  auto left =
-      std::make_unique<FaultyDevice>(push_and_hold(scene, 0), FaultyDevice::Fault::kNone, -1);
+  hardware::DeviceLimits stateless;
+  stateless.max_continuous_force_n = 0.0;
+  stateless.max_stiffness_n_per_m = 1e9;
+  auto left = std::make_unique<FaultyDevice>(push_and_hold(scene, 0), FaultyDevice::Fault::kNone,
+                                             -1, stateless);
   left->commands.reserve(4000);
   FaultyDevice* dev = left.get();
   auto created = Session::create(scene, with_left(scene, std::move(left)), rs);

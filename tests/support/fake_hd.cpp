@@ -149,6 +149,9 @@ void hdGetDoublev(HDenum what, double* out) {
     case 0x2603:
       *out = 3.3;  // N
       break;
+    case 0x2604:    // HD_NOMINAL_MAX_CONTINUOUS_FORCE
+      *out = 0.88;  // N, a PHANToM Omni's
+      break;
     default:
       g_error = 0x0100;  // invalid enum
   }
