@@ -303,10 +303,14 @@ inline FaceParts face_parts(const std::array<int32_t, 3>& t,
 
 // The corner angles from {twice_area, dot_a, dot_b} (zero for a degenerate face): corner_angle()
 // (corner_angle.h) at the first two corners, both at once in the lanes of one vector, the same
-// operations in the same order per lane (so the same bits, MeshDatabase.CornerAnglesOfAFace
-// checks it): four divisions in two passes through the divider instead of four. y > 0, so the
-// ratio min(y, |x|) / max(y, |x|) is corner_angle()'s y / |x| or |x| / y, in [0, 1].
-inline std::array<double, 3> corner_angles(const std::array<double, 3>& y_dots) {
+// operations in the same order per lane, so the same bits (the incremental-region test of
+// tests/haptics/mesh_database_test.cpp checks the vertex normals against corner_angle() bit for
+// bit): four divisions in two passes through the divider instead of four. y > 0, so the ratio
+// min(y, |x|) / max(y, |x|) is corner_angle()'s y / |x| or |x| / y, in [0, 1]. Always inlined:
+// out of line (GCC's choice, with several callers) each call in the loop of arctangents waited
+// for the last one's result, about 5 µs of the sliding dent's modelling step.
+[[gnu::always_inline]] inline std::array<double, 3> corner_angles(
+    const std::array<double, 3>& y_dots) {
   constexpr double kPi = 3.14159265358979323846;
   const double y = y_dots[0];
   if (!(y > 0.0)) return {0.0, 0.0, 0.0};
@@ -366,14 +370,8 @@ void MeshDatabase::update_vertex_normal(int32_t v) {
 }
 
 void MeshDatabase::refit_tree() {
-  tree_.refit([this](int32_t f, double* lo, double* hi) {
-    for (int32_t v : face_vertices_[f]) {
-      const Eigen::Vector3d& p = positions_[v];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = p[a] < lo[a] ? p[a] : lo[a];
-        hi[a] = p[a] > hi[a] ? p[a] : hi[a];
-      }
-    }
+  tree_.refit([this](int32_t f, RefitBounds* b) {
+    for (const int32_t v : face_vertices_[f]) b->add(positions_[v]);
   });
 }
 
@@ -466,8 +464,9 @@ bool VertexSetDelta::update(std::span<const int32_t> list) {
     st = 0;
   }
   for (const int32_t v : current) state[static_cast<size_t>(v)] = 1;
-  ++version_;
-  return true;
+  const bool changed = !entered.empty() || !left.empty();
+  if (changed) ++version_;
+  return changed;
 }
 
 void VertexSetDelta::clear() {
@@ -524,12 +523,12 @@ inline void flip_bit(std::vector<uint64_t>& bits, int32_t i) {
   bits[static_cast<size_t>(i) >> 6U] ^= uint64_t{1} << (static_cast<unsigned>(i) & 63U);
 }
 
-// Calls visit(i) for each set bit i, ascending.
-template <typename Visit>
-inline void for_each_bit(const std::vector<uint64_t>& bits, const Visit& visit) {
+// The set bits' indices, ascending, into *list (within its reserved capacity).
+inline void list_bits(const std::vector<uint64_t>& bits, std::vector<int32_t>* list) {
+  list->clear();
   for (size_t w = 0; w < bits.size(); ++w) {
     for (uint64_t b = bits[w]; b != 0; b &= b - 1) {
-      visit(static_cast<int32_t>(w * 64 + static_cast<size_t>(std::countr_zero(b))));
+      list->push_back(static_cast<int32_t>(w * 64 + static_cast<size_t>(std::countr_zero(b))));
     }
   }
 }
@@ -583,40 +582,35 @@ void MeshDatabase::update_region(std::span<const int32_t> moved, MeshUpdateScrat
 // normal and corner angles, then each vertex of those faces sums its faces' shares (§4.2),
 // reshaped or not, as update_normals() does. Lists the faces and vertices it recomputed.
 void MeshDatabase::update_region_normals(MeshUpdateScratch* s) {
-  // In two passes, the second only the arctangents (from y = |e1 x e2| and the corners' dot
-  // products, parked in face_angles): a short loop of independent iterations, which the
-  // processor overlaps far better than the whole shape's long chain.
-  s->dirty_faces.clear();
-  for_each_bit(s->face_bits, [&](int32_t f) {
-    s->dirty_faces.push_back(f);
+  // The lists first, so that the loops below carry nothing from one iteration to the next
+  // through memory: each is a chain of a square root and divisions, and the processor overlaps
+  // consecutive chains only as far as nothing else holds them up.
+  list_bits(s->face_bits, &s->dirty_faces);
+  list_bits(s->vertex_bits, &s->dirty_vertices);
+  // The faces in two passes, the second only the arctangents (from y = |e1 x e2| and the
+  // corners' dot products, parked in face_angles): a short loop of independent iterations, which
+  // the processor overlaps far better than the whole shape's long chain.
+  for (const int32_t f : s->dirty_faces) {
     const FaceParts parts = face_parts(face_vertices_[f], positions_);
     face_normals_[f] = parts.unit;
     s->face_angles[f] = {parts.twice_area, parts.dot_a, parts.dot_b};
-  });
+  }
   for (const int32_t f : s->dirty_faces) s->face_angles[f] = corner_angles(s->face_angles[f]);
-  s->dirty_vertices.clear();
-  for_each_bit(s->vertex_bits, [&](int32_t w) {
-    s->dirty_vertices.push_back(w);
+  for (const int32_t w : s->dirty_vertices) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (const int32_t c : s->corners_of(w)) {
       sum += s->face_angles[c >> 2][c & 3] * face_normals_[c >> 2];
     }
     vertex_normals_[w] = unit_or_up(sum);
-  });
+  }
   s->angles_of = this;
   s->angles_revision = revision_;
 }
 
 // The tree: the leaves holding the region's faces and their ancestors, each once.
-void MeshDatabase::refit_region(MeshUpdateScratch* s) {
-  tree_.refit_marked(s->tree, [this](int32_t f, double* lo, double* hi) {
-    for (int32_t v : face_vertices_[f]) {
-      const Eigen::Vector3d& p = positions_[v];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = p[a] < lo[a] ? p[a] : lo[a];
-        hi[a] = p[a] > hi[a] ? p[a] : hi[a];
-      }
-    }
+void MeshDatabase::refit_region(const MeshUpdateScratch& s) {
+  tree_.refit_marked(s.tree, [this](int32_t f, RefitBounds* b) {
+    for (const int32_t v : face_vertices_[f]) b->add(positions_[v]);
   });
 }
 
@@ -633,7 +627,7 @@ void MeshDatabase::set_positions(std::span<const Eigen::Vector3d> positions,
   ++revision_;
   update_region(moved, s);
   update_region_normals(s);
-  refit_region(s);
+  refit_region(*s);
 }
 
 size_t MeshDatabase::memory_bytes() const {

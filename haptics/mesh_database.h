@@ -53,9 +53,10 @@ class MeshDatabase;
 /// vertex count at setup; update() allocates nothing.
 struct VertexSetDelta {
   explicit VertexSetDelta(int32_t vertex_count);
-  /// Makes `list` (vertices in range; one listed twice counts once) the set. Returns false, with
-  /// entered and left empty and the version kept, when `list` equals the last one entry for
-  /// entry (a dent held still); else the version moves on by one.
+  /// Makes `list` (vertices in range; one listed twice counts once) the set. Returns whether the
+  /// set changed: if so the version moves on by one, if not (the same vertices, as when a dent
+  /// is held still) entered and left are empty. The same list as the last, entry for entry, is
+  /// recognised at once.
   bool update(std::span<const int32_t> list);
   /// Empties the set (O(vertex count)). The version moves on by two: entered and left do not say
   /// what changed, so a follower must start afresh from `current`.
@@ -248,7 +249,7 @@ class MeshDatabase {
   void add_region_face(int32_t f, MeshUpdateScratch* s) const;
   void drop_region_face(int32_t f, MeshUpdateScratch* s) const;
   void update_region_normals(MeshUpdateScratch* s);
-  void refit_region(MeshUpdateScratch* s);
+  void refit_region(const MeshUpdateScratch& s);
   friend struct MeshUpdateScratch;
   [[nodiscard]] Eigen::Vector3d compute_face_normal(int32_t f) const;
 

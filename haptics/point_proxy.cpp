@@ -141,7 +141,7 @@ PrimitiveRef PointProxy::local_search(const MeshDatabase& m, PrimitiveRef start,
 void PointProxy::reset(const Eigen::Vector3d& hip_W) {
   count_ = 0;
   ihip_W_ = hip_W.allFinite() ? hip_W : Eigen::Vector3d::Zero();
-  prev_penetration_.setZero();
+  prev_hip_W_ = ihip_W_;
   initialised_ = true;
   friction_.phase = FrictionState::Phase::kNone;
   hover_object_ = -1;
@@ -232,14 +232,15 @@ struct PointProxy::Leaving {
 };
 
 // What the force of stage 5 comes from: the penetration vector, the law that turns it into a
-// force, and the touched object with its contact point and normal (object frame) for friction.
-// No law: no force.
+// force, the touched object with its contact point and normal (object frame) for friction, and
+// the outward normal the damper measures the HIP's approach along. No law: no force.
 struct PointProxy::ForceSource {
   Eigen::Vector3d penetration = Eigen::Vector3d::Zero();
   const ForceLaw* law = nullptr;
   int32_t touched = -1;
   Eigen::Vector3d contact_O = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal_O = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d approach_normal_W = Eigen::Vector3d::UnitY();
 };
 
 PointProxyOutput PointProxy::fault(const Eigen::Vector3d& hip) noexcept {
@@ -370,6 +371,13 @@ PointProxy::ForceSource PointProxy::contact_force_source(std::span<const HapticO
   const Eigen::Isometry3d pose_OW = touched.pose_WO.inverse();
   f.contact_O = pose_OW * first.point_W;
   f.normal_O = touched.pose_WO.linear().transpose() * first.normal_W;
+  // The damper: along the contact's normal, whatever shading or a texture make of the force's
+  // direction (sliding along the surface is not an approach); in a crease (several contacts)
+  // along the force, from the HIP to the IHIP.
+  f.approach_normal_W = first.normal_W;
+  if (count_ > 1 && (ihip_W_ - hip).squaredNorm() > 0.0) {
+    f.approach_normal_W = (ihip_W_ - hip).normalized();
+  }
   if (count_ == 1 && touched.texture != nullptr) {
     const double depth = std::max(0.0, first.normal_W.dot(ihip_W_ - hip));
     f.penetration = texture_penetration(touched, f.contact_O, f.normal_O, -depth);
@@ -416,6 +424,7 @@ PointProxy::ForceSource PointProxy::hover_force_source(std::span<const HapticObj
     f.touched = hover_object_;
     f.contact_O = q_O;
     f.normal_O = n_O;
+    f.approach_normal_W = o.pose_WO.linear() * n_O;
     out->texture_contact = true;
     out->object = hover_object_;
     out->primitive = hover_primitive_;
@@ -424,18 +433,25 @@ PointProxy::ForceSource PointProxy::hover_force_source(std::span<const HapticObj
   return f;
 }
 
-void PointProxy::apply_force(std::span<const HapticObject> objects, double dt, const ForceSource& f,
-                             PointProxyOutput* out) noexcept {
+double PointProxy::approach_speed(const HapticObject& touched, const Eigen::Vector3d& hip,
+                                  double dt, const ForceSource& f) const noexcept {
+  if (!(dt > 0.0)) return 0.0;
+  const Eigen::Vector3d surface_now = touched.pose_WO * f.contact_O;
+  const Eigen::Vector3d surface_before = touched.prev_pose_WO * f.contact_O;
+  const Eigen::Vector3d relative = ((hip - prev_hip_W_) - (surface_now - surface_before)) / dt;
+  return -relative.dot(f.approach_normal_W);
+}
+
+void PointProxy::apply_force(std::span<const HapticObject> objects, const Eigen::Vector3d& hip,
+                             double dt, const ForceSource& f, PointProxyOutput* out) noexcept {
   if (f.law == nullptr) {
-    prev_penetration_.setZero();
     friction_.phase = FrictionState::Phase::kNone;
     return;
   }
-  const Eigen::Vector3d rate = dt > 0.0 ? Eigen::Vector3d((f.penetration - prev_penetration_) / dt)
-                                        : Eigen::Vector3d::Zero();
-  out->force_W = contact_force(*f.law, f.penetration, rate);
-  prev_penetration_ = f.penetration;
   const HapticObject& touched = objects[f.touched];
+  // Damped on the HIP's own velocity, not on the rate of the penetration vector: that jumps with
+  // the IHIP (an edge passed, a contact added or released) while the hand moves smoothly.
+  out->force_W = contact_force(*f.law, f.penetration, approach_speed(touched, hip, dt, f));
   if (touched.friction == nullptr) {
     friction_.phase = FrictionState::Phase::kNone;
     return;
@@ -481,7 +497,8 @@ PointProxyOutput PointProxy::step(std::span<const HapticObject> objects, const E
   } else if (hover_object_ >= 0) {
     source = hover_force_source(objects, hip, &out);
   }
-  apply_force(objects, dt, source, &out);
+  apply_force(objects, hip, dt, source, &out);
+  prev_hip_W_ = hip;
   out.ihip_W = ihip_W_;
   out.contact_count = count_;
   if (!out.force_W.allFinite() || !out.ihip_W.allFinite()) return fault(hip);

@@ -77,7 +77,7 @@ class PointProxy {
   /// Places the proxy in free space at hip_W.
   void reset(const Eigen::Vector3d& hip_W);
 
-  /// One haptic tick. dt [s] is used for the damping rate.
+  /// One haptic tick. dt [s] gives the HIP's velocity (from its last position) for the damping.
   PointProxyOutput step(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
                         double dt) noexcept;
 
@@ -131,9 +131,14 @@ class PointProxy {
   /// Stage 5, free of contacts near a textured object: the penetration into its bumps.
   ForceSource hover_force_source(std::span<const HapticObject> objects,
                                  const Eigen::Vector3d& hip_W, PointProxyOutput* out) noexcept;
-  /// Stage 5: the force law, its damping rate and friction (§6.2), clamped to the law's maximum.
-  void apply_force(std::span<const HapticObject> objects, double dt, const ForceSource& source,
-                   PointProxyOutput* out) noexcept;
+  /// Stage 5: the force law, damped on the HIP's approach to the touched surface, and friction
+  /// (§6.2), clamped to the law's maximum.
+  void apply_force(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W, double dt,
+                   const ForceSource& source, PointProxyOutput* out) noexcept;
+  /// The HIP's speed into the touched surface along its outward normal n_W [m/s]: its velocity
+  /// from its last position, less that of the object's point at the contact (§6.4).
+  [[nodiscard]] double approach_speed(const HapticObject& touched, const Eigen::Vector3d& hip_W,
+                                      double dt, const ForceSource& source) const noexcept;
 
   /// The IHIP: the point nearest the HIP on or outside every contact's plane.
   Eigen::Vector3d combine(const Eigen::Vector3d& hip_W) const noexcept;
@@ -149,7 +154,7 @@ class PointProxy {
   std::array<PointContact, kMaxContacts> contacts_{};
   int32_t count_ = 0;
   Eigen::Vector3d ihip_W_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d prev_penetration_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d prev_hip_W_ = Eigen::Vector3d::Zero();  // the HIP at the last tick [m]
   bool initialised_ = false;
   PointProxyStats stats_;
   FrictionState friction_;

@@ -227,14 +227,8 @@ void SegmentDatabase::build_edge_tree(int32_t max_leaf_edges) {
 
 void SegmentDatabase::refit_edge_tree() {
   const MeshDatabase& mesh = *mesh_;
-  edge_tree_.refit([&](int32_t k, double* lo, double* hi) {
-    for (int32_t v : mesh.edge_vertices(tree_edges_[k])) {
-      const Eigen::Vector3d& p = mesh.position(v);
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], p[a]);
-        hi[a] = std::max(hi[a], p[a]);
-      }
-    }
+  edge_tree_.refit([&](int32_t k, RefitBounds* b) {
+    for (const int32_t v : mesh.edge_vertices(tree_edges_[k])) b->add(mesh.position(v));
   });
 }
 
@@ -264,14 +258,8 @@ void SegmentDatabase::refit_moved_edges(const VertexSetDelta& moved, SegmentUpda
   }
   s->version = moved.version();
   const MeshDatabase& mesh = *mesh_;
-  edge_tree_.refit_marked(s->tree, [&](int32_t k, double* lo, double* hi) {
-    for (int32_t v : s->slot_vertices[static_cast<size_t>(k)]) {
-      const Eigen::Vector3d& p = mesh.position(v);
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], p[a]);
-        hi[a] = std::max(hi[a], p[a]);
-      }
-    }
+  edge_tree_.refit_marked(s->tree, [&](int32_t k, RefitBounds* b) {
+    for (const int32_t v : s->slot_vertices[static_cast<size_t>(k)]) b->add(mesh.position(v));
   });
 }
 

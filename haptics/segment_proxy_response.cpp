@@ -213,17 +213,25 @@ void SegmentProxy::apply_contact_force(std::span<const HapticObject> objects, do
   const Eigen::Vector3d& normal = contact->normal_W;
   const Eigen::Vector3d x_virtual = lerp(virtual_a_, virtual_b_, u_eq);
   const double depth = normal.dot(plane_point - x_virtual);
-  const Eigen::Vector3d velocity =
-      (lerp(virtual_a_, virtual_b_, u_eq) - lerp(prev_virtual_a_, prev_virtual_b_, u_eq)) / dt;
   const HapticObject& o = objects[contact->object];
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   Eigen::Vector3d friction = Eigen::Vector3d::Zero();
   contact->friction_phase = FrictionState::Phase::kNone;
   if (depth > 0.0) {
     // The surface point: the virtual probe's equilibrium point projected onto the plane.
-    const SurfacePoint s = surface_point(o, *contact, x_virtual + depth * normal);
-    force = contact_force(o.law, surface_penetration(o, s, depth, normal),
-                          normal.dot(velocity) * normal);
+    const Eigen::Vector3d surface_W = x_virtual + depth * normal;
+    const SurfacePoint s = surface_point(o, *contact, surface_W);
+    // Damped on the probe's own motion into the surface (the virtual probe's point at u_eq, the
+    // hand's), relative to the object's point there (§6.4), as the point proxy is: never on the
+    // change of the penetration, which jumps with the ideal probe and the equilibrium point.
+    double approach = 0.0;
+    if (dt > 0.0) {
+      const Eigen::Vector3d probe_moved = x_virtual - lerp(prev_virtual_a_, prev_virtual_b_, u_eq);
+      const Eigen::Vector3d surface_moved =
+          surface_W - o.prev_pose_WO * (o.pose_WO.inverse() * surface_W);
+      approach = -normal.dot(probe_moved - surface_moved) / dt;
+    }
+    force = contact_force(o.law, surface_penetration(o, s, depth, normal), approach);
     if (o.friction != nullptr) {
       friction = contact_friction(o, contact_count_ - 1, s, std::max(0.0, force.dot(normal)));
       force += friction;

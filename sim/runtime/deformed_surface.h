@@ -29,12 +29,14 @@ class DeformedSurface {
  public:
   explicit DeformedSurface(std::vector<Eigen::Vector3d> rest);
   /// Applies a published deformation (no allocation). Returns the vertices whose position
-  /// changed, valid until the next call; a deformation naming a vertex out of range is ignored
+  /// changed, valid until the next call: those the last deformation displaced, in its order,
+  /// then those only this one displaces (the same deformation again gives the same list, so the
+  /// database's region is kept as it is). A deformation naming a vertex out of range is ignored
   /// for that vertex.
   std::span<const int32_t> apply(const SurfaceDeformation& d) noexcept;
   /// What a reader keeps in step with the surface: the database (required) and its workspace,
-  /// and optionally the segment database's edge tree (ray-based rendering, §5.2) and the
-  /// force-shading normals (§6.1).
+  /// and optionally the segment database's edge tree (ray-based rendering, §5.2; its workspace
+  /// follows the database workspace's moved set) and the force-shading normals (§6.1).
   struct Targets {
     haptics::MeshDatabase* db = nullptr;
     haptics::MeshUpdateScratch* scratch = nullptr;

@@ -3,7 +3,8 @@
 /// The organs' surfaces as the haptic loop's proxies read them — per organ its database
 /// (§4.2), its segment database (§5.2) and its force-shading normals (§6.1) — as one of three
 /// copies. The modelling thread brings a copy up to date with each step's deformations (§6.5:
-/// normals and trees refitted where the surface moved) and passes it to the haptic thread
+/// normals and trees refitted where the surface moved, over a region each copy keeps from one
+/// take-up to the next) and passes it to the haptic thread
 /// through a triple buffer; the haptic step only points its objects at the newest copy. So the
 /// haptic step never refits a tree or recomputes a normal (that costs a few hundred
 /// microseconds when three organs are dented at once), and it never waits (docs/architecture.md:
@@ -50,8 +51,9 @@ class HapticSurfaces {
   }
   /// The modelling step this copy shows.
   [[nodiscard]] int64_t model_steps() const { return model_steps_; }
-  /// Take-ups of a surface so far that reused the region found for the same moved vertices
-  /// last time (a dent held still), of all take-ups that moved something.
+  /// Take-ups of a surface so far whose moved vertices were those of its last take-up (a dent
+  /// held still: the region kept from the last take-up is used as it is), of all take-ups that
+  /// moved something (the others change the region by what started or stopped moving).
   [[nodiscard]] int64_t regions_reused() const;
   [[nodiscard]] int64_t regions_taken_up() const;
 

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
+#include <string>
 
 #include "haptics/closest_point.h"
 #include "haptics/corner_angle.h"
@@ -286,6 +288,306 @@ TEST(MeshDatabase, LocalUpdateWithScratchEqualsTheFullUpdate) {
       EXPECT_EQ(local.revision(), plain.revision());
     }
   }
+}
+
+// --- The incremental update against references recomputed from the positions alone ---
+
+// The angle-weighted vertex normals (§4.2) of the database's current positions, brute force:
+// every face in ascending order, its unit normal n / |n| and corner_angle() (corner_angle.h) at
+// each corner one at a time, each share added to its vertex; the same formulas and order the
+// database has, none of its update code.
+std::vector<Eigen::Vector3d> reference_vertex_normals(const MeshDatabase& db) {
+  std::vector<Eigen::Vector3d> sum(static_cast<size_t>(db.vertex_count()), Eigen::Vector3d::Zero());
+  for (int32_t f = 0; f < db.face_count(); ++f) {
+    const auto& t = db.face_vertices(f);
+    const Eigen::Vector3d ab = db.position(t[1]) - db.position(t[0]);
+    const Eigen::Vector3d ac = db.position(t[2]) - db.position(t[0]);
+    const Eigen::Vector3d bc = db.position(t[2]) - db.position(t[1]);
+    const Eigen::Vector3d n = ab.cross(ac);
+    const double y = n.norm();
+    if (!(y > 0.0)) continue;  // a degenerate face adds nothing
+    const Eigen::Vector3d unit = n / y;
+    const double angle_a = corner_angle(y, ab.dot(ac));
+    const double angle_b = corner_angle(y, -ab.dot(bc));
+    const double angles[3] = {angle_a, angle_b, 3.14159265358979323846 - angle_a - angle_b};
+    for (int k = 0; k < 3; ++k) sum[static_cast<size_t>(t[k])] += angles[k] * unit;
+  }
+  for (Eigen::Vector3d& n : sum) {
+    const double len = n.norm();
+    n = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitY();
+  }
+  return sum;
+}
+
+// Node i's box recomputed from its primitives' points (points(k, visit) visits primitive k's):
+// a leaf's rounded outward by set_box(), an inner node's the union of its children's.
+template <typename Points>
+BvhNode reference_box(const BoundingVolumeTree& tree, size_t i, const Points& points) {
+  const BvhNode& node = tree.nodes()[i];
+  BvhNode box = node;
+  if (node.count > 0) {
+    Eigen::AlignedBox3d bounds;
+    for (int32_t k = node.first; k < node.first + node.count; ++k) {
+      points(k, [&](const Eigen::Vector3d& p) { bounds.extend(p); });
+    }
+    BoundingVolumeTree::set_box(box, bounds);
+    return box;
+  }
+  const BvhNode a = reference_box(tree, i + 1, points);
+  const BvhNode b = reference_box(tree, static_cast<size_t>(node.first), points);
+  for (int c = 0; c < 3; ++c) {
+    box.lo[c] = std::min(a.lo[c], b.lo[c]);
+    box.hi[c] = std::max(a.hi[c], b.hi[c]);
+  }
+  return box;
+}
+
+// Every node of `tree` against reference_box(); false with the first difference in *why.
+template <typename Points>
+bool boxes_match(const BoundingVolumeTree& tree, const Points& points, std::string* why) {
+  for (size_t i = 0; i < tree.nodes().size(); ++i) {
+    const BvhNode want = reference_box(tree, i, points);
+    if (tree.nodes()[i].lo != want.lo || tree.nodes()[i].hi != want.hi) {
+      *why = "node " + std::to_string(i);
+      return false;
+    }
+  }
+  return true;
+}
+
+// What DeformedSurface (sim/runtime) passes as moved: the vertices displaced before (in their
+// order), then those displaced now and not before.
+std::vector<int32_t> moved_between(const std::vector<int32_t>& before,
+                                   const std::vector<int32_t>& now) {
+  std::vector<int32_t> moved = before;
+  const std::set<int32_t> was(before.begin(), before.end());
+  for (const int32_t v : now) {
+    if (was.count(v) == 0) moved.push_back(v);
+  }
+  return moved;
+}
+
+// A random sequence of dents — sliding by a few millimetres, jumping elsewhere, held still at
+// another depth, growing, two at once, released back to rest — taken up through the workspaces
+// (MeshUpdateScratch, SegmentUpdateScratch), whose regions follow the moved vertices from step to
+// step. After every step: positions as set, face normals the formula's bit for bit, vertex
+// normals bit for bit those recomputed from the positions alone, every node box of the face and
+// edge trees equal to one recomputed from its primitives, and the vertices listed as recomputed
+// exactly the vertices of the faces with a moved vertex. On a closed sphere, an open bowl (fans
+// ending at the boundary) and the stand-in liver.
+TEST(MeshDatabase, IncrementalRegionOverMovingDentsEqualsARebuildFromThePositions) {
+  for (const TriangleMesh& m :
+       {make_uv_sphere(0.05, 40, 80), make_bowl(0.05, 20, 80), make_stand_in_liver()}) {
+    MeshDatabase db = MeshDatabase::build(m);
+    SegmentDatabase edges = SegmentDatabase::build(db);
+    MeshUpdateScratch scratch(db);
+    SegmentUpdateScratch edge_scratch(edges);
+    const std::vector<Eigen::Vector3d>& rest = m.positions;
+    std::vector<Eigen::Vector3d> positions = rest;
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int32_t> pick(0, db.vertex_count() - 1);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Eigen::AlignedBox3d extent;
+    for (const Eigen::Vector3d& p : rest) extent.extend(p);
+    const double size = extent.diagonal().norm();
+    std::vector<Eigen::Vector3d> centres = {rest[static_cast<size_t>(pick(rng))]};
+    double radius = 0.2 * size;
+    double depth = 0.1;
+    std::vector<int32_t> displaced;
+    for (int step = 0; step < 60; ++step) {
+      switch (step % 7) {
+        case 0:  // jump elsewhere
+          centres = {rest[static_cast<size_t>(pick(rng))]};
+          break;
+        case 1:
+        case 2:  // slide a little
+          centres[0] += 0.02 * size * Eigen::Vector3d(u(rng), u(rng), u(rng));
+          break;
+        case 3:  // held still, another depth
+          depth = 0.05 + 0.1 * std::abs(u(rng));
+          break;
+        case 4:  // grow or shrink
+          radius = (0.1 + 0.15 * std::abs(u(rng))) * size;
+          break;
+        case 5:  // a second dent
+          centres.push_back(rest[static_cast<size_t>(pick(rng))]);
+          break;
+        default:  // released: everything back to rest
+          centres.clear();
+          break;
+      }
+      std::vector<int32_t> now;
+      for (int32_t v = 0; v < db.vertex_count(); ++v) {
+        const Eigen::Vector3d& p = rest[static_cast<size_t>(v)];
+        double push = 0.0;
+        for (const Eigen::Vector3d& c : centres) {
+          push = std::max(push, depth * (radius - (p - c).norm()) / radius);
+        }
+        positions[static_cast<size_t>(v)] = push > 0.0 ? Eigen::Vector3d(p * (1.0 - push)) : p;
+        if (push > 0.0) now.push_back(v);
+      }
+      const std::vector<int32_t> moved = moved_between(displaced, now);
+      displaced = now;
+      if (moved.empty()) continue;
+      db.set_positions(positions, moved, &scratch);
+      edges.refit_moved_edges(scratch.moved, &edge_scratch);
+
+      const std::string at = "step " + std::to_string(step);
+      const std::vector<Eigen::Vector3d> normals = reference_vertex_normals(db);
+      for (int32_t v = 0; v < db.vertex_count(); ++v) {
+        ASSERT_EQ(db.position(v), positions[static_cast<size_t>(v)]) << at << " v " << v;
+        ASSERT_EQ(db.vertex_normal(v), normals[static_cast<size_t>(v)]) << at << " v " << v;
+      }
+      for (int32_t f = 0; f < db.face_count(); ++f) {
+        ASSERT_EQ(db.face_normal(f), face_normal_now(db, f)) << at << " f " << f;
+      }
+      std::string why;
+      ASSERT_TRUE(boxes_match(
+          db.tree(),
+          [&](int32_t f, const auto& visit) {
+            for (const int32_t v : db.face_vertices(f)) visit(db.position(v));
+          },
+          &why))
+          << at << " face tree " << why;
+      ASSERT_TRUE(boxes_match(
+          edges.edge_tree(),
+          [&](int32_t k, const auto& visit) {
+            for (const int32_t v : db.edge_vertices(edges.tree_edges()[static_cast<size_t>(k)]))
+              visit(db.position(v));
+          },
+          &why))
+          << at << " edge tree " << why;
+      std::set<int32_t> touched;
+      const std::set<int32_t> moved_set(moved.begin(), moved.end());
+      for (int32_t f = 0; f < db.face_count(); ++f) {
+        const auto& t = db.face_vertices(f);
+        if (moved_set.count(t[0]) + moved_set.count(t[1]) + moved_set.count(t[2]) == 0) continue;
+        touched.insert(t.begin(), t.end());
+      }
+      ASSERT_EQ(std::vector<int32_t>(touched.begin(), touched.end()), scratch.dirty_vertices) << at;
+    }
+    // Both ways through the region were taken: changed, and held still.
+    EXPECT_GT(scratch.regions_updated, 20);
+    EXPECT_GT(scratch.regions_reused, 3);
+  }
+}
+
+// The workspaces stay exact when used off their usual path: a mesh workspace moved to a copy of
+// its database (its region is dropped and found afresh), and an edge workspace that missed one of
+// the mesh's updates (it refits the whole edge tree once).
+TEST(MeshDatabase, IncrementalWorkspacesStayExactOffTheirUsualPath) {
+  const TriangleMesh m = make_uv_sphere(0.05, 30, 60);
+  MeshDatabase db = MeshDatabase::build(m);
+  SegmentDatabase edges = SegmentDatabase::build(db);
+  MeshUpdateScratch scratch(db);
+  SegmentUpdateScratch edge_scratch(edges);
+  std::vector<Eigen::Vector3d> positions = m.positions;
+  auto dent = [&](const Eigen::Vector3d& centre, std::vector<int32_t>* moved) {
+    for (int32_t v = 0; v < db.vertex_count(); ++v) {
+      const Eigen::Vector3d& p = m.positions[static_cast<size_t>(v)];
+      const double d = (p - centre).norm();
+      if (d >= 0.015 && positions[static_cast<size_t>(v)] == p) continue;
+      positions[static_cast<size_t>(v)] = d < 0.015 ? Eigen::Vector3d(p * 0.9) : p;
+      moved->push_back(v);
+    }
+  };
+  auto edge_points = [&](const MeshDatabase& d, const SegmentDatabase& e) {
+    return [&d, &e](int32_t k, const auto& visit) {
+      for (const int32_t v : d.edge_vertices(e.tree_edges()[static_cast<size_t>(k)]))
+        visit(d.position(v));
+    };
+  };
+  std::string why;
+  // Two updates of the mesh, one refit of the edges: the second dent's faces and the first's,
+  // back at rest, are all refitted.
+  std::vector<int32_t> first;
+  dent(Eigen::Vector3d(0.05, 0.0, 0.0), &first);
+  db.set_positions(positions, first, &scratch);
+  edges.refit_moved_edges(scratch.moved, &edge_scratch);
+  std::vector<int32_t> second;
+  dent(Eigen::Vector3d(0.0, 0.05, 0.0), &second);
+  db.set_positions(positions, second, &scratch);
+  std::vector<int32_t> third;
+  dent(Eigen::Vector3d(0.0, 0.0, 0.05), &third);
+  db.set_positions(positions, third, &scratch);
+  edges.refit_moved_edges(scratch.moved, &edge_scratch);
+  EXPECT_TRUE(boxes_match(edges.edge_tree(), edge_points(db, edges), &why)) << why;
+  // The workspace moved to a copy (same topology): the copy's normals and boxes are exact.
+  MeshDatabase copy = db;
+  SegmentDatabase copy_edges = edges.copy_for(copy);
+  std::vector<int32_t> fourth;
+  dent(Eigen::Vector3d(-0.05, 0.0, 0.0), &fourth);
+  copy.set_positions(positions, fourth, &scratch);
+  copy_edges.refit_moved_edges(scratch.moved, &edge_scratch);
+  const std::vector<Eigen::Vector3d> normals = reference_vertex_normals(copy);
+  for (int32_t v = 0; v < copy.vertex_count(); ++v) {
+    ASSERT_EQ(copy.vertex_normal(v), normals[static_cast<size_t>(v)]) << "v " << v;
+  }
+  EXPECT_TRUE(boxes_match(
+      copy.tree(),
+      [&](int32_t f, const auto& visit) {
+        for (const int32_t v : copy.face_vertices(f)) visit(copy.position(v));
+      },
+      &why))
+      << why;
+  EXPECT_TRUE(boxes_match(copy_edges.edge_tree(), edge_points(copy, copy_edges), &why)) << why;
+}
+
+// The moved set's difference from one list to the next, against std::set arithmetic, over
+// random lists with repeats; the version moves on by one per change, by none for the same set
+// again (the same list, or the same vertices in another order or repeated), by two when cleared.
+TEST(VertexSetDelta, EnteredAndLeftAreTheSetDifferences) {
+  VertexSetDelta delta(50);
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int32_t> vertex(0, 49);
+  std::uniform_int_distribution<int> length(0, 30);
+  std::vector<int32_t> last;
+  std::set<int32_t> before;
+  for (int round = 0; round < 500; ++round) {
+    std::vector<int32_t> list;
+    if (round % 9 == 4) {
+      list = last;  // the same list again
+    } else if (round % 9 == 7) {
+      list = last;  // the same vertices, reversed and one repeated
+      std::reverse(list.begin(), list.end());
+      if (!list.empty()) list.push_back(list.front());
+    } else {
+      for (int n = length(rng); n > 0; --n) list.push_back(vertex(rng));
+    }
+    const uint64_t version = delta.version();
+    const bool changed = delta.update(list);
+    const std::set<int32_t> now(list.begin(), list.end());
+    EXPECT_EQ(changed, now != before) << round;
+    EXPECT_EQ(delta.version(), version + (changed ? 1 : 0)) << round;
+    std::vector<int32_t> want_current;
+    std::set<int32_t> seen;
+    for (const int32_t v : list) {
+      if (seen.insert(v).second) want_current.push_back(v);
+    }
+    EXPECT_EQ(delta.current, want_current) << round;
+    std::vector<int32_t> want_entered;
+    std::vector<int32_t> want_left;
+    if (changed) {
+      for (const int32_t v : want_current) {
+        if (before.count(v) == 0) want_entered.push_back(v);
+      }
+      for (const int32_t v : before) {
+        if (now.count(v) == 0) want_left.push_back(v);
+      }
+    }
+    EXPECT_EQ(delta.entered, want_entered) << round;
+    std::vector<int32_t> left = delta.left;
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left, want_left) << round;
+    last = list;
+    before = now;
+  }
+  const uint64_t version = delta.version();
+  delta.clear();
+  EXPECT_EQ(delta.version(), version + 2);
+  EXPECT_TRUE(delta.current.empty());
+  EXPECT_TRUE(delta.update(std::vector<int32_t>{1, 2}));
+  EXPECT_EQ(delta.entered, (std::vector<int32_t>{1, 2}));
 }
 
 // The tree's nearest-face search (branch and bound) finds the same squared distance as trying

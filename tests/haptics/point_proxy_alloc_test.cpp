@@ -13,6 +13,7 @@
 #include "haptics/mesh_database.h"
 #include "haptics/point_proxy.h"
 #include "haptics/procedural_textures.h"
+#include "haptics/segment_database.h"
 #include "haptics/segment_proxy.h"
 #include "haptics/setup/mesh_generators.h"
 #include "haptics/shading_normals.h"
@@ -95,6 +96,59 @@ TEST(PointProxyAllocation, StepAndRefitAllocateNothing) {
   EXPECT_GT(proxy.stats().releases, 10);
   EXPECT_GT(proxy.stats().texture_only_ticks, 10);
   EXPECT_GT(proxy.friction_state().stick_to_slide, 10);
+}
+
+// The modelling loop's side of a deforming surface: a dent sliding over a sphere, now jumping,
+// now released, taken up by the incremental update of the mesh and its edge tree (the region
+// kept from step to step, a workspace that missed an update), allocates nothing either.
+TEST(MeshUpdateAllocation, IncrementalSurfaceUpdatesAllocateNothing) {
+  const TriangleMesh mesh = make_uv_sphere(0.03, 40, 80);
+  MeshDatabase db = MeshDatabase::build(mesh);
+  SegmentDatabase edges = SegmentDatabase::build(db);
+  MeshUpdateScratch scratch(db);
+  SegmentUpdateScratch edge_scratch(edges);
+  const auto n = static_cast<size_t>(db.vertex_count());
+  std::vector<Eigen::Vector3d> positions = mesh.positions;
+  std::vector<int32_t> displaced;
+  std::vector<int32_t> now;
+  std::vector<int32_t> moved;
+  std::vector<uint8_t> was(n, 0);
+  for (auto* list : {&displaced, &now, &moved}) list->reserve(n);
+  auto run = [&](int from, int to) {
+    for (int i = from; i < to; ++i) {
+      const double a = (i % 500 < 400 ? 0.004 * i : 1.7 * i);  // sliding, then jumping
+      const Eigen::Vector3d centre = 0.03 * Eigen::Vector3d(std::cos(a), 0.3, std::sin(a));
+      now.clear();
+      for (size_t v = 0; v < n; ++v) {
+        const double d = (mesh.positions[v] - centre).norm();
+        const bool dented = d < 0.008 && i % 97 != 0;  // now and then released
+        positions[v] = dented
+                           ? Eigen::Vector3d(mesh.positions[v] * (1.0 - 0.1 * (0.008 - d) / 0.008))
+                           : mesh.positions[v];
+        if (dented) now.push_back(static_cast<int32_t>(v));
+      }
+      moved.assign(displaced.begin(), displaced.end());
+      for (const int32_t v : displaced) was[static_cast<size_t>(v)] = 1;
+      for (const int32_t v : now) {
+        if (was[static_cast<size_t>(v)] == 0) moved.push_back(v);
+      }
+      for (const int32_t v : displaced) was[static_cast<size_t>(v)] = 0;
+      displaced.assign(now.begin(), now.end());
+      if (moved.empty()) continue;
+      db.set_positions(positions, moved, &scratch);
+      if (i % 41 != 0)
+        edges.refit_moved_edges(scratch.moved, &edge_scratch);  // now and then missed
+    }
+  };
+  run(0, 200);  // warm-up
+  int64_t allocations = -1;
+  {
+    test::AllocationCounter counter;
+    run(200, 2200);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0);
+  EXPECT_GT(scratch.regions_updated, 1000);
 }
 
 TEST(SegmentProxyAllocation, SegmentAndGripperStepsAllocateNothing) {

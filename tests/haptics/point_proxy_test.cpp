@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -330,23 +331,183 @@ TEST(ForceLaw, HookeDampedAndNonlinear) {
   ForceLaw law;
   law.stiffness_n_per_m = 200.0;
   const Eigen::Vector3d x(0.0, -0.003, 0.0);  // HIP 3 mm below the IHIP
-  EXPECT_TRUE(contact_force(law, x, Eigen::Vector3d::Zero()).isApprox(Eigen::Vector3d(0, 0.6, 0)));
+  EXPECT_TRUE(contact_force(law, x, 0.0).isApprox(Eigen::Vector3d(0, 0.6, 0)));
   law.kind = ForceLaw::Kind::kHookeDamped;
   law.damping_n_s_per_m = 2.0;
-  // Penetrating at 0.1 m/s adds b v; withdrawing fast never pulls the HIP in.
-  EXPECT_TRUE(
-      contact_force(law, x, Eigen::Vector3d(0, -0.1, 0)).isApprox(Eigen::Vector3d(0, 0.8, 0)));
-  EXPECT_TRUE(contact_force(law, x, Eigen::Vector3d(0, 1.0, 0)).isZero());
+  // Approaching at 0.1 m/s adds b v; withdrawing slowly takes b v off; withdrawing fast never
+  // pulls the HIP in.
+  EXPECT_TRUE(contact_force(law, x, 0.1).isApprox(Eigen::Vector3d(0, 0.8, 0)));
+  EXPECT_TRUE(contact_force(law, x, -0.1).isApprox(Eigen::Vector3d(0, 0.4, 0)));
+  EXPECT_TRUE(contact_force(law, x, -1.0).isZero());
   law.kind = ForceLaw::Kind::kNonlinear;
   law.k1_n_per_sqrt_m = 3.0;
   law.k2_n_per_m = 100.0;
   law.k3_n_per_m2 = 5000.0;
   const double expected = 3.0 * std::sqrt(0.003) + 100.0 * 0.003 + 5000.0 * 0.003 * 0.003;
-  EXPECT_NEAR(contact_force(law, x, Eigen::Vector3d::Zero()).y(), expected, 1e-15);
+  EXPECT_NEAR(contact_force(law, x, 0.0).y(), expected, 1e-15);
   law.max_force_n = 0.2;
-  EXPECT_NEAR(contact_force(law, x, Eigen::Vector3d::Zero()).norm(), 0.2, 1e-15);
+  EXPECT_NEAR(contact_force(law, x, 0.0).norm(), 0.2, 1e-15);
   law.k1_n_per_sqrt_m = std::nan("");
-  EXPECT_TRUE(contact_force(law, x, Eigen::Vector3d::Zero()).isZero());
+  EXPECT_TRUE(contact_force(law, x, 0.0).isZero());
+}
+
+// A HIP moving into a plane at a constant speed v feels k d + b v on every tick, the tick it
+// crosses the surface too (d: its depth); withdrawing at v, k d - b v, never below zero.
+TEST(PointProxy, DampedPlaneForceIsStiffnessTimesDepthPlusDampingTimesSpeed) {
+  const MeshDatabase db = MeshDatabase::build(make_box(Eigen::Vector3d(0.2, 0.1, 0.2), 4));
+  HapticObject o = object_of(db, 600.0);
+  o.law.kind = ForceLaw::Kind::kHookeDamped;
+  o.law.damping_n_s_per_m = 3.0;
+  const double v = 0.04;  // m/s: 40 micrometres a tick
+  PointProxy proxy;
+  const Eigen::Vector3d start(0.013, 0.0503, -0.021);  // 0.3 mm above the top face (y = 0.05)
+  proxy.reset(start);
+  int ticks_in_contact = 0;
+  Eigen::Vector3d hip = start;
+  for (int i = 1; i <= 100; ++i) {
+    hip.y() = start.y() - v * kDt * i;
+    const PointProxyOutput out = proxy.step({&o, 1}, hip, kDt);
+    const double depth = 0.05 - hip.y();
+    if (depth <= 0.0) {
+      EXPECT_EQ(out.contact_count, 0) << i;
+      continue;
+    }
+    ++ticks_in_contact;
+    ASSERT_EQ(out.contact_count, 1) << i;
+    EXPECT_NEAR(out.force_W.y(), 600.0 * depth + 3.0 * v, 1e-9) << i;
+    EXPECT_NEAR(out.force_W.x(), 0.0, 1e-12);
+    EXPECT_NEAR(out.force_W.z(), 0.0, 1e-12);
+  }
+  EXPECT_GT(ticks_in_contact, 80);
+  // Withdrawing at v from 3.7 mm deep: k d - b v.
+  for (int i = 1; i <= 20; ++i) {
+    hip.y() += v * kDt;
+    const PointProxyOutput out = proxy.step({&o, 1}, hip, kDt);
+    ASSERT_EQ(out.contact_count, 1) << i;
+    EXPECT_NEAR(out.force_W.y(), 600.0 * (0.05 - hip.y()) - 3.0 * v, 1e-9) << i;
+  }
+  // Withdrawing fast (1 mm in a tick from 2.9 mm deep): the damper would pull; the force is zero.
+  hip.y() += 0.001;
+  const PointProxyOutput out = proxy.step({&o, 1}, hip, kDt);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_EQ(out.force_W, Eigen::Vector3d::Zero());
+}
+
+// The damper takes the velocity relative to the surface (§6.4): a box moving up at v into a
+// HIP held still is approached at v, as a HIP moving down at v onto a still box.
+TEST(PointProxy, DampingOnAMovingObjectIsOnTheRelativeVelocity) {
+  const MeshDatabase db = MeshDatabase::build(make_box(Eigen::Vector3d(0.1, 0.1, 0.1), 2));
+  HapticObject o = object_of(db, 500.0);
+  o.law.kind = ForceLaw::Kind::kHookeDamped;
+  o.law.damping_n_s_per_m = 2.0;
+  const double v = 0.05;
+  PointProxy proxy;
+  const Eigen::Vector3d hip(0.01, 0.0515, 0.0);  // 1.5 mm above the top face at rest
+  proxy.reset(hip);
+  int ticks_in_contact = 0;
+  for (int i = 1; i <= 60; ++i) {
+    o.prev_pose_WO = o.pose_WO;
+    o.pose_WO = Eigen::Translation3d(0.0, v * kDt * i, 0.0) * Eigen::Isometry3d::Identity();
+    const PointProxyOutput out = proxy.step({&o, 1}, hip, kDt);
+    const double depth = 0.05 + v * kDt * i - hip.y();
+    // (At zero depth, give or take a rounding, the force's direction is not defined.)
+    if (out.contact_count == 0 || depth < 1e-9) {
+      EXPECT_LE(depth, 1e-9) << i;
+      continue;
+    }
+    ++ticks_in_contact;
+    EXPECT_NEAR(out.force_W.y(), 500.0 * depth + 2.0 * v, 1e-9) << i;
+  }
+  EXPECT_GT(ticks_in_contact, 20);
+}
+
+// The IHIP jumps, the HIP moves smoothly: the damped force never leaves k |x| -+ b |v|, no
+// spike and no dropout. Two jumps: (1) the surface under a pressing HIP updated by a modelling
+// step (the proxies switch to the next copy of a deformed organ, here 1 mm higher or lower),
+// where the damper on the rate of the penetration vector, as before, spikes by b times 1 mm per
+// tick (evaluated alongside, so the test does exercise the jump); (2) a coarse sphere, the HIP
+// going round 3 mm under it: at each edge the proxy passes onto the next face, whose nearest
+// point from inside is nearer than the edge's, and the IHIP moves by over 1 mm in one tick.
+TEST(PointProxy, AnIhipJumpGivesNoDampingSpike) {
+  const double k = 400.0;
+  const double b = 2.0;
+  auto damped = [&](const MeshDatabase& db) {
+    HapticObject o = object_of(db, k);
+    o.law.kind = ForceLaw::Kind::kHookeDamped;
+    o.law.damping_n_s_per_m = b;
+    return o;
+  };
+  {
+    const TriangleMesh box = make_box(Eigen::Vector3d(0.2, 0.1, 0.2), 4);
+    const MeshDatabase rest = MeshDatabase::build(box);
+    std::array<MeshDatabase, 2> moved = {rest, rest};  // copies: the same topology
+    for (int s = 0; s < 2; ++s) {
+      std::vector<Eigen::Vector3d> p = box.positions;
+      for (Eigen::Vector3d& x : p) x.y() += s == 0 ? 0.001 : -0.001;
+      moved[static_cast<size_t>(s)].set_positions(p);
+    }
+    HapticObject o = damped(rest);
+    const double v = 0.02;
+    PointProxy proxy;
+    Eigen::Vector3d hip(0.013, 0.0502, -0.021);
+    proxy.reset(hip);
+    double worst = 0.0;
+    double worst_old = 0.0;
+    int in_contact = 0;
+    Eigen::Vector3d last_x = Eigen::Vector3d::Zero();
+    for (int i = 1; i <= 200; ++i) {
+      if (i == 80) o.mesh = &moved[0];   // the surface rises 1 mm
+      if (i == 140) o.mesh = &moved[1];  // and falls 2 mm
+      hip.y() -= v * kDt;
+      const PointProxyOutput out = proxy.step({&o, 1}, hip, kDt);
+      if (out.contact_count == 0) continue;
+      const Eigen::Vector3d x = hip - out.ihip_W;
+      if (x.norm() < 1e-9) continue;  // (at zero depth the direction is not defined)
+      ++in_contact;
+      const double spring = k * x.norm();
+      worst = std::max(worst, std::abs(out.force_W.norm() - spring) - b * v);
+      if (last_x.norm() > 0.0) {
+        const double old_law = std::max(0.0, spring + b * ((x - last_x) / kDt).dot(x.normalized()));
+        worst_old = std::max(worst_old, std::abs(old_law - spring) - b * v);
+      }
+      last_x = x;
+    }
+    EXPECT_GT(in_contact, 180);  // the contact held through both updates
+    EXPECT_LE(worst, 1e-9);
+    EXPECT_GT(worst_old, 0.5 * b * 1.0) << "the old law should spike by b x 1 m/s here";
+  }
+  {
+    const double R = 0.04;
+    const MeshDatabase db = MeshDatabase::build(make_uv_sphere(R, 8, 12));
+    const HapticObject o = damped(db);
+    // Round the sphere once in 10 s (2.3 cm/s), 5 mm above its equator, 3 mm into it.
+    auto hip_at = [&](double angle, double depth) {
+      const double r = std::sqrt(R * R - 0.005 * 0.005) - depth;
+      return Eigen::Vector3d(r * std::cos(angle), 0.005, r * std::sin(angle));
+    };
+    PointProxy proxy;
+    proxy.reset(hip_at(0.1, -0.004));
+    move(proxy, {&o, 1}, hip_at(0.1, -0.004), hip_at(0.1, 0.003), 20);
+    Eigen::Vector3d last_hip = hip_at(0.1, 0.003);
+    Eigen::Vector3d last_ihip = proxy.ihip();
+    double worst = 0.0;
+    double longest_jump = 0.0;
+    double step = 0.0;
+    for (int i = 1; i <= 10000; ++i) {
+      const Eigen::Vector3d hip = hip_at(0.1 + 2.0 * kPi * i / 10000.0, 0.003);
+      const PointProxyOutput out = proxy.step({&o, 1}, hip, kDt);
+      ASSERT_EQ(out.contact_count, 1) << i;
+      step = (hip - last_hip).norm();
+      worst = std::max(
+          worst, std::abs(out.force_W.norm() - k * (hip - out.ihip_W).norm()) - b * step / kDt);
+      longest_jump = std::max(longest_jump, (out.ihip_W - last_ihip).norm());
+      last_hip = hip;
+      last_ihip = out.ihip_W;
+    }
+    EXPECT_LE(worst, 1e-9);
+    EXPECT_GT(longest_jump, 1e-3);  // the IHIP did jump: over 40 times the HIP's step
+    EXPECT_GT(longest_jump, 40.0 * step);
+  }
 }
 
 TEST(PointProxy, ForceIsClampedToTheMaterialMaximum) {

@@ -429,6 +429,59 @@ TEST(SegmentProxy, PullingAwayReleasesAndNonFiniteInputFaults) {
   EXPECT_EQ(proxy.stats().faults, 1);
 }
 
+// The damper acts on the probe's own approach to the surface, relative to it, as the point
+// proxy's does: a probe's tip moving into a cube's top face at v feels k d + b v on every tick
+// in contact (d: its depth), withdrawing at v k d - b v; the cube moving up at v into a probe
+// held still, k d + b v again.
+TEST(SegmentProxy, DampedTipForceIsStiffnessTimesDepthPlusDampingTimesSpeed) {
+  const double b = 3.0;
+  const double v = 0.03;
+  const Eigen::Vector3d up(0.0, 1.0, 0.0);
+  {
+    Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+    cube.object.law.kind = ForceLaw::Kind::kHookeDamped;
+    cube.object.law.damping_n_s_per_m = b;
+    const std::vector<HapticObject> objects{cube.object};
+    SegmentProxy proxy;
+    Eigen::Vector3d a(0.013, 0.1002, -0.021);  // the tip, 0.2 mm above the face (y = 0.1)
+    int in_contact = 0;
+    for (int i = 1; i <= 120; ++i) {
+      a -= v * kDt * up;
+      const SegmentProxyOutput out = proxy.step(objects, a, a + 0.1 * up, kDt);
+      const double depth = 0.1 - a.y();
+      if (out.contact_count == 0 || depth < 1e-9) continue;
+      ++in_contact;
+      EXPECT_NEAR(out.force_W.y(), kK * depth + b * v, 1e-6) << i;
+    }
+    EXPECT_GT(in_contact, 100);
+    for (int i = 1; i <= 20; ++i) {
+      a += v * kDt * up;
+      const SegmentProxyOutput out = proxy.step(objects, a, a + 0.1 * up, kDt);
+      ASSERT_EQ(out.contact_count, 1) << i;
+      EXPECT_NEAR(out.force_W.y(), kK * (0.1 - a.y()) - b * v, 1e-6) << i;
+    }
+  }
+  {
+    Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+    cube.object.law.kind = ForceLaw::Kind::kHookeDamped;
+    cube.object.law.damping_n_s_per_m = b;
+    std::vector<HapticObject> objects{cube.object};
+    SegmentProxy proxy;
+    const Eigen::Vector3d a(0.013, 0.1002, -0.021);
+    int in_contact = 0;
+    for (int i = 1; i <= 120; ++i) {
+      objects[0].prev_pose_WO = objects[0].pose_WO;
+      objects[0].pose_WO.translation() = v * kDt * i * up;
+      const SegmentProxyOutput out = proxy.step(objects, a, a + 0.1 * up, kDt);
+      const double depth = 0.1 + v * kDt * i - a.y();
+      if (out.contact_count == 0 || depth < 1e-9) continue;
+      ++in_contact;
+      EXPECT_NEAR(out.force_W.y(), kK * depth + b * v, 1e-6) << i;
+    }
+    EXPECT_GT(in_contact, 100);
+  }
+}
+
 TEST(BruteForceReference, SegmentDistanceAndPenetration) {
   const MeshDatabase cube = MeshDatabase::build(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
   const ReferenceSegmentDistance d = reference_segment_distance(
