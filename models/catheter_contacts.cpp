@@ -8,15 +8,37 @@ namespace lap::models {
 
 namespace {
 
-bool on_boundary(const haptics::MeshDatabase& m, haptics::PrimitiveRef p) {
-  if (!m.has_boundary()) return false;
-  if (p.kind == haptics::PrimitiveKind::kEdge) return m.edge_faces(p.index)[1] < 0;
-  if (p.kind != haptics::PrimitiveKind::kVertex) return false;
-  bool boundary = false;
-  m.for_each_vertex_face(p.index, [&](int32_t f) {
-    for (int32_t e : m.face_edges(f)) boundary = boundary || m.edge_faces(e)[1] < 0;
-  });
-  return boundary;
+// Where a primitive lies with respect to the openings: the wall, an opening's rim (an open
+// surface's boundary — the duct's ends — or the edge between an open face and a closed one),
+// or inside an opening (only open faces about it).
+enum class Opening { kWall, kRim, kHole };
+
+// Face f of the database (tree order); open_faces is in the order of the mesh it was built from.
+bool is_open(const haptics::MeshDatabase& m, std::span<const uint8_t> open_faces, int32_t f) {
+  return f < 0 || (!open_faces.empty() && open_faces[static_cast<size_t>(m.original_face(f))] != 0);
+}
+
+Opening opening(const haptics::MeshDatabase& m, haptics::PrimitiveRef p,
+                std::span<const uint8_t> open_faces) {
+  if (!m.has_boundary() && open_faces.empty()) return Opening::kWall;
+  int32_t open = 0;
+  int32_t closed = 0;
+  auto count = [&](int32_t f) { is_open(m, open_faces, f) ? ++open : ++closed; };
+  if (p.kind == haptics::PrimitiveKind::kFace) {
+    count(p.index);
+  } else if (p.kind == haptics::PrimitiveKind::kEdge) {
+    for (const int32_t f : m.edge_faces(p.index)) count(f);
+  } else {
+    // A vertex: its faces, and past a boundary edge of them, the missing face beyond.
+    m.for_each_vertex_face(p.index, [&](int32_t f) {
+      count(f);
+      for (const int32_t e : m.face_edges(f)) {
+        if (m.edge_faces(e)[1] < 0) ++open;
+      }
+    });
+  }
+  if (closed == 0) return Opening::kHole;
+  return open > 0 ? Opening::kRim : Opening::kWall;
 }
 
 // The nearest face of p by the tree, and the side of it p is on.
@@ -48,7 +70,8 @@ void settle_reactions(const CatheterState& c, std::span<SurfaceReaction> reactio
     const Eigen::Vector3d& n = c.contact_normal[i];
     const double push = c.contact_stiffness[i] * (c.contact_offset[i] - n.dot(c.positions[i])) -
                         c.contact_damping[i] * n.dot(c.velocities[i]);
-    r.force_on_surface_W = -std::max(0.0, push) * n;
+    // With the friction the step applied along the plane, returned to the surface.
+    r.force_on_surface_W = -std::max(0.0, push) * n - contact_friction_force(c, r.particle);
   }
 }
 
@@ -74,12 +97,14 @@ int32_t catheter_dents(const LocalDeformationModel& model, const haptics::MeshDa
 void clear_contacts(CatheterState* catheter) noexcept {
   for (double& k : catheter->contact_stiffness) k = 0.0;
   for (double& c : catheter->contact_damping) c = 0.0;
+  for (double& mu : catheter->contact_friction) mu = 0.0;
 }
 
 int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
                                 const Eigen::Isometry3d& pose_WO, const SurfaceContactSettings& s,
                                 SurfaceTracking* tracking, CatheterState* cath,
-                                std::span<SurfaceReaction> out) noexcept {
+                                std::span<SurfaceReaction> out,
+                                std::span<const uint8_t> open_faces) noexcept {
   const Eigen::Isometry3d inv = pose_WO.inverse();
   const std::vector<haptics::BvhNode>& nodes = surface.tree().nodes();
   const haptics::BvhNode* root = nodes.empty() ? nullptr : nodes.data();
@@ -99,18 +124,34 @@ int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
     }
     Eigen::Vector3d q;
     int32_t rounds = 0;
-    const haptics::PrimitiveRef prim =
+    haptics::PrimitiveRef prim =
         haptics::PointProxy::local_search(surface, tracking->nearest[i], p, &q, &rounds);
+    if (s.keep_side && (p - q).squaredNorm() >= s.clearance_m * s.clearance_m) {
+      // Inside a tube the far wall's foot is a local minimum of the distance too: a particle
+      // crossing the lumen's axis would keep the far wall and pass the near one unseen. Out of
+      // reach of what the local search found, the tree says whether a nearer wall is in reach;
+      // it is taken only when clearly nearer (by a quarter of the clearance), not for a tie
+      // between the two facets of a valley of the wall, where changing faces back and forth
+      // would push the particle along the wall each way in turn.
+      Eigen::Vector3d q_tree;
+      const int32_t f = surface.nearest_face(p, &q_tree, nullptr);
+      if (f >= 0 && (p - q_tree).norm() + 0.25 * s.clearance_m < (p - q).norm()) {
+        prim = haptics::PointProxy::local_search(surface, {haptics::PrimitiveKind::kFace, f}, p, &q,
+                                                 &rounds);
+      }
+    }
     tracking->nearest[i] = prim;
-    // Past the rim of an open surface (the duct's ends) there is no wall: a particle whose
-    // nearest point is a boundary edge or vertex, and which lies off to the side of it rather
-    // than in front, is free.
-    if (on_boundary(surface, prim)) {
+    // Past the rim of an open surface (the duct's ends, an incision) there is no wall: a
+    // particle whose nearest point is on a rim and which lies off to the side of it rather than
+    // in front, or whose nearest point is inside an opening, is free. Passing a rim or an
+    // opening is the one way from one side to the other.
+    const Opening where = opening(surface, prim, open_faces);
+    if (where != Opening::kWall) {
       const Eigen::Vector3d d = p - q;
       const double len = d.norm();
-      if (len > 0.0 && std::abs(surface.normal(prim).dot(d)) < 0.7 * len) {
-        // Rounding the rim is the one way from one side to the other.
-        tracking->side[i] = surface.normal(prim).dot(d) >= 0.0 ? 1 : -1;
+      const double along_normal = surface.normal(prim).dot(d);
+      if (where == Opening::kHole || (len > 0.0 && std::abs(along_normal) < 0.7 * len)) {
+        if (len > 0.0) tracking->side[i] = along_normal >= 0.0 ? 1 : -1;
         continue;
       }
     }
@@ -126,6 +167,8 @@ int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
     cath->contact_offset[i] = n_W.dot(q_W) + s.clearance_m;
     cath->contact_stiffness[i] = s.stiffness_n_per_m;
     cath->contact_damping[i] = s.damping_n_s_per_m;
+    cath->contact_friction[i] = s.friction_coefficient;
+    cath->contact_surface_velocity[i].setZero();
     if (count < static_cast<int32_t>(out.size())) {
       SurfaceReaction& r = out[count++];
       r.particle = static_cast<int32_t>(i);

@@ -32,6 +32,10 @@ struct SurfaceContactSettings {
   double clearance_m = 0.00125;  ///< the catheter's radius (+ half a shell's wall)
   double stiffness_n_per_m = 100.0;
   double damping_n_s_per_m = 0.005;
+  /// Coulomb friction along the surface, μ (0: none): the catheter sliding in the duct's lumen
+  /// or over an organ (catheter_model.h regularises it). The surface is taken at rest; a moving
+  /// one sets CatheterState::contact_surface_velocity after the search.
+  double friction_coefficient = 0.0;
   /// The surface is touched from its back (the inside of a tube whose normals point out).
   bool from_inside = false;
   /// Each particle is kept on the side of the surface it is on (an open tube touched from within
@@ -61,14 +65,19 @@ struct SurfaceReaction {
 /// reactions (the spring force at the current positions, negated) into `out` and returns how
 /// many (at most out.size()). Call once per surface per modelling step, before step_catheter;
 /// with several surfaces, the last one touching a particle sets its plane.
+/// `open_faces` (one per face of the mesh the surface was built from, in its order, or empty)
+/// marks faces cut open (the duct's incision): a particle
+/// over them meets no wall, and their rim is passed as an open surface's boundary is.
 int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
                                 const Eigen::Isometry3d& pose_WO,
                                 const SurfaceContactSettings& settings, SurfaceTracking* tracking,
-                                CatheterState* catheter, std::span<SurfaceReaction> out) noexcept;
+                                CatheterState* catheter, std::span<SurfaceReaction> out,
+                                std::span<const uint8_t> open_faces = {}) noexcept;
 
 /// After step_catheter: the reactions become the contact springs' forces at the step's end
-/// (what the implicit step applied to the catheter, negated, never pulling), so both sides of
-/// every contact see the same force.
+/// (what the implicit step applied to the catheter, negated, never pulling) and the friction
+/// the step applied along the surface, negated, so both sides of every contact see the same
+/// force.
 void settle_reactions(const CatheterState& catheter, std::span<SurfaceReaction> reactions) noexcept;
 
 /// The dents the catheter makes in a locally deformed organ (`model`; §6.5, §7.6.3). The

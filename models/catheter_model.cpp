@@ -128,6 +128,9 @@ CatheterState::CatheterState(const CatheterModel& model, const Eigen::Vector3d& 
   contact_offset.assign(n, 0.0);
   contact_stiffness.assign(n, 0.0);
   contact_damping.assign(n, 0.0);
+  contact_friction.assign(n, 0.0);
+  contact_surface_velocity.assign(n, Eigen::Vector3d::Zero());
+  contact_friction_damping.assign(n, 0.0);
   const Eigen::Vector3d d = direction.normalized();
   for (size_t i = 0; i < n; ++i) {
     positions[i] = start + static_cast<double>(i) * model.rest_length_m() * d;
@@ -213,6 +216,25 @@ void add_rhs(CatheterState* state, int i, const Vec3& f) noexcept {
   for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += f(c);
 }
 
+// Coulomb friction along particle i's contact plane, regularised (CatheterSettings::
+// contact_stick_speed_m_per_s): f = −c_t P (v − v_s) with P = I − n nᵀ, v_s the surface's
+// velocity and c_t = μ N / max(|P (v − v_s)|, v_stick) from the slip at the step's start, so
+// at a steady slip it is μ N. Implicit in v: adds −c_t P (v − v_s) to the right-hand side and
+// returns c_t P, the damping D's block (as the drag's). c_t is kept for the reaction.
+Mat3 contact_friction_terms(const CatheterModel& model, CatheterState* state, int i,
+                            double normal_force_n) noexcept {
+  const double mu = state->contact_friction[i];
+  if (!(mu > 0.0) || !(normal_force_n > 0.0)) return Mat3::Zero();
+  const Vec3& nc = state->contact_normal[i];
+  const Mat3 along = Mat3::Identity() - nc * nc.transpose();
+  const Vec3 slip = along * (state->velocities[i] - state->contact_surface_velocity[i]);
+  const double ct =
+      mu * normal_force_n / std::max(slip.norm(), model.settings().contact_stick_speed_m_per_s);
+  state->contact_friction_damping[i] = ct;
+  add_rhs(state, i, -ct * slip);
+  return ct * along;
+}
+
 // Each particle's own terms: mass, gravity, drag and its contact with a surface, into its
 // diagonal block and the right-hand side f − dt K v.
 void assemble_particle_terms(const CatheterModel& model, CatheterState* state, double dt) noexcept {
@@ -225,6 +247,7 @@ void assemble_particle_terms(const CatheterModel& model, CatheterState* state, d
     for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] = f(c);
     const double diag = model.mass_of(i) + dt * model.settings().drag_n_s_per_m;
     Mat3 block = diag * Mat3::Identity();
+    state->contact_friction_damping[i] = 0.0;
     const double kc = state->contact_stiffness[i];
     if (kc > 0.0) {
       // Along the normal only: f = (k_c (offset − n·x) − c_c n·v) n; K = k_c n nᵀ, D = c_c n nᵀ.
@@ -234,6 +257,9 @@ void assemble_particle_terms(const CatheterModel& model, CatheterState* state, d
           (kc * depth - state->contact_damping[i] * nc.dot(v[i]) - dt * kc * nc.dot(v[i])) * nc;
       for (int c = 0; c < 3; ++c) state->rhs[3 * i + c] += fc(c);
       block += (dt * dt * kc + dt * state->contact_damping[i]) * nc * nc.transpose();
+      // Friction on the normal force at the step's start (a surface pushes, never pulls).
+      const double normal_n = kc * depth - state->contact_damping[i] * nc.dot(v[i]);
+      block += dt * contact_friction_terms(model, state, i, normal_n);
     }
     add_block(&state->band, i, i, block);
   }
@@ -463,6 +489,21 @@ SlipTerms slip_terms(const CatheterState& state, std::span<const Vec3> before) {
   return t;
 }
 
+// The work a moving surface's friction did on the catheter in the step: its driving part
+// c_t P v_s (the rest, −c_t P v, only dissipates), over each particle's displacement.
+double surface_friction_work(const CatheterState& state, int depth, int n) {
+  double work = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double ct = state.contact_friction_damping[i];
+    if (ct == 0.0) continue;
+    const Vec3& nc = state.contact_normal[i];
+    const Vec3& vs = state.contact_surface_velocity[i];
+    const Vec3 drive = ct * (vs - nc.dot(vs) * nc);
+    work += drive.dot(state.positions[i] - state.saved_positions[depth * n + i]);
+  }
+  return work;
+}
+
 // Implicit step(s) over dt; a step that gains more energy than the external forces put in is
 // redone as two half steps (linearly implicit Euler is dissipative only as dt shrinks on a
 // strongly nonlinear, non-convex bending energy), down to dt / 2^depth.
@@ -484,7 +525,7 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
       *state,
       std::span<const Vec3>(state->saved_positions.data() + static_cast<ptrdiff_t>(depth) * n,
                             static_cast<size_t>(n)));
-  work += slip.friction_work;
+  work += slip.friction_work + surface_friction_work(*state, depth, n);
   const double e1 = total_energy(model, *state) - slip.axial_energy_after;
   e0 -= slip.axial_energy_before;
   // Rises below rounding (relative 1e-13, or 1e-16 J near rest) are not energy gained.
@@ -499,6 +540,14 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
 }
 
 }  // namespace
+
+Eigen::Vector3d contact_friction_force(const CatheterState& state, int32_t i) {
+  const auto k = static_cast<size_t>(i);
+  if (k >= state.positions.size() || state.contact_stiffness[k] == 0.0) return Vec3::Zero();
+  const Vec3& nc = state.contact_normal[k];
+  const Vec3 rel = state.velocities[k] - state.contact_surface_velocity[k];
+  return -state.contact_friction_damping[k] * (rel - nc.dot(rel) * nc);
+}
 
 bool step_catheter(const CatheterModel& model, CatheterState* state, double dt) noexcept {
   const bool valid_dt = std::isfinite(dt) && dt > 0.0;

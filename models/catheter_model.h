@@ -42,6 +42,13 @@ struct CatheterSettings {
   double drag_n_s_per_m = 2e-4;            ///< b of eq. 7-1, per particle
   double stretch_damping_n_s_per_m = 0.5;  ///< along each segment
   Eigen::Vector3d gravity_m_per_s2 = Eigen::Vector3d::Zero();
+  /// Coulomb friction at the contact planes is regularised (§7.6.3; a damper μN / max(|v_t|,
+  /// v_stick) along the plane, inside the implicit solve): sliding faster than v_stick it is
+  /// μN against the slip, slower it is viscous, so a particle loaded along the plane by F < μN
+  /// creeps at F v_stick / (μN) < v_stick instead of sticking exactly. 0.5 mm/s: a choice (a
+  /// held catheter creeps less than 5 mm in 10 s however it is loaded, and sticking needs no
+  /// second solve per contact).
+  double contact_stick_speed_m_per_s = 5e-4;
 };
 
 class CatheterModel {
@@ -116,10 +123,18 @@ struct CatheterState {
   /// Contact planes (§7.6.3): particle i is pushed out along `contact_normal` while
   /// n · x < contact_offset, by a spring (and damper) along n only, inside the implicit solve.
   /// Set each modelling step by the contact search (catheter_contacts.h); stiffness 0: none.
+  /// Friction acts along the plane (CatheterSettings::contact_stick_speed_m_per_s).
   std::vector<Eigen::Vector3d> contact_normal;  ///< n, unit
   std::vector<double> contact_offset;           ///< n [m]
   std::vector<double> contact_stiffness;        ///< n [N/m]
   std::vector<double> contact_damping;          ///< n [N s/m]
+  /// Coulomb friction along each contact plane: μ (0: none), and the velocity of the surface
+  /// there [m/s] (the friction acts on the slip, the particle's velocity relative to it).
+  std::vector<double> contact_friction;
+  std::vector<Eigen::Vector3d> contact_surface_velocity;
+  /// Step workspace: the friction's damper c_t [N s/m] per particle as the last solve used it
+  /// (settle_reactions reads it for the reaction on the surface).
+  std::vector<double> contact_friction_damping;
   // Workspace of the step (sized once): the band of the system matrix, its right-hand side.
   std::vector<double> band;  ///< (3n) x (w + 1), lower band, w = 8
   std::vector<double> rhs;   ///< 3n
@@ -150,6 +165,10 @@ int32_t add_anchor_friction(const Eigen::Vector3d& axis_W, double limit_n, int32
 /// Removes the anchors and their friction (before the grasps set them for the next step); the
 /// last step's friction results stay readable.
 void clear_anchors(CatheterState* state) noexcept;
+
+/// The friction force on particle i at its velocity now, as the last step applied it [N]: along
+/// its contact plane, against its slip (zero without a contact or friction).
+[[nodiscard]] Eigen::Vector3d contact_friction_force(const CatheterState& state, int32_t i);
 
 /// Kinetic + stretch + bending + anchor-spring + contact energy (gravity and external forces
 /// excluded) [J].

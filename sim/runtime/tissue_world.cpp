@@ -34,6 +34,7 @@ std::unique_ptr<TissueWorld> TissueWorld::create(std::shared_ptr<const TissueMod
     w->duct_wall_ = std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(wall));
     w->duct_scratch_ = std::make_unique<haptics::MeshUpdateScratch>(*w->duct_wall_);
     w->duct_positions_W_ = wall.positions;
+    w->duct_velocities_W_.assign(wall.positions.size(), Eigen::Vector3d::Zero());
     w->duct_all_nodes_.resize(wall.positions.size());
     for (size_t v = 0; v < w->duct_all_nodes_.size(); ++v) {
       w->duct_all_nodes_[v] = static_cast<int32_t>(v);
@@ -127,10 +128,35 @@ void TissueWorld::find_catheter_contacts() noexcept {
   catheter_contacts_ = 0;
   for (int32_t i = 0; i < static_cast<int32_t>(organs_.size()); ++i) {
     OrganState& s = organs_[static_cast<size_t>(i)];
+    const OrganTissue& t = model_->organ(i);
     s.reaction_count = models::update_surface_contacts(
-        contact_surface(i), Eigen::Isometry3d::Identity(), model_->organ(i).contact,
-        s.tracking.get(), catheter_.get(), s.reactions);
+        contact_surface(i), Eigen::Isometry3d::Identity(), t.contact, s.tracking.get(),
+        catheter_.get(), s.reactions, t.open_faces);
     catheter_contacts_ += s.reaction_count;
+    if (t.kind == TissueKind::kDuct) set_duct_wall_velocities(s);
+  }
+}
+
+// The duct's wall moves (grasped, pushed): the catheter's friction in it acts on the slip
+// relative to the wall, the mean velocity of the touched primitive's nodes over the last step.
+void TissueWorld::set_duct_wall_velocities(const OrganState& s) noexcept {
+  const haptics::MeshDatabase& wall = *duct_wall_;
+  for (int32_t k = 0; k < s.reaction_count; ++k) {
+    const models::SurfaceReaction& r = s.reactions[static_cast<size_t>(k)];
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double count = 0.0;
+    auto add = [&](int32_t v) {
+      sum += duct_velocities_W_[static_cast<size_t>(v)];
+      count += 1.0;
+    };
+    if (r.primitive.kind == haptics::PrimitiveKind::kFace) {
+      for (const int32_t v : wall.face_vertices(r.primitive.index)) add(v);
+    } else if (r.primitive.kind == haptics::PrimitiveKind::kEdge) {
+      for (const int32_t v : wall.edge_vertices(r.primitive.index)) add(v);
+    } else {
+      add(r.primitive.index);
+    }
+    catheter_->contact_surface_velocity[static_cast<size_t>(r.particle)] = sum / count;
   }
 }
 
@@ -217,6 +243,7 @@ bool TissueWorld::step_duct(int32_t organ, const std::array<ToolModelInput, 2>& 
   for (size_t v = 0; v < duct_positions_W_.size(); ++v) {
     const Eigen::Vector3d p = duct.pose_WD * (duct.rest_D[v] + duct_state_->displacement[v]);
     moved = std::max(moved, (p - duct_positions_W_[v]).squaredNorm());
+    duct_velocities_W_[v] = (p - duct_positions_W_[v]) / dt;
     duct_positions_W_[v] = p;
     deepest_dent_ = std::max(deepest_dent_, duct_state_->displacement[v].norm());
   }

@@ -8,7 +8,9 @@
 /// 1. each tool's jaws grasp or release the catheter (catheter_grasp.h) and the duct
 ///    (duct_grasp.h);
 /// 2. the catheter's particles meet every organ's rest surface and the duct's present wall
-///    (catheter_contacts.h; each particle kept on its side of the open duct);
+///    (catheter_contacts.h; each particle kept on its side of the open duct, crossing it only at
+///    its open ends and through the scenario's incision), with Coulomb friction along them
+///    (the material's catheter_friction; in the duct, on the slip relative to its wall);
 /// 3. the catheter steps (its contacts and grasps inside its implicit step);
 /// 4. organs under local deformation (`model: local`) are dented by the tools' contacts (the
 ///    proxies' reactions mapped back to the rest shape, surface_share of the tool's displacement
@@ -142,6 +144,7 @@ class TissueWorld {
   TissueWorld() = default;
   void grasp(const std::array<ToolModelInput, 2>& tools) noexcept;
   void find_catheter_contacts() noexcept;
+  void set_duct_wall_velocities(const OrganState& s) noexcept;
   bool dent_local_organ(int32_t organ, const std::array<ToolModelInput, 2>& tools,
                         std::span<const models::SurfaceReaction> reactions) noexcept;
   bool step_duct(int32_t organ, const std::array<ToolModelInput, 2>& tools,
@@ -163,6 +166,7 @@ class TissueWorld {
   std::unique_ptr<haptics::MeshDatabase> duct_wall_;  // world frame, deformed each step
   std::unique_ptr<haptics::MeshUpdateScratch> duct_scratch_;
   std::vector<Eigen::Vector3d> duct_positions_W_;
+  std::vector<Eigen::Vector3d> duct_velocities_W_;  // over the last step [m/s]
   std::vector<int32_t> duct_all_nodes_;
 };
 

@@ -69,9 +69,24 @@ struct MaterialSpec {
   double friction_stick_stiffness_n_per_m = 0.0;
   /// k_d [N/m]; 0 = k_s * friction_dynamic / friction_static (proportional, §6.2).
   double friction_slide_stiffness_n_per_m = 0.0;
+  /// Coulomb coefficient between the catheter and this organ (its lumen, for the duct), as the
+  /// catheter's model applies it (models/catheter_contacts.h); 0: frictionless.
+  double catheter_friction = 0.0;
   FrictionMapSpec friction_map;
   ShadingSpec shading;
   TextureSpec texture;
+};
+
+/// The ductotomy the catheter enters by (thesis §7.4, Figure 7-18): an opening in the wall of a
+/// modal-shell duct, an ellipse on the wall around `center_m`, `length_m` along the duct and
+/// `width_m` around it (arc length). The catheter's contacts treat the wall's faces inside it
+/// as open (sim/setup/tissue_model.h).
+struct IncisionSpec {
+  bool present = false;
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();  ///< world frame, on the duct's wall
+  double length_m = 0.003;
+  double width_m = 0.002;
+  int line = 0;  ///< where it is in the file, for later messages
 };
 
 /// One organ: a mesh placed in the world with a material and a model kind.
@@ -85,7 +100,8 @@ struct OrganSpec {
   Eigen::Vector3d color = Eigen::Vector3d(0.8, 0.5, 0.45);  ///< RGB in [0, 1]
   models::ModelKind model = models::ModelKind::kRigid;
   MaterialSpec material;
-  int line = 0;  ///< where the organ starts in the file, for later messages
+  IncisionSpec incision;  ///< modal-shell organs only
+  int line = 0;           ///< where the organ starts in the file, for later messages
 
   /// Mesh frame to world frame.
   [[nodiscard]] Eigen::Affine3d transform() const;

@@ -90,9 +90,9 @@ class ScenarioParser {
     for (size_t i = 0; i < n.size(); ++i) {
       const std::string f = "organs[" + std::to_string(i) + "]";
       const YAML::Node o = n[i];
-      if (!fields_.expect_map(
-              o, f,
-              {"name", "mesh", "scale", "repair", "transform", "color", "model", "material"})) {
+      if (!fields_.expect_map(o, f,
+                              {"name", "mesh", "scale", "repair", "transform", "color", "model",
+                               "material", "incision"})) {
         continue;
       }
       OrganSpec organ;
@@ -112,8 +112,26 @@ class ScenarioParser {
       if (fields_.require(o, "material", f)) {
         parse_material(fields_, files_, o["material"], f + ".material", organ.material);
       }
+      if (o["incision"]) parse_incision(o["incision"], f + ".incision", organ);
       s_.organs.push_back(std::move(organ));
     }
+  }
+
+  // The ductotomy: where (on the wall: checked against the duct's shell when it is built) and
+  // how large; only a modal-shell duct has a wall to cut.
+  void parse_incision(const YAML::Node& n, const std::string& f, OrganSpec& organ) {
+    if (!fields_.expect_map(n, f, {"center_m", "length_m", "width_m"})) return;
+    IncisionSpec& c = organ.incision;
+    c.present = true;
+    c.line = yaml_line(n);
+    if (organ.model != models::ModelKind::kModalShell) {
+      fields_.problem(n, f, "an incision is cut in a duct's wall: expected model: modal-shell");
+    }
+    if (fields_.require(n, "center_m", f)) {
+      if (auto v = fields_.vec3(n["center_m"], f + ".center_m")) c.center_m = *v;
+    }
+    fields_.optional_number(n, "length_m", f, c.length_m, 1e-4, 0.05, "from 1e-4 to 0.05 (m)");
+    fields_.optional_number(n, "width_m", f, c.width_m, 1e-4, 0.05, "from 1e-4 to 0.05 (m)");
   }
 
   // The name is kept even when it breaks a rule, so a task naming it gets no second problem.

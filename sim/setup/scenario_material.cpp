@@ -14,7 +14,7 @@ class MaterialParser {
             n, f,
             {"stiffness_n_per_m", "damping_n_s_per_m", "friction_static", "friction_dynamic",
              "friction_stick_stiffness_n_per_m", "friction_slide_stiffness_n_per_m", "friction_map",
-             "shading", "texture"})) {
+             "shading", "texture", "catheter_friction"})) {
       return;
     }
     parse_contact(n, f, m);
@@ -49,6 +49,8 @@ class MaterialParser {
           n["friction_dynamic"], f + ".friction_dynamic",
           "expected at most friction_static (" + std::to_string(m.friction_static) + ")");
     }
+    fields_.optional_number(n, "catheter_friction", f, m.catheter_friction, 0.0, 2.0,
+                            "from 0 to 2");
     fields_.optional_number(n, "friction_stick_stiffness_n_per_m", f,
                             m.friction_stick_stiffness_n_per_m, 1.0, 1e5, "from 1 to 1e5 (N/m)");
     fields_.optional_number(n, "friction_slide_stiffness_n_per_m", f,

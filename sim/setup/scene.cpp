@@ -45,6 +45,7 @@ SceneLoadResult load_scene(const Scenario& scenario) {
     organ.color = spec.color;
     organ.material = spec.material;
     organ.model = spec.model;
+    organ.incision = spec.incision;
     MeshLoadSettings load;
     load.scale = spec.scale;
     Result<haptics::TriangleMesh> mesh = load_mesh(spec.mesh, load);

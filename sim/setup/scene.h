@@ -20,6 +20,7 @@ struct Organ {
   Eigen::Vector3d color;
   MaterialSpec material;
   models::ModelKind model = models::ModelKind::kRigid;
+  IncisionSpec incision;       ///< the duct's ductotomy (world frame), if the scenario cuts one
   std::string repair_summary;  ///< what repair did, empty when not asked
   /// An image texture's height map, decoded and checked at load (material.texture.image).
   std::shared_ptr<const haptics::HeightImage> height_image;

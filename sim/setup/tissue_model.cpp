@@ -3,6 +3,7 @@
 #include <exception>
 
 #include "sim/setup/duct_fit.h"
+#include "sim/setup/duct_incision.h"
 #include "sim/setup/modal_shell_cache.h"
 
 namespace lap::sim {
@@ -20,7 +21,13 @@ Result<std::shared_ptr<const TissueModel>> TissueModel::build(const Scene& scene
   }
   for (size_t i = 0; i < scene.organs.size(); ++i) {
     Status added = m->add_organ(scene.organs[i], static_cast<int32_t>(i), notes);
-    if (!added.ok()) return added.diagnostics();
+    if (!added.ok()) {
+      std::vector<Diagnostic> d = std::move(added).diagnostics();
+      for (Diagnostic& one : d) {
+        if (one.file.empty() && one.line > 0) one.file = scene.scenario.file.string();
+      }
+      return d;
+    }
   }
   return std::shared_ptr<const TissueModel>(std::move(m));
 }
@@ -31,6 +38,7 @@ Status TissueModel::add_organ(const Organ& organ, int32_t index, std::vector<std
   t.contact.clearance_m = catheter_model_->radius_m();
   t.contact.stiffness_n_per_m = organ.material.stiffness_n_per_m;
   t.contact.damping_n_s_per_m = organ.material.damping_n_s_per_m;
+  t.contact.friction_coefficient = organ.material.catheter_friction;
   auto problem = [&](const std::string& what) { return Diagnostic{"", 0, organ.name, what}; };
   try {
     if (organ.model == models::ModelKind::kModalShell) {
@@ -55,6 +63,16 @@ Status TissueModel::add_organ(const Organ& organ, int32_t index, std::vector<std
       t.surface.transform(Eigen::Affine3d(fit.pose_WD.matrix()));
       t.contact.clearance_m += 0.5 * settings_.duct_wall_thickness_m;  // its mid-surface
       t.contact.keep_side = true;  // the catheter may be inside or outside
+      if (organ.incision.present) {
+        Result<std::vector<uint8_t>> open =
+            incision_faces(t.surface, fit.duct, fit.pose_WD, organ.incision);
+        if (!open.ok()) {
+          Diagnostic d = open.diagnostics().front();
+          d.field = "organs[" + std::to_string(index) + "]." + d.field;
+          return d;
+        }
+        t.open_faces = std::move(open).value();
+      }
     } else {
       t.surface = organ.mesh;
       auto rest = std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(t.surface));

@@ -58,6 +58,9 @@ struct OrganTissue {
   std::unique_ptr<const haptics::MeshDatabase> rest;
   std::unique_ptr<const models::LocalDeformationModel> local;  ///< kLocal only
   models::SurfaceContactSettings contact;                      ///< the catheter against it
+  /// Per face of `surface`, 1 where the scenario's incision opens it to the catheter (the
+  /// duct's ductotomy, duct_incision.h); empty: none.
+  std::vector<uint8_t> open_faces;
   double stiffness_n_per_m = 0.0;
 };
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include "haptics/closest_point.h"
@@ -337,6 +338,355 @@ TEST(CatheterContacts, AParticleComingBackFromAfarFindsItsNearestPointAfresh) {
                 1e-12);
   }
   EXPECT_EQ(std::count(tracking.away.begin(), tracking.away.end(), 1), 0);
+}
+
+// Friction in the lumen (§7.6.3): a straight duct's wall held still, the catheter inside along
+// its axis, every particle pressed by a side force onto the middle of a row of the wall's flat
+// quads (at angle π / around, between two lines of nodes), so the contact normal is that row's
+// and each particle bears N = side force in equilibrium.
+struct Lumen {
+  DuctSettings duct;
+  haptics::MeshDatabase wall;
+  CatheterModel model;
+  SurfaceContactSettings settings;
+  Lumen(int32_t particles, double length_m, double drag, double mu)
+      : wall(haptics::MeshDatabase::build(triangulate(make_duct_shell(duct).mesh))),
+        model(make_model(particles, length_m, drag)) {
+    settings.clearance_m = model.radius_m() + 0.5 * duct.wall_thickness_m;
+    settings.keep_side = true;
+    settings.stiffness_n_per_m = 200.0;
+    settings.friction_coefficient = mu;
+  }
+  static CatheterModel make_model(int32_t particles, double length_m, double drag) {
+    CatheterSettings cs;
+    cs.particles = particles;
+    cs.length_m = length_m;
+    cs.drag_n_s_per_m = drag;
+    return CatheterModel::build(cs);
+  }
+  // The side the particles are pressed to: the row of quads from angle 0 to 2π / around.
+  [[nodiscard]] Eigen::Vector3d side() const {
+    const double a = M_PI / duct.around;
+    return {std::cos(a), std::sin(a), 0.0};
+  }
+  // Where the centre line rests on that row: its distance from the axis less the clearance.
+  [[nodiscard]] Eigen::Vector3d resting(double z) const {
+    const double to_row =
+        0.5 * (duct.outer_diameter_m - duct.wall_thickness_m) * std::cos(M_PI / duct.around);
+    return (to_row - settings.clearance_m) * side() + Eigen::Vector3d(0.0, 0.0, z);
+  }
+};
+
+// One particle's speed along the lumen after `steps` with side force `side` and axial force
+// `axial` on every particle (none held): Coulomb with its regularisation,
+//   slip v: axial = b v + μ N v / max(v, v_stick).
+double steady_slide_speed(Lumen* lumen, double side, double axial, int steps) {
+  CatheterState cath(lumen->model, lumen->resting(0.008), Eigen::Vector3d::UnitZ());
+  SurfaceTracking tracking(lumen->wall, Eigen::Isometry3d::Identity(), cath);
+  std::vector<SurfaceReaction> reactions(static_cast<size_t>(lumen->model.particle_count()));
+  for (int k = 0; k < steps; ++k) {
+    clear_contacts(&cath);
+    (void)update_surface_contacts(lumen->wall, Eigen::Isometry3d::Identity(), lumen->settings,
+                                  &tracking, &cath, reactions);
+    // The side force at once, the axial one after 0.1 s (the particle pressed on the wall).
+    for (auto& f : cath.external_force) {
+      f = side * lumen->side() + Eigen::Vector3d(0.0, 0.0, k >= 20 ? axial : 0.0);
+    }
+    EXPECT_TRUE(step_catheter(lumen->model, &cath, 0.005));
+  }
+  double v = 0.0;
+  for (const auto& vi : cath.velocities) v += vi.z();
+  return v / static_cast<double>(cath.velocities.size());
+}
+
+// Pushed along the lumen harder than friction allows, it slides at the speed where drag takes
+// the rest: (F − μ N) / b; pushed less, it holds, creeping at F / (μ N / v_stick + b) < v_stick.
+TEST(CatheterContacts, InTheLumenItSlidesPastMuNAndHoldsBelow) {
+  const double mu = 0.2;
+  const double side = 0.002;  // N per particle: N = 2 mN
+  Lumen lumen(5, 0.008, 0.05, mu);
+  const double b = lumen.model.settings().drag_n_s_per_m;
+  const double v_stick = lumen.model.settings().contact_stick_speed_m_per_s;
+  const double slide = steady_slide_speed(&lumen, side, 1.5 * mu * side, 200);
+  EXPECT_NEAR(slide, 0.5 * mu * side / b, 0.05 * 0.5 * mu * side / b);
+  const double creep = steady_slide_speed(&lumen, side, 0.5 * mu * side, 200);
+  const double creep_expected = 0.5 * mu * side / (mu * side / v_stick + b);
+  EXPECT_NEAR(creep, creep_expected, 0.05 * creep_expected);
+  EXPECT_LT(creep, v_stick);
+  // Without friction it would slide at F / b.
+  Lumen frictionless(5, 0.008, 0.05, 0.0);
+  const double free = steady_slide_speed(&frictionless, side, 0.5 * mu * side, 200);
+  EXPECT_NEAR(free, 0.5 * mu * side / b, 0.05 * 0.5 * mu * side / b);
+  std::printf(
+      "[ contacts ] in the lumen, N = %.3g N, mu = %.2f: pushed 1.5 mu N slides at %.4f mm/s "
+      "(Coulomb %.4f), pushed 0.5 mu N creeps at %.4f mm/s (expected %.4f, v_stick %.2f; "
+      "frictionless %.3f)\n",
+      side, mu, 1e3 * slide, 1e3 * 0.5 * mu * side / b, 1e3 * creep, 1e3 * creep_expected,
+      1e3 * v_stick, 1e3 * free);
+}
+
+// The catheter drawn through the lumen at a steady 10 mm/s by a stiff axial anchor on its front
+// end: the anchor pulls with μ Σ N plus the drag n b v, and the wall bears μ Σ N along the axis
+// (its reactions' axial sum), with Σ N the reactions' normal parts; both within 5 %.
+TEST(CatheterContacts, DrawnThroughTheLumenTheResistanceIsCoulombs) {
+  const double mu = 0.3;
+  const double side = 0.002;
+  Lumen lumen(13, 0.018, 2e-4, mu);
+  const CatheterModel& model = lumen.model;
+  CatheterState cath(model, lumen.resting(0.003), Eigen::Vector3d::UnitZ());
+  SurfaceTracking tracking(lumen.wall, Eigen::Isometry3d::Identity(), cath);
+  std::vector<SurfaceReaction> reactions(static_cast<size_t>(model.particle_count()));
+  const double speed = 0.01;
+  const double dt = 0.005;
+  const int last = model.particle_count() - 1;
+  const Eigen::Vector3d start = cath.positions[static_cast<size_t>(last)];
+  double pull = 0.0;
+  double wall_axial = 0.0;
+  double wall_normal = 0.0;
+  double pull_sum = 0.0;
+  double axial_sum = 0.0;
+  double normal_sum = 0.0;
+  int samples = 0;
+  for (int k = 0; k < 160; ++k) {                   // 0.8 s: 8 mm, within the 30 mm duct
+    const double t = std::max(0.0, (k - 40) * dt);  // pressed on the wall first, for 0.2 s
+    clear_anchors(&cath);
+    CenterlineAnchor a;
+    a.segment = last - 1;
+    a.t = 1.0;
+    // Along the axis only: across it the target is where the front end is, so the anchor does
+    // not take the side force off the wall.
+    a.target_W = cath.positions[static_cast<size_t>(last)];
+    a.target_W.z() = start.z() + speed * t;
+    a.stiffness_n_per_m = 20000.0;
+    a.damping_n_s_per_m = 1.0;
+    ASSERT_TRUE(add_anchor(model, a, &cath));
+    clear_contacts(&cath);
+    const int32_t n = update_surface_contacts(lumen.wall, Eigen::Isometry3d::Identity(),
+                                              lumen.settings, &tracking, &cath, reactions);
+    for (auto& f : cath.external_force) f = side * lumen.side();
+    ASSERT_TRUE(step_catheter(model, &cath, dt));
+    settle_reactions(cath, {reactions.data(), static_cast<size_t>(n)});
+    const Eigen::Vector3d tip = cath.positions[static_cast<size_t>(last)];
+    pull = a.stiffness_n_per_m * (a.target_W - tip).z() -
+           a.damping_n_s_per_m * cath.velocities[static_cast<size_t>(last)].z();
+    wall_axial = 0.0;
+    wall_normal = 0.0;
+    for (int32_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d& f = reactions[static_cast<size_t>(i)].force_on_surface_W;
+      wall_axial += f.z();
+      wall_normal += f.head<2>().norm();
+    }
+    if (k >= 40) {
+      EXPECT_EQ(n, model.particle_count());  // every particle on the wall
+    }
+    if (k >= 120) {  // the last 0.2 s: steady
+      pull_sum += pull;
+      axial_sum += wall_axial;
+      normal_sum += wall_normal;
+      ++samples;
+    }
+  }
+  pull = pull_sum / samples;
+  wall_axial = axial_sum / samples;
+  wall_normal = normal_sum / samples;
+  const double drag = model.particle_count() * model.settings().drag_n_s_per_m * speed;
+  const double coulomb = mu * model.particle_count() * side;
+  // The wall bears the side forces (less the little the front anchor, a step behind, takes).
+  EXPECT_NEAR(wall_normal, model.particle_count() * side, 0.02 * model.particle_count() * side);
+  EXPECT_NEAR(pull, coulomb + drag, 0.05 * (coulomb + drag));
+  EXPECT_NEAR(pull, mu * wall_normal + drag, 0.05 * (mu * wall_normal + drag));
+  EXPECT_NEAR(wall_axial, mu * wall_normal, 0.05 * mu * wall_normal);
+  std::printf(
+      "[ contacts ] drawn through the lumen at %.0f mm/s, %d particles, N = %.4g N in all, "
+      "mu = %.2f: pulled with %.5g N (mu sum N + drag = %.5g N), the wall bears %.5g N along "
+      "the axis (mu sum N = %.5g N)\n",
+      1e3 * speed, model.particle_count(), wall_normal, mu, pull, coulomb + drag, wall_axial,
+      mu * wall_normal);
+}
+
+// Entering the duct (§7.4, Figure 7-18): a catheter pointed at the duct's wall and pushed
+// (its back two particles held, as a grasp does, and moved at 5 mm/s) passes into the lumen
+// through an incision (faces marked open), and not through the intact wall; pointed along the
+// axis at an open end, it enters there. The wall is the modal shell, deforming under the
+// reactions; the lumen has friction.
+struct Entry {
+  bool entered = false;  ///< the tip ended inside the mid-surface, between the ends
+  /// Where along the duct the tip first passed to the wall's inner side [m] (NaN: never).
+  double entry_z = std::numeric_limits<double>::quiet_NaN();
+  double inside_m = 0.0;                     ///< catheter length inside the lumen at the end
+  double max_push_n = 0.0;                   ///< the largest push the holding anchors gave
+  std::vector<std::array<double, 2>> curve;  ///< (length inside [m], push along the motion [N])
+};
+
+// Faces of the triangulated tube whose centroid is within `radius` (arc and axial distance)
+// of the wall point at angle `angle`, height `z`: a hand-made incision.
+std::vector<uint8_t> open_patch(const haptics::TriangleMesh& wall, double angle, double z,
+                                double radius, double mid_radius) {
+  std::vector<uint8_t> open(wall.triangles.size(), 0);
+  for (size_t f = 0; f < open.size(); ++f) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const int32_t v : wall.triangles[f]) c += wall.positions[static_cast<size_t>(v)];
+    c /= 3.0;
+    const double arc = mid_radius * std::remainder(std::atan2(c.y(), c.x()) - angle, 2.0 * M_PI);
+    open[f] = std::hypot(arc, c.z() - z) <= radius ? 1 : 0;
+  }
+  return open;
+}
+
+Entry push_into_duct(const Eigen::Vector3d& tip, const Eigen::Vector3d& direction,
+                     double distance_m, const std::vector<uint8_t>* open_faces, double mu) {
+  const DuctSettings duct;
+  const DuctShell shell = make_duct_shell(duct);
+  const ModalShellModel duct_model =
+      ModalShellModel::build(shell.mesh, shell.held_dof, default_duct_modal_settings(duct));
+  ModalShellState duct_state(duct_model);
+  const haptics::TriangleMesh mesh = triangulate(shell.mesh);
+  haptics::MeshDatabase wall = haptics::MeshDatabase::build(mesh);
+  haptics::MeshUpdateScratch scratch(wall);
+  std::vector<Eigen::Vector3d> positions = shell.mesh.nodes;
+  std::vector<int32_t> all(positions.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int32_t>(i);
+  const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
+
+  CatheterSettings cs;  // the default scenario's 5 Fr catheter, 4.8 mm per segment
+  cs.particles = 13;
+  cs.length_m = 0.06;
+  cs.outer_diameter_m = 0.00167;
+  cs.linear_density_kg_per_m = 2.4e-3;
+  cs.drag_n_s_per_m = 0.01;  // through the surrounding tissue, quasi-static (as above)
+  const CatheterModel model = CatheterModel::build(cs);
+  const Eigen::Vector3d d = direction.normalized();
+  const int last = model.particle_count() - 1;
+  // Tip first: particle 0 is the tip, the back end is held.
+  CatheterState cath(model, tip, -d);
+  SurfaceContactSettings settings;
+  settings.clearance_m = model.radius_m() + 0.5 * duct.wall_thickness_m;
+  settings.keep_side = true;
+  settings.stiffness_n_per_m = 170.0;  // the default scenario's duct
+  settings.damping_n_s_per_m = 0.2;
+  settings.friction_coefficient = mu;
+  SurfaceTracking tracking(wall, Eigen::Isometry3d::Identity(), cath);
+  std::vector<SurfaceReaction> reactions(static_cast<size_t>(model.particle_count()));
+  const std::span<const uint8_t> open =
+      open_faces != nullptr ? std::span<const uint8_t>(*open_faces) : std::span<const uint8_t>();
+  const std::array<Eigen::Vector3d, 2> held = {cath.positions[static_cast<size_t>(last - 1)],
+                                               cath.positions[static_cast<size_t>(last)]};
+  const double speed = 0.005;
+  const double dt = 0.005;
+  const int steps = static_cast<int>(distance_m / speed / dt);
+  Entry out;
+  for (int k = 0; k <= steps; ++k) {
+    clear_anchors(&cath);
+    for (int a = 0; a < 2; ++a) {
+      CenterlineAnchor an;
+      an.segment = last - 1;
+      an.t = a;
+      an.target_W = held[static_cast<size_t>(a)] + speed * dt * k * d;
+      an.stiffness_n_per_m = 20000.0;
+      an.damping_n_s_per_m = 0.0;  // the push is the springs' alone (a damper would add c v)
+      add_anchor(model, an, &cath);
+    }
+    clear_contacts(&cath);
+    const int32_t n = update_surface_contacts(wall, Eigen::Isometry3d::Identity(), settings,
+                                              &tracking, &cath, reactions, open);
+    EXPECT_TRUE(step_catheter(model, &cath, dt));
+    settle_reactions(cath, {reactions.data(), static_cast<size_t>(n)});
+    for (int32_t i = 0; i < n; ++i) {
+      apply_surface_force(wall, reactions[i].primitive, reactions[i].point_O,
+                          reactions[i].force_on_surface_W, &duct_state);
+    }
+    EXPECT_TRUE(step_modal_shell(duct_model, &duct_state, dt));
+    for (size_t i = 0; i < positions.size(); ++i) {
+      positions[i] = shell.mesh.nodes[i] + duct_state.displacement[i];
+    }
+    wall.set_positions(positions, all, &scratch);
+    double push = 0.0;
+    for (int a = 0; a < 2; ++a) {
+      const CenterlineAnchor& an = cath.anchors[static_cast<size_t>(a)];
+      const Eigen::Vector3d x = centerline_point(model, cath.positions, an.segment, an.t);
+      push += an.stiffness_n_per_m * d.dot(an.target_W - x);
+    }
+    out.max_push_n = std::max(out.max_push_n, push);
+    // The depth: how far along the lumen the tip has gone since it passed the wall.
+    const Eigen::Vector3d& t = cath.positions.front();
+    if (std::isnan(out.entry_z) && tracking.side[0] < 0) out.entry_z = t.z();
+    const bool in = t.head<2>().norm() < mid_radius && t.z() > 0.0 && t.z() < duct.length_m;
+    const double inside = in && !std::isnan(out.entry_z) ? std::abs(t.z() - out.entry_z) : 0.0;
+    if (k % 20 == 0) out.curve.push_back({inside, push});
+    out.inside_m = inside;
+  }
+  const Eigen::Vector3d& t = cath.positions.front();
+  out.entered = t.head<2>().norm() < mid_radius && t.z() > 0.0 && t.z() < duct.length_m;
+  return out;
+}
+
+TEST(CatheterContacts, TheCatheterEntersTheDuctThroughItsIncisionOnly) {
+  const DuctSettings duct;
+  const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
+  const haptics::TriangleMesh mesh = triangulate(make_duct_shell(duct).mesh);
+  // A 3 mm ductotomy on the top of the wall (+y), a third of the way along; the catheter comes
+  // down at 60 degrees to the axis, its tip 2 mm above the incision, pointing along the duct.
+  const double z_cut = duct.length_m / 3.0;
+  const std::vector<uint8_t> open = open_patch(mesh, M_PI / 2, z_cut, 0.0015, mid_radius);
+  ASSERT_GT(std::count(open.begin(), open.end(), 1), 4);
+  const Eigen::Vector3d dir(0.0, -std::sin(M_PI / 3), std::cos(M_PI / 3));
+  const Eigen::Vector3d at_cut(0.0, mid_radius, z_cut);
+  const Eigen::Vector3d tip = at_cut - (0.002 / std::sin(M_PI / 3)) * dir;
+  const Entry through = push_into_duct(tip, dir, 0.010, &open, 0.3);
+  const Entry intact = push_into_duct(tip, dir, 0.010, nullptr, 0.3);
+  // Through the incision: in at the cut, and on along the lumen past it.
+  EXPECT_TRUE(through.entered);
+  EXPECT_NEAR(through.entry_z, z_cut, 0.0015);
+  EXPECT_GT(through.inside_m, 0.003);
+  // At the intact wall the tip is turned aside and slides along the duct's outside.
+  EXPECT_FALSE(intact.entered);
+  EXPECT_TRUE(std::isnan(intact.entry_z));
+  EXPECT_EQ(intact.inside_m, 0.0);
+  std::printf(
+      "[ contacts ] into the duct at 60 degrees, 10 mm of push: through a 3 mm incision the tip "
+      "enters %.2f mm from the cut's centre and is %.1f mm inside at the end (largest push "
+      "%.3f N); at an intact wall it stays out (largest push %.3f N)\n",
+      1e3 * (through.entry_z - z_cut), 1e3 * through.inside_m, through.max_push_n,
+      intact.max_push_n);
+}
+
+TEST(CatheterContacts, TheCatheterEntersAnOpenEndOfTheDuct) {
+  // Along the axis, its tip 2 mm before the end at z = 0.
+  const Entry r = push_into_duct(Eigen::Vector3d(0.0, 0.0, -0.002), Eigen::Vector3d::UnitZ(), 0.012,
+                                 nullptr, 0.3);
+  EXPECT_TRUE(r.entered);
+  EXPECT_LT(r.entry_z, 0.0015);  // at the rim (rounding it, a little before z = 0)
+  EXPECT_GT(r.inside_m, 0.008);
+}
+
+// The insertion curve: the push against the tip's depth in the lumen, with and without friction in
+// the lumen (μ = 0.3 and 0). Past the incision, friction alone adds to the push: the mean push over
+// the insertion is larger with it.
+TEST(CatheterContacts, InsertionForceAgainstDepth) {
+  const DuctSettings duct;
+  const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
+  const haptics::TriangleMesh mesh = triangulate(make_duct_shell(duct).mesh);
+  const double z_cut = duct.length_m / 4.0;
+  const std::vector<uint8_t> open = open_patch(mesh, M_PI / 2, z_cut, 0.0015, mid_radius);
+  const Eigen::Vector3d dir(0.0, -std::sin(M_PI / 3), std::cos(M_PI / 3));
+  const Eigen::Vector3d tip =
+      Eigen::Vector3d(0.0, mid_radius, z_cut) - (0.002 / std::sin(M_PI / 3)) * dir;
+  const Entry with = push_into_duct(tip, dir, 0.016, &open, 0.3);
+  const Entry without = push_into_duct(tip, dir, 0.016, &open, 0.0);
+  ASSERT_TRUE(with.entered);
+  ASSERT_TRUE(without.entered);
+  double mean_with = 0.0;
+  double mean_without = 0.0;
+  std::printf("[ contacts ] insertion through the incision at 5 mm/s (every 0.1 s):\n");
+  std::printf("[ contacts ]   depth [mm]   push mu=0.3 [N]  |  depth [mm]   push mu=0 [N]\n");
+  for (size_t i = 0; i < with.curve.size() && i < without.curve.size(); ++i) {
+    std::printf("[ contacts ]   %8.1f     %8.4f         |  %8.1f     %8.4f\n",
+                1e3 * with.curve[i][0], with.curve[i][1], 1e3 * without.curve[i][0],
+                without.curve[i][1]);
+    mean_with += with.curve[i][1];
+    mean_without += without.curve[i][1];
+  }
+  EXPECT_GT(mean_with, mean_without);
 }
 
 }  // namespace

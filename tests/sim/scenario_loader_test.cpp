@@ -267,7 +267,7 @@ TEST_F(ScenarioFixture, Bad26_MisspelledMaterialField) {
                 ":21: organs[1].material.stiffnes_n_per_m: unknown field (expected one of: "
                 "stiffness_n_per_m, damping_n_s_per_m, friction_static, friction_dynamic, "
                 "friction_stick_stiffness_n_per_m, friction_slide_stiffness_n_per_m, friction_map, "
-                "shading, texture)");
+                "shading, texture, catheter_friction)");
   EXPECT_EQ(r.diagnostics()[1].to_string(),
             file() + ":21: organs[1].material.stiffness_n_per_m: required field is missing");
 }
@@ -284,6 +284,37 @@ TEST_F(ScenarioFixture, Bad28_EmptyDocument) {
   EXPECT_EQ(
       r.diagnostics()[0].to_string(),
       file() + ":1: (document): expected a mapping with version, name and organs, got nothing");
+}
+
+TEST_F(ScenarioFixture, Bad29_IncisionInAnOrganThatIsNotADuct) {
+  expect_one(load_with(16, "      friction_dynamic: 0.1\n    incision:\n      center_m: [0, 0, 0]"),
+             "18: organs[0].incision: an incision is cut in a duct's wall: expected model: "
+             "modal-shell");
+}
+
+TEST_F(ScenarioFixture, Bad30_IncisionWithoutItsCentre) {
+  expect_one(load_with(21, "      stiffness_n_per_m: 150\n    incision:\n      length_m: 0.003"),
+             "23: organs[1].incision.center_m: required field is missing");
+}
+
+TEST_F(ScenarioFixture, Bad31_CatheterFrictionOutOfRange) {
+  expect_one(load_with(16, "      friction_dynamic: 0.1\n      catheter_friction: 3"),
+             "17: organs[0].material.catheter_friction: expected a number from 0 to 2, got 3");
+}
+
+TEST_F(ScenarioFixture, AnIncisionInTheDuctIsRead) {
+  const ScenarioLoadResult r =
+      load_with(21,
+                "      stiffness_n_per_m: 150\n      catheter_friction: 0.2\n    incision:\n"
+                "      center_m: [0.01, 0.02, 0.03]\n      width_m: 0.0025");
+  ASSERT_TRUE(r.ok()) << all(r);
+  const OrganSpec& duct = r.value().organs[1];
+  EXPECT_TRUE(duct.incision.present);
+  EXPECT_TRUE(duct.incision.center_m.isApprox(Eigen::Vector3d(0.01, 0.02, 0.03)));
+  EXPECT_DOUBLE_EQ(duct.incision.length_m, 0.003);  // the default
+  EXPECT_DOUBLE_EQ(duct.incision.width_m, 0.0025);
+  EXPECT_DOUBLE_EQ(duct.material.catheter_friction, 0.2);
+  EXPECT_FALSE(r.value().organs[0].incision.present);
 }
 
 TEST_F(ScenarioFixture, ManyProblemsAreAllReported) {

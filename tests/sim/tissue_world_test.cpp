@@ -264,6 +264,65 @@ TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
   EXPECT_GT(d[static_cast<size_t>(duct)].count, 0);
 }
 
+// The default scenario's ductotomy: the faces it opens lie in its ellipse on the duct's wall
+// (3 mm along, 2 mm around), on the side facing the laparoscope; the catheter meets the lumen
+// with the scenario's friction. A centre off the wall is refused, naming the file, the line
+// and the field.
+TEST(TissueWorld, TheDefaultDuctHasItsIncision) {
+  const Scene& scene = default_scene();
+  const test::TempDir cache;
+  const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr).value();
+  const int32_t duct = world->duct_organ();
+  ASSERT_GE(duct, 0);
+  const OrganTissue& t = world->model().organ(duct);
+  EXPECT_DOUBLE_EQ(t.contact.friction_coefficient, 0.2);
+  const IncisionSpec& cut = scene.organs[static_cast<size_t>(duct)].incision;
+  ASSERT_TRUE(cut.present);
+  ASSERT_EQ(t.open_faces.size(), t.surface.triangles.size());
+  const DuctFit fit = fit_duct(scene.organs[static_cast<size_t>(duct)].mesh,
+                               world->settings().duct_wall_thickness_m)
+                          .value();
+  const Eigen::Isometry3d pose_DW = fit.pose_WD.inverse();
+  const Eigen::Vector3d c = pose_DW * cut.center_m;
+  const double mid_radius = 0.5 * (fit.duct.outer_diameter_m - fit.duct.wall_thickness_m);
+  int32_t open = 0;
+  for (size_t f = 0; f < t.open_faces.size(); ++f) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const int32_t v : t.surface.triangles[f]) {
+      centroid += t.surface.positions[static_cast<size_t>(v)];
+    }
+    const Eigen::Vector3d p = pose_DW * (centroid / 3.0);
+    const double along = (p.z() - c.z()) / (0.5 * cut.length_m);
+    const double around =
+        mid_radius *
+        std::remainder(std::atan2(p.y(), p.x()) - std::atan2(c.y(), c.x()), 2.0 * M_PI) /
+        (0.5 * cut.width_m);
+    EXPECT_EQ(t.open_faces[f] != 0, along * along + around * around <= 1.0) << f;
+    open += t.open_faces[f];
+  }
+  // About the ellipse's area over a face's (quads of length / along by 2 pi r / around, halved).
+  const double face_area =
+      0.5 * (fit.duct.length_m / fit.duct.along) * (2.0 * M_PI * mid_radius / fit.duct.around);
+  const double expected = M_PI * 0.25 * cut.length_m * cut.width_m / face_area;
+  EXPECT_NEAR(open, expected, 0.35 * expected);
+  // On the side facing the laparoscope.
+  const Eigen::Vector3d to_camera = scene.scenario.camera.position_m - cut.center_m;
+  const Eigen::Vector3d outward = fit.pose_WD.linear() * Eigen::Vector3d(c.x(), c.y(), 0.0);
+  EXPECT_GT(to_camera.dot(outward), 0.0);
+  std::printf("[ incision ] the default duct's incision opens %d faces (ellipse / face: %.1f)\n",
+              open, expected);
+
+  Scene off = scene;
+  off.organs[static_cast<size_t>(duct)].incision.center_m += 0.01 * Eigen::Vector3d::UnitY();
+  const auto refused = TissueModel::build(off, world_settings(cache.path()), nullptr);
+  ASSERT_FALSE(refused.ok());
+  const Diagnostic& d = refused.diagnostics().front();
+  EXPECT_EQ(d.file, scene.scenario.file.string());
+  EXPECT_EQ(d.line, cut.line);
+  EXPECT_EQ(d.field, "organs[" + std::to_string(duct) + "].incision");
+  EXPECT_NE(d.message.find("from the duct's wall"), std::string::npos) << d.message;
+}
+
 TEST(TissueWorld, AFastSessionDeformsTheOrgansItsToolsPress) {
   const Scene& scene = default_scene();
   hardware::ScriptedTrajectory t;
