@@ -127,6 +127,8 @@ Result<std::unique_ptr<Session>> Session::create(
     }
     tool.gripper = haptics::LaparoscopicGripper(m.tool(side).gripper);
     tool.limiter = hardware::CommandLimiter(have);
+    tool.passivity = hardware::PassivityController(hardware::PassivityController::kMaxDampingNsPerM,
+                                                   rs.passivity_control);
     tool.axis_W = m.tool(side).initial_axis_W;
   }
 
@@ -264,6 +266,7 @@ bool Session::read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept {
   } else if (st == hardware::DeviceStatus::kError) {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kDeviceError);
   }
+  tool.handle_read = false;
   hardware::DeviceRecording& rec = recordings_[i];
   if (rec.samples.size() < rec.samples.capacity()) {
     rec.samples.push_back({tick, sample, st});
@@ -277,6 +280,8 @@ bool Session::read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
     return false;
   }
+  tool.handle_W = sample.position_W;
+  tool.handle_read = true;
   *k = tool_kinematics(model_->tool(i).trocar, sample, tool.axis_W);
   tool.axis_W = k->axis_W;
   return true;
@@ -297,15 +302,16 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   const models::JawFrame jaws = jaw_frame(k.pose);
   if (!tool.jaws_seen) tool.last_jaws = jaws;
   tool.jaws_seen = true;
+  // The jaws now and a tick ago, for the couplings' dampers.
+  models::HapticJaws now;
+  now.jaws = jaws;
+  now.jaws_before = tool.last_jaws;
+  now.tick_s = model_->timing().dt_s;
+  now.since_step_s = static_cast<double>(std::max<int64_t>(tick - model.tick, 0)) * now.tick_s;
   if (grasp.grasping()) {
     // The virtual coupling to the grasped catheter at the haptic rate: the model's force at its
     // last step and a local spring-damper on the jaws' motion since (catheter_grasp.h); the
     // squeeze from the jaws' closure on it.
-    models::HapticJaws now;
-    now.jaws = jaws;
-    now.jaws_before = tool.last_jaws;
-    now.tick_s = model_->timing().dt_s;
-    now.since_step_s = static_cast<double>(std::max<int64_t>(tick - model.tick, 0)) * now.tick_s;
     const models::GraspWrench w =
         models::coupling_wrench(tissue.settings().catheter_grasp, now, tissue.catheter_model(),
                                 {model.catheter, model.catheter_velocities}, grasp);
@@ -317,9 +323,10 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   tool.last_jaws = jaws;
   const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
   if (duct_grasp.grasping() && tissue.duct_organ() >= 0) {
-    // The same for grasped tissue, against the duct's wall as this loop's database has it.
+    // The same for grasped tissue, against the duct's wall as this loop's database has it: the
+    // model's springs and a damper on the jaws' motion (duct_grasp.h).
     const models::DuctCoupling c = models::duct_coupling(
-        tissue.settings().duct_grasp, jaw_frame(k.pose), Eigen::Isometry3d::Identity(),
+        tissue.settings().duct_grasp, now, Eigen::Isometry3d::Identity(),
         surfaces_to_haptic_.read()->positions(tissue.duct_organ()), duct_grasp);
     force += c.force_on_tool_W;
     squeeze = std::max(squeeze, c.squeeze_n);
@@ -337,6 +344,10 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   for (int seg = 0; seg < 3; ++seg) {
     for (const haptics::SegmentContact& c : tool.gripper.proxy(seg).contacts()) {
       if (ts->organ_contact_count >= ToolModelInput::kMaxContacts) break;
+      // The duct this tool holds is held by the grasp's anchors at the jaws (duct_grasp.h):
+      // its contacts would push the same wall again, a step late, and that exchange alternates
+      // step by step against the anchors (a 100 Hz force at the handle).
+      if (duct_grasp.grasping() && c.object == tissue.duct_organ()) continue;
       ToolContact& tc = ts->organ_contacts[static_cast<size_t>(ts->organ_contact_count++)];
       tc.organ = c.object;
       tc.primitive = c.primitive;
@@ -382,11 +393,23 @@ void Session::send_commands(int64_t tick, const std::array<hardware::DeviceComma
       sent[i] = l.command;
     }
   }
+  // The passivity controller at each handle, last: a damper where the simulation would give the
+  // hand more energy than it took, within the limiter's force bound.
+  for (size_t i = 0; i < 2; ++i) {
+    Tool& tool = tools_[i];
+    if (!tool.handle_read) {
+      tool.passivity.skip();
+    } else {
+      sent[i].force_W =
+          tool.passivity.apply(tool.handle_W, sent[i].force_W, dt, tool.limiter.force_bound_n());
+    }
+  }
   // Paused before this tick or by it, or a late tick: zero, past the rate limit.
   if (late || paused_.load(std::memory_order_relaxed)) {
     for (size_t i = 0; i < 2; ++i) sent[i] = tools_[i].limiter.zero();
   }
   for (size_t i = 0; i < 2; ++i) {
+    tools_[i].passivity.sent(sent[i].force_W);
     const hardware::DeviceStatus st = tools_[i].device->write(sent[i]);
     if (st == hardware::DeviceStatus::kDisconnected || st == hardware::DeviceStatus::kError) {
       trip(tick, static_cast<int32_t>(i),
@@ -598,6 +621,7 @@ SessionMetrics Session::run() {
                          std::to_string(events_.size()) + " were counted but not listed");
   }
   m.max_force_sent_n = max_force_sent_n_;
+  m.passivity = {tools_[0].passivity.figures(), tools_[1].passivity.figures()};
   m.organ_names = model_->organ_names();
   return m;
 }
