@@ -20,6 +20,7 @@ Eigen::Vector3d PassivityController::apply(const Eigen::Vector3d& handle_W,
   // Observer: the work the force held over the last tick did on the handle.
   const Eigen::Vector3d step_W = handle_W - handle_W_;
   handle_W_ = handle_W;
+  if (leak_s_ > 0.0 && figures_.observed_j > 0.0) figures_.observed_j *= std::exp(-dt / leak_s_);
   figures_.observed_j -= sent_W_.dot(step_W);
   figures_.lowest_j = std::min(figures_.lowest_j, figures_.observed_j);
   // Controller: the deficit predicted after the coming tick at the handle's last velocity.

@@ -49,9 +49,13 @@ class PassivityController {
 
   PassivityController() = default;
   /// `control` false: observe only (apply() returns the force unchanged), to show what the
-  /// controller guards against.
-  explicit PassivityController(double max_damping_n_s_per_m, bool control = true)
-      : max_damping_(max_damping_n_s_per_m), control_(control) {}
+  /// controller guards against. `leak_s` > 0: the energy absorbed (E > 0) leaks away with this
+  /// time constant, so that what the rendering dissipated long ago cannot pay for its activity
+  /// now (a sustained oscillation that feeds the hand a little energy every cycle); a deficit
+  /// (E < 0) never leaks. 0: the plain observer.
+  explicit PassivityController(double max_damping_n_s_per_m, bool control = true,
+                               double leak_s = 0.0)
+      : max_damping_(max_damping_n_s_per_m), control_(control), leak_s_(leak_s) {}
 
   /// Real time, once a tick: observes the last tick's exchange with the handle now at
   /// `handle_W`, and returns `wanted_W` with the damper added where the simulation would give
@@ -72,6 +76,7 @@ class PassivityController {
  private:
   double max_damping_ = kMaxDampingNsPerM;
   bool control_ = true;
+  double leak_s_ = 0.0;
   Eigen::Vector3d handle_W_ = Eigen::Vector3d::Zero();  ///< at the last tick
   Eigen::Vector3d sent_W_ = Eigen::Vector3d::Zero();    ///< held since the last tick
   bool has_handle_ = false;

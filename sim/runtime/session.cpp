@@ -13,6 +13,9 @@ namespace lap::sim {
 namespace {
 
 constexpr uint64_t kFnvPrime = 1099511628211ULL;
+/// The couplings' passivity reservoir leaks with this time constant (estimate: a few cycles of
+/// the hand's own 5–25 Hz modes on a grasp; long against a tick, short against a pull).
+constexpr double kCouplingLeakS = 0.2;
 
 void hash_bytes(uint64_t* h, const void* data, size_t n) noexcept {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -129,6 +132,8 @@ Result<std::unique_ptr<Session>> Session::create(
     tool.limiter = hardware::CommandLimiter(have);
     tool.passivity = hardware::PassivityController(hardware::PassivityController::kMaxDampingNsPerM,
                                                    rs.passivity_control);
+    tool.coupling_passivity = hardware::PassivityController(
+        hardware::PassivityController::kMaxDampingNsPerM, rs.passivity_control, kCouplingLeakS);
     tool.axis_W = m.tool(side).initial_axis_W;
   }
 
@@ -297,6 +302,8 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   Eigen::Vector3d force = out.force_W;
   Eigen::Vector3d torque = out.torque_W;
   double squeeze = out.squeeze_n;
+  Eigen::Vector3d coupling_force = Eigen::Vector3d::Zero();  // the grasps' share, at the tip
+  Eigen::Vector3d coupling_torque = Eigen::Vector3d::Zero();
   const TissueModel& tissue = model_->tissue();
   const models::GraspState& grasp = model.grasps[i];
   const models::JawFrame jaws = jaw_frame(k.pose);
@@ -315,8 +322,8 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
     const models::GraspWrench w =
         models::coupling_wrench(tissue.settings().catheter_grasp, now, tissue.catheter_model(),
                                 {model.catheter, model.catheter_velocities}, grasp);
-    force += w.force_W;
-    torque += w.torque_W;
+    coupling_force += w.force_W;
+    coupling_torque += w.torque_W;
     squeeze = std::max(squeeze, grasp_squeeze(tissue.settings().catheter_grasp, jaws,
                                               tissue.catheter_model(), grasp));
   }
@@ -328,9 +335,11 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
     const models::DuctCoupling c = models::duct_coupling(
         tissue.settings().duct_grasp, now, Eigen::Isometry3d::Identity(),
         surfaces_to_haptic_.read()->positions(tissue.duct_organ()), duct_grasp);
-    force += c.force_on_tool_W;
+    coupling_force += c.force_on_tool_W;
     squeeze = std::max(squeeze, c.squeeze_n);
   }
+  force += coupling_force;
+  torque += coupling_torque;
   if (out.fault || !force.allFinite() || !torque.allFinite()) {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
     force.setZero();
@@ -370,7 +379,28 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   }
   hardware::DeviceCommand command = handle_command(k, force, torque, squeeze);
   command.stiffness_n_per_m = budget.at_handle_n_per_m();
+  if (command.force_W.allFinite())
+    command.force_W += coupling_damper(i, k, force, coupling_force, coupling_torque);
   return command;
+}
+
+// The grasp couplings' own passivity controller: their share of the force at the handle, observed
+// on its own (the organs' contacts dissipate plenty, which must not pay for a coupling's
+// activity), with a reservoir that leaks (hardware/passivity_controller.h): a coupling that feeds
+// the hand a little energy every cycle — two tools holding the catheter taut between them, the
+// model's stiff tension sampled at 200 Hz — meets a damper within a few cycles. Returns the damper
+// at the handle; zero while the tool's force is not finite (the watchdog's case).
+Eigen::Vector3d Session::coupling_damper(size_t i, const ToolKinematics& k,
+                                         const Eigen::Vector3d& force_tip_W,
+                                         const Eigen::Vector3d& coupling_force_W,
+                                         const Eigen::Vector3d& coupling_torque_W) noexcept {
+  Tool& tool = tools_[i];
+  tool.coupling_wanted_W.setZero();
+  if (!force_tip_W.allFinite()) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d share = handle_command(k, coupling_force_W, coupling_torque_W, 0.0).force_W;
+  tool.coupling_wanted_W = tool.coupling_passivity.apply(
+      tool.handle_W, share, model_->timing().dt_s, tool.limiter.limits().max_force_n);
+  return tool.coupling_wanted_W - share;
 }
 
 // Limits, the watchdog's zero, and the ramp back (after a resume or a late tick); then write,
@@ -392,6 +422,19 @@ void Session::send_commands(int64_t tick, const std::array<hardware::DeviceComma
       if (l.non_finite) trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
       sent[i] = l.command;
     }
+  }
+  // The couplings' share as sent: the limiter scales the whole force (stiffness, peak, sustained;
+  // the rate limit apart), so by the same factor.
+  for (size_t i = 0; i < 2; ++i) {
+    Tool& tool = tools_[i];
+    if (!tool.handle_read) {
+      tool.coupling_passivity.skip();
+      continue;
+    }
+    const double w2 = wanted[i].force_W.squaredNorm();
+    const double scale =
+        w2 > 0.0 ? std::clamp(sent[i].force_W.dot(wanted[i].force_W) / w2, 0.0, 1.0) : 0.0;
+    tool.coupling_passivity.sent(scale * tool.coupling_wanted_W);
   }
   // The passivity controller at each handle, last: a damper where the simulation would give the
   // hand more energy than it took, within the limiter's force bound.
@@ -622,6 +665,8 @@ SessionMetrics Session::run() {
   }
   m.max_force_sent_n = max_force_sent_n_;
   m.passivity = {tools_[0].passivity.figures(), tools_[1].passivity.figures()};
+  m.coupling_passivity = {tools_[0].coupling_passivity.figures(),
+                          tools_[1].coupling_passivity.figures()};
   m.organ_names = model_->organ_names();
   return m;
 }

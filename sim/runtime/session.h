@@ -132,6 +132,7 @@ struct SessionMetrics {
   /// the simulation absorbed from the hand, the lowest it went, what the controller dissipated
   /// and on how many ticks.
   std::array<hardware::PassivityFigures, 2> passivity{};
+  std::array<hardware::PassivityFigures, 2> coupling_passivity{};  ///< the couplings' own
   std::vector<std::string> organ_names;  ///< for naming the organ of a model fault
 };
 
@@ -220,6 +221,10 @@ class Session {
   hardware::DeviceCommand tool_command(size_t i, const ToolKinematics& k,
                                        const ModelSnapshot& model, ToolSnapshot* ts,
                                        int64_t tick) noexcept;
+  Eigen::Vector3d coupling_damper(size_t i, const ToolKinematics& k,
+                                  const Eigen::Vector3d& force_tip_W,
+                                  const Eigen::Vector3d& coupling_force_W,
+                                  const Eigen::Vector3d& coupling_torque_W) noexcept;
   void send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
                      const HapticSnapshot& snap) noexcept;
   void publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept;
@@ -235,8 +240,12 @@ class Session {
     hardware::CommandLimiter limiter;
     /// Keeps the port passive: the energy given to the hand within what it put in.
     hardware::PassivityController passivity;
-    Eigen::Vector3d handle_W = Eigen::Vector3d::Zero();  ///< as read this tick
-    bool handle_read = false;                            ///< this tick's sample was finite
+    /// The same for the grasp couplings' share of the force alone, with a leaky reservoir: the
+    /// organs' dissipation cannot pay for a coupling's activity (session.cpp, tool_command).
+    hardware::PassivityController coupling_passivity;
+    Eigen::Vector3d coupling_wanted_W = Eigen::Vector3d::Zero();  ///< its share at the handle
+    Eigen::Vector3d handle_W = Eigen::Vector3d::Zero();           ///< as read this tick
+    bool handle_read = false;                                     ///< this tick's sample was finite
     Eigen::Vector3d axis_W = Eigen::Vector3d::UnitY();
     models::JawFrame last_jaws;  ///< at the previous tick (the couplings' jaw velocity)
     bool jaws_seen = false;

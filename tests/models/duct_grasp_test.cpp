@@ -314,7 +314,9 @@ TEST(DuctGrasp, TheHapticCouplingAbsorbsEnergyAgainstTheDuctSteppedAt200Hz) {
     EXPECT_GT(damped_j, 0.0) << hz << " Hz";
     EXPECT_GT(damped_j, undamped_j) << hz << " Hz";
     // The coupling without its damper (as it was) gives the jaws energy at 100 Hz: not passive.
-    if (hz == 100.0) EXPECT_LT(undamped_j, 0.0);
+    if (hz == 100.0) {
+      EXPECT_LT(undamped_j, 0.0);
+    }
     std::printf(
         "[ duct coupling ] jaws +-0.5 mm at %5.1f Hz for 1 s: work into the coupling %.3e J "
         "(undamped %.3e J)\n",
