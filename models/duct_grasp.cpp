@@ -115,22 +115,27 @@ DuctGraspOutput update_duct_grasp(const DuctGraspSettings& s, const JawFrame& ja
   return out;
 }
 
-DuctCoupling duct_coupling(const DuctGraspSettings& s, const JawFrame& jaws_W,
+DuctCoupling duct_coupling(const DuctGraspSettings& s, const HapticJaws& jaws,
                            const Eigen::Isometry3d& pose_WD,
                            std::span<const Eigen::Vector3d> nodes_D,
                            const DuctGraspState& grasp) noexcept {
   DuctCoupling out;
-  const JawsInDuct j = in_duct(jaws_W, pose_WD);
+  if (!(jaws.tick_s > 0.0)) return out;
+  const JawsInDuct j = in_duct(jaws.jaws, pose_WD);
+  const JawsInDuct before = in_duct(jaws.jaws_before, pose_WD);
   Eigen::Vector3d force_D = Eigen::Vector3d::Zero();
   for (int32_t k = 0; k < grasp.count; ++k) {
     const auto node = static_cast<size_t>(grasp.node[k]);
     if (node >= nodes_D.size()) continue;
+    const Eigen::Vector3d anchor = anchor_in_duct(j, grasp.jaw[k], grasp.anchor_jaw[k]);
+    const Eigen::Vector3d velocity =
+        (anchor - anchor_in_duct(before, grasp.jaw[k], grasp.anchor_jaw[k])) / jaws.tick_s;
+    const Eigen::Vector3d spring = s.attach_stiffness_n_per_m * (anchor - nodes_D[node]);
     const Eigen::Vector3d f =
-        clamp_norm(s.attach_stiffness_n_per_m *
-                       (anchor_in_duct(j, grasp.jaw[k], grasp.anchor_jaw[k]) - nodes_D[node]),
-                   s.max_force_n);
+        clamp_norm(spring + s.coupling_damping_n_s_per_m * velocity, s.max_force_n);
     force_D -= f;
-    out.squeeze_n += std::max(0.0, f.dot(inward_in_duct(j, grasp.jaw[k])));
+    out.squeeze_n +=
+        std::max(0.0, clamp_norm(spring, s.max_force_n).dot(inward_in_duct(j, grasp.jaw[k])));
   }
   out.squeeze_n *= 0.5;
   out.force_on_tool_W = pose_WD.linear() * force_D;

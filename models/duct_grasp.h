@@ -10,7 +10,8 @@
 /// duct: the springs' push against each jaw is the squeeze for the actuated gripper (§7.5),
 /// growing with closure through the shell's own stiffness. Opening past the release angle
 /// lets go. The tool feels the springs through a virtual coupling evaluated at the haptic rate
-/// against the duct's latest node positions (duct_coupling()).
+/// (duct_coupling()): the model's springs against the duct's latest node positions plus a damper
+/// on the jaws' motion, which makes it passive against a model one period behind.
 ///
 /// Frames: the duct's modes live in its own frame D (pose_WD); jaw frame J as in catheter_grasp.h
 /// (origin at the hinge, x the opening direction, jaw 0 on +x, jaws along −y). Jaw j's own frame
@@ -39,6 +40,12 @@ struct DuctGraspSettings {
   double attach_stiffness_n_per_m = 20.0;
   double attach_damping_n_s_per_m = 0.01;
   double max_force_n = 0.5;  ///< per node, in the haptic-rate coupling
+  /// Per node, in the haptic-rate coupling, on the anchor's velocity (the jaws' motion): the
+  /// springs act against node positions held for a modelling period T, a sampled spring, which
+  /// Colgate & Schenkel (1997) show passive for b > k T / 2 = 0.05 N s/m at k = 20 N/m,
+  /// T = 5 ms; 0.08 leaves a margin of 1.6 (the catheter's coupling keeps 1.33). 32 nodes:
+  /// 2.6 N s/m at the jaws.
+  double coupling_damping_n_s_per_m = 0.08;
 };
 
 struct DuctGraspState {
@@ -72,10 +79,15 @@ struct DuctCoupling {
   double squeeze_n = 0.0;
 };
 
-/// The virtual coupling at the haptic rate: the attachment springs between the jaws now and the
-/// nodes where the modelling loop last put them (`nodes_D`: deformed node positions, duct frame).
-/// Each spring is clamped to max_force_n; a non-finite result is zero.
-[[nodiscard]] DuctCoupling duct_coupling(const DuctGraspSettings& settings, const JawFrame& jaws_W,
+/// The virtual coupling at the haptic rate (§7.7: the duct steps at 200 Hz, the hand at 1 kHz),
+/// per grasped node: the model's own anchor spring at its last step, k (a(J_step) − n), plus a
+/// local spring and damper on the jaws' motion since, k (a(J_now) − a(J_step)) + b ȧ — together
+/// k (a(J_now) − n) + b ȧ, with `n` where the modelling loop last put the node (`nodes_D`:
+/// deformed node positions, duct frame), a(J) the anchor in jaws J and ȧ its velocity from the
+/// jaws one tick ago (`jaws.jaws_before`, `jaws.tick_s`). b = coupling_damping_n_s_per_m > k T/2
+/// for the model's period T (Colgate): passive against positions up to T old. Each node's force
+/// is clamped to max_force_n; the squeeze is the springs' part; a non-finite result is zero.
+[[nodiscard]] DuctCoupling duct_coupling(const DuctGraspSettings& settings, const HapticJaws& jaws,
                                          const Eigen::Isometry3d& pose_WD,
                                          std::span<const Eigen::Vector3d> nodes_D,
                                          const DuctGraspState& grasp) noexcept;

@@ -13,6 +13,9 @@ namespace lap::sim {
 namespace {
 
 constexpr uint64_t kFnvPrime = 1099511628211ULL;
+/// The couplings' passivity reservoir leaks with this time constant (estimate: a few cycles of
+/// the hand's own 5–25 Hz modes on a grasp; long against a tick, short against a pull).
+constexpr double kCouplingLeakS = 0.2;
 
 void hash_bytes(uint64_t* h, const void* data, size_t n) noexcept {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -127,6 +130,10 @@ Result<std::unique_ptr<Session>> Session::create(
     }
     tool.gripper = haptics::LaparoscopicGripper(m.tool(side).gripper);
     tool.limiter = hardware::CommandLimiter(have);
+    tool.passivity = hardware::PassivityController(hardware::PassivityController::kMaxDampingNsPerM,
+                                                   rs.passivity_control);
+    tool.coupling_passivity = hardware::PassivityController(
+        hardware::PassivityController::kMaxDampingNsPerM, rs.passivity_control, kCouplingLeakS);
     tool.axis_W = m.tool(side).initial_axis_W;
   }
 
@@ -264,6 +271,7 @@ bool Session::read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept {
   } else if (st == hardware::DeviceStatus::kError) {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kDeviceError);
   }
+  tool.handle_read = false;
   hardware::DeviceRecording& rec = recordings_[i];
   if (rec.samples.size() < rec.samples.capacity()) {
     rec.samples.push_back({tick, sample, st});
@@ -277,6 +285,8 @@ bool Session::read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
     return false;
   }
+  tool.handle_W = sample.position_W;
+  tool.handle_read = true;
   *k = tool_kinematics(model_->tool(i).trocar, sample, tool.axis_W);
   tool.axis_W = k->axis_W;
   return true;
@@ -292,38 +302,44 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   Eigen::Vector3d force = out.force_W;
   Eigen::Vector3d torque = out.torque_W;
   double squeeze = out.squeeze_n;
+  Eigen::Vector3d coupling_force = Eigen::Vector3d::Zero();  // the grasps' share, at the tip
+  Eigen::Vector3d coupling_torque = Eigen::Vector3d::Zero();
   const TissueModel& tissue = model_->tissue();
   const models::GraspState& grasp = model.grasps[i];
   const models::JawFrame jaws = jaw_frame(k.pose);
   if (!tool.jaws_seen) tool.last_jaws = jaws;
   tool.jaws_seen = true;
+  // The jaws now and a tick ago, for the couplings' dampers.
+  models::HapticJaws now;
+  now.jaws = jaws;
+  now.jaws_before = tool.last_jaws;
+  now.tick_s = model_->timing().dt_s;
+  now.since_step_s = static_cast<double>(std::max<int64_t>(tick - model.tick, 0)) * now.tick_s;
   if (grasp.grasping()) {
     // The virtual coupling to the grasped catheter at the haptic rate: the model's force at its
     // last step and a local spring-damper on the jaws' motion since (catheter_grasp.h); the
     // squeeze from the jaws' closure on it.
-    models::HapticJaws now;
-    now.jaws = jaws;
-    now.jaws_before = tool.last_jaws;
-    now.tick_s = model_->timing().dt_s;
-    now.since_step_s = static_cast<double>(std::max<int64_t>(tick - model.tick, 0)) * now.tick_s;
     const models::GraspWrench w =
         models::coupling_wrench(tissue.settings().catheter_grasp, now, tissue.catheter_model(),
                                 {model.catheter, model.catheter_velocities}, grasp);
-    force += w.force_W;
-    torque += w.torque_W;
+    coupling_force += w.force_W;
+    coupling_torque += w.torque_W;
     squeeze = std::max(squeeze, grasp_squeeze(tissue.settings().catheter_grasp, jaws,
                                               tissue.catheter_model(), grasp));
   }
   tool.last_jaws = jaws;
   const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
   if (duct_grasp.grasping() && tissue.duct_organ() >= 0) {
-    // The same for grasped tissue, against the duct's wall as this loop's database has it.
+    // The same for grasped tissue, against the duct's wall as this loop's database has it: the
+    // model's springs and a damper on the jaws' motion (duct_grasp.h).
     const models::DuctCoupling c = models::duct_coupling(
-        tissue.settings().duct_grasp, jaw_frame(k.pose), Eigen::Isometry3d::Identity(),
+        tissue.settings().duct_grasp, now, Eigen::Isometry3d::Identity(),
         surfaces_to_haptic_.read()->positions(tissue.duct_organ()), duct_grasp);
-    force += c.force_on_tool_W;
+    coupling_force += c.force_on_tool_W;
     squeeze = std::max(squeeze, c.squeeze_n);
   }
+  force += coupling_force;
+  torque += coupling_torque;
   if (out.fault || !force.allFinite() || !torque.allFinite()) {
     trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
     force.setZero();
@@ -337,6 +353,10 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   for (int seg = 0; seg < 3; ++seg) {
     for (const haptics::SegmentContact& c : tool.gripper.proxy(seg).contacts()) {
       if (ts->organ_contact_count >= ToolModelInput::kMaxContacts) break;
+      // The duct this tool holds is held by the grasp's anchors at the jaws (duct_grasp.h):
+      // its contacts would push the same wall again, a step late, and that exchange alternates
+      // step by step against the anchors (a 100 Hz force at the handle).
+      if (duct_grasp.grasping() && c.object == tissue.duct_organ()) continue;
       ToolContact& tc = ts->organ_contacts[static_cast<size_t>(ts->organ_contact_count++)];
       tc.organ = c.object;
       tc.primitive = c.primitive;
@@ -359,7 +379,28 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   }
   hardware::DeviceCommand command = handle_command(k, force, torque, squeeze);
   command.stiffness_n_per_m = budget.at_handle_n_per_m();
+  if (command.force_W.allFinite())
+    command.force_W += coupling_damper(i, k, force, coupling_force, coupling_torque);
   return command;
+}
+
+// The grasp couplings' own passivity controller: their share of the force at the handle, observed
+// on its own (the organs' contacts dissipate plenty, which must not pay for a coupling's
+// activity), with a reservoir that leaks (hardware/passivity_controller.h): a coupling that feeds
+// the hand a little energy every cycle — two tools holding the catheter taut between them, the
+// model's stiff tension sampled at 200 Hz — meets a damper within a few cycles. Returns the damper
+// at the handle; zero while the tool's force is not finite (the watchdog's case).
+Eigen::Vector3d Session::coupling_damper(size_t i, const ToolKinematics& k,
+                                         const Eigen::Vector3d& force_tip_W,
+                                         const Eigen::Vector3d& coupling_force_W,
+                                         const Eigen::Vector3d& coupling_torque_W) noexcept {
+  Tool& tool = tools_[i];
+  tool.coupling_wanted_W.setZero();
+  if (!force_tip_W.allFinite()) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d share = handle_command(k, coupling_force_W, coupling_torque_W, 0.0).force_W;
+  tool.coupling_wanted_W = tool.coupling_passivity.apply(
+      tool.handle_W, share, model_->timing().dt_s, tool.limiter.limits().max_force_n);
+  return tool.coupling_wanted_W - share;
 }
 
 // Limits, the watchdog's zero, and the ramp back (after a resume or a late tick); then write,
@@ -382,11 +423,36 @@ void Session::send_commands(int64_t tick, const std::array<hardware::DeviceComma
       sent[i] = l.command;
     }
   }
+  // The couplings' share as sent: the limiter scales the whole force (stiffness, peak, sustained;
+  // the rate limit apart), so by the same factor.
+  for (size_t i = 0; i < 2; ++i) {
+    Tool& tool = tools_[i];
+    if (!tool.handle_read) {
+      tool.coupling_passivity.skip();
+      continue;
+    }
+    const double w2 = wanted[i].force_W.squaredNorm();
+    const double scale =
+        w2 > 0.0 ? std::clamp(sent[i].force_W.dot(wanted[i].force_W) / w2, 0.0, 1.0) : 0.0;
+    tool.coupling_passivity.sent(scale * tool.coupling_wanted_W);
+  }
+  // The passivity controller at each handle, last: a damper where the simulation would give the
+  // hand more energy than it took, within the limiter's force bound.
+  for (size_t i = 0; i < 2; ++i) {
+    Tool& tool = tools_[i];
+    if (!tool.handle_read) {
+      tool.passivity.skip();
+    } else {
+      sent[i].force_W =
+          tool.passivity.apply(tool.handle_W, sent[i].force_W, dt, tool.limiter.force_bound_n());
+    }
+  }
   // Paused before this tick or by it, or a late tick: zero, past the rate limit.
   if (late || paused_.load(std::memory_order_relaxed)) {
     for (size_t i = 0; i < 2; ++i) sent[i] = tools_[i].limiter.zero();
   }
   for (size_t i = 0; i < 2; ++i) {
+    tools_[i].passivity.sent(sent[i].force_W);
     const hardware::DeviceStatus st = tools_[i].device->write(sent[i]);
     if (st == hardware::DeviceStatus::kDisconnected || st == hardware::DeviceStatus::kError) {
       trip(tick, static_cast<int32_t>(i),
@@ -598,6 +664,9 @@ SessionMetrics Session::run() {
                          std::to_string(events_.size()) + " were counted but not listed");
   }
   m.max_force_sent_n = max_force_sent_n_;
+  m.passivity = {tools_[0].passivity.figures(), tools_[1].passivity.figures()};
+  m.coupling_passivity = {tools_[0].coupling_passivity.figures(),
+                          tools_[1].coupling_passivity.figures()};
   m.organ_names = model_->organ_names();
   return m;
 }

@@ -6,7 +6,8 @@
 ///
 /// - Haptic loop (default 1 kHz): read both devices, tool kinematics through the trocars, the
 ///   three-segment gripper proxies against the organs, the virtual coupling to a grasped
-///   catheter, the wrench back through the fulcrum, limits, write both devices. No allocation,
+///   catheter and duct, the wrench back through the fulcrum, limits, the passivity controller at
+///   the handle (hardware/passivity_controller.h), write both devices. No allocation,
 ///   lock or exception after start-up.
 /// - Modelling loop (default 200 Hz): the tissue world (tissue_world.h): grasping the catheter
 ///   and the duct, the mass-spring catheter (§7.7(3)) and its contacts, organs dented by the tools
@@ -45,6 +46,7 @@
 #include "hardware/command_limiter.h"
 #include "hardware/device_recording.h"
 #include "hardware/haptic_device.h"
+#include "hardware/passivity_controller.h"
 #include "hardware/triple_buffer.h"
 #include "models/catheter_grasp.h"
 #include "models/catheter_model.h"
@@ -126,6 +128,11 @@ struct SessionMetrics {
   std::array<hardware::DeviceStatus, 2> device_status{};
   std::vector<std::string> warnings;
   double max_force_sent_n = 0.0;
+  /// Each tool's passivity observer and controller (hardware/passivity_controller.h): the energy
+  /// the simulation absorbed from the hand, the lowest it went, what the controller dissipated
+  /// and on how many ticks.
+  std::array<hardware::PassivityFigures, 2> passivity{};
+  std::array<hardware::PassivityFigures, 2> coupling_passivity{};  ///< the couplings' own
   std::vector<std::string> organ_names;  ///< for naming the organ of a model fault
 };
 
@@ -214,6 +221,10 @@ class Session {
   hardware::DeviceCommand tool_command(size_t i, const ToolKinematics& k,
                                        const ModelSnapshot& model, ToolSnapshot* ts,
                                        int64_t tick) noexcept;
+  Eigen::Vector3d coupling_damper(size_t i, const ToolKinematics& k,
+                                  const Eigen::Vector3d& force_tip_W,
+                                  const Eigen::Vector3d& coupling_force_W,
+                                  const Eigen::Vector3d& coupling_torque_W) noexcept;
   void send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
                      const HapticSnapshot& snap) noexcept;
   void publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept;
@@ -227,6 +238,14 @@ class Session {
     std::unique_ptr<hardware::HapticDevice> device;
     haptics::LaparoscopicGripper gripper;
     hardware::CommandLimiter limiter;
+    /// Keeps the port passive: the energy given to the hand within what it put in.
+    hardware::PassivityController passivity;
+    /// The same for the grasp couplings' share of the force alone, with a leaky reservoir: the
+    /// organs' dissipation cannot pay for a coupling's activity (session.cpp, tool_command).
+    hardware::PassivityController coupling_passivity;
+    Eigen::Vector3d coupling_wanted_W = Eigen::Vector3d::Zero();  ///< its share at the handle
+    Eigen::Vector3d handle_W = Eigen::Vector3d::Zero();           ///< as read this tick
+    bool handle_read = false;                                     ///< this tick's sample was finite
     Eigen::Vector3d axis_W = Eigen::Vector3d::UnitY();
     models::JawFrame last_jaws;  ///< at the previous tick (the couplings' jaw velocity)
     bool jaws_seen = false;

@@ -38,6 +38,9 @@ struct RuntimeSettings {
   /// Off by default: on the 2-core VM measured (docs/benchmarks.md) it helped while software
   /// rendering ran and hurt without it; the app turns it on.
   bool isolate_haptic_processor = false;
+  /// The passivity observer and controller at each tool's handle (hardware/passivity_controller.h).
+  /// Off only to show, in tests, what it guards against.
+  bool passivity_control = true;
 };
 
 }  // namespace lap::sim

@@ -1,7 +1,8 @@
 // Grasping the duct (§7.6.2, §7.7(2)): closing the jaws on the default duct grasps nodes on both
 // jaws, the squeeze grows with closure through the shell's stiffness, the grasped duct follows
 // the jaws and comes back to rest when they open, a stiff grasp stays stable at the modelling
-// rate, and the haptic-rate coupling equals the model's springs.
+// rate, the haptic-rate coupling equals the model's springs at rest, damps the jaws' motion, and
+// absorbs energy against the real duct stepped at 200 Hz.
 
 #include "models/duct_grasp.h"
 
@@ -14,7 +15,11 @@
 namespace lap::models {
 namespace {
 
-constexpr double kDt = 0.005;  // the modelling loop's 200 Hz
+constexpr double kDt = 0.005;    // the modelling loop's 200 Hz
+constexpr double kTick = 0.001;  // the haptic loop's 1 kHz
+
+/// Jaws at a haptic tick that have not moved since the last.
+HapticJaws still(const JawFrame& jaws) { return {jaws, jaws, kTick, 0.0}; }
 
 const DuctShell& duct_shell() {
   static const DuctShell shell = make_duct_shell(DuctSettings{});
@@ -160,8 +165,9 @@ TEST(DuctGrasp, GraspedDuctFollowsTheJawsAndOpeningReleasesIt) {
   EXPECT_TRUE(out.released_now);
   EXPECT_FALSE(b.grasp.grasping());
   EXPECT_EQ(out.force_on_tool_W.norm(), 0.0);
-  EXPECT_EQ(duct_coupling(b.settings, b.jaws, b.pose_WD, b.nodes_now(), b.grasp).force_on_tool_W,
-            Eigen::Vector3d::Zero());
+  EXPECT_EQ(
+      duct_coupling(b.settings, still(b.jaws), b.pose_WD, b.nodes_now(), b.grasp).force_on_tool_W,
+      Eigen::Vector3d::Zero());
   for (int k = 0; k < 200; ++k) b.step();
   EXPECT_LT(b.max_displacement(), 1e-9);
 }
@@ -208,7 +214,8 @@ TEST(DuctGrasp, HapticCouplingEqualsTheModelsSprings) {
   clear_node_anchors(&b.duct);
   const DuctGraspOutput model = update_duct_grasp(
       b.settings, b.jaws, b.pose_WD, duct_shell().mesh.nodes, duct_model(), &b.duct, &b.grasp);
-  const DuctCoupling haptic = duct_coupling(b.settings, b.jaws, b.pose_WD, b.nodes_now(), b.grasp);
+  const DuctCoupling haptic =
+      duct_coupling(b.settings, still(b.jaws), b.pose_WD, b.nodes_now(), b.grasp);
   ASSERT_GT(model.force_on_tool_W.norm(), 1e-3);
   EXPECT_LT((haptic.force_on_tool_W - model.force_on_tool_W).norm(),
             1e-6 * model.force_on_tool_W.norm());
@@ -216,14 +223,105 @@ TEST(DuctGrasp, HapticCouplingEqualsTheModelsSprings) {
   // Moving the jaws between model steps changes the coupling by at most k per node and metre.
   JawFrame moved = b.jaws;
   moved.hinge_W += b.pose_WD.linear() * Eigen::Vector3d(0.0, 0.0, 1e-4);
-  const DuctCoupling after = duct_coupling(b.settings, moved, b.pose_WD, b.nodes_now(), b.grasp);
+  const DuctCoupling after =
+      duct_coupling(b.settings, still(moved), b.pose_WD, b.nodes_now(), b.grasp);
   EXPECT_LE((after.force_on_tool_W - haptic.force_on_tool_W).norm(),
             b.grasp.count * b.settings.attach_stiffness_n_per_m * 1e-4 * (1 + 1e-9));
   // A non-finite node position gives no force rather than a NaN.
   std::vector<Eigen::Vector3d> bad = b.nodes_now();
   bad[static_cast<size_t>(b.grasp.node[0])] = Eigen::Vector3d::Constant(NAN);
-  EXPECT_EQ(duct_coupling(b.settings, b.jaws, b.pose_WD, bad, b.grasp).force_on_tool_W,
+  EXPECT_EQ(duct_coupling(b.settings, still(b.jaws), b.pose_WD, bad, b.grasp).force_on_tool_W,
             Eigen::Vector3d::Zero());
+}
+
+// The damper of the coupling acts on the jaws' motion since the last tick: b times each anchor's
+// velocity, exactly, on top of the springs.
+TEST(DuctGrasp, HapticCouplingDampsTheJawsMotion) {
+  Bench b;
+  const Eigen::Vector3d hinge(0.015, 0.0, 0.015);
+  for (int k = 0; k <= 60; ++k) {
+    b.set_jaws(hinge, 0.8 - 0.01 * k);
+    b.step();
+  }
+  ASSERT_TRUE(b.grasp.grasping());
+  const DuctCoupling at_rest =
+      duct_coupling(b.settings, still(b.jaws), b.pose_WD, b.nodes_now(), b.grasp);
+  // The jaws came from 0.02 mm away along W's x in the last tick (a translation: every anchor
+  // moved the same).
+  JawFrame before = b.jaws;
+  const Eigen::Vector3d step_W(2e-5, 0.0, 0.0);
+  before.hinge_W -= step_W;
+  const DuctCoupling moving =
+      duct_coupling(b.settings, {b.jaws, before, kTick, 0.0}, b.pose_WD, b.nodes_now(), b.grasp);
+  const Eigen::Vector3d expected =
+      -b.grasp.count * b.settings.coupling_damping_n_s_per_m * step_W / kTick;
+  EXPECT_LT((moving.force_on_tool_W - at_rest.force_on_tool_W - expected).norm(),
+            1e-9 * expected.norm());
+  EXPECT_DOUBLE_EQ(moving.squeeze_n, at_rest.squeeze_n);  // the squeeze is the springs'
+  // Colgate's bound for the modelling period, with margin.
+  EXPECT_GT(b.settings.coupling_damping_n_s_per_m,
+            1.5 * b.settings.attach_stiffness_n_per_m * kDt / 2.0);
+  // No tick length: no force.
+  EXPECT_EQ(duct_coupling(b.settings, {b.jaws, before, 0.0, 0.0}, b.pose_WD, b.nodes_now(), b.grasp)
+                .force_on_tool_W,
+            Eigen::Vector3d::Zero());
+}
+
+// The jaws shaken along the duct's x at the haptic rate while the real duct steps at 200 Hz on
+// the jaws as they were at its step, as the session interleaves them (a haptic tick reads the
+// step published before it): the work the jaws do on the coupling, Σ −F·Δx with the force held
+// over each tick, over whole cycles from rest. Positive: the coupling absorbs. Returns it [J].
+double work_into_coupling(const DuctGraspSettings& settings, double hz, double amplitude_m) {
+  Bench b;
+  b.settings = settings;
+  const Eigen::Vector3d hinge(0.015, 0.0, 0.015);
+  for (int k = 0; k <= 60; ++k) {
+    b.set_jaws(hinge, 0.8 - 0.01 * k);
+    b.step();
+  }
+  EXPECT_TRUE(b.grasp.grasping());
+  for (int k = 0; k < 200; ++k) b.step();  // settled
+  const Eigen::Vector3d dir_W = b.pose_WD.linear() * Eigen::Vector3d::UnitX();
+  const auto ticks = static_cast<int>(std::lround(1.0 / (hz * kTick)));  // per cycle
+  const int cycles = std::max(1, static_cast<int>(1.0 / (ticks * kTick)));
+  std::vector<Eigen::Vector3d> nodes = b.nodes_now();
+  JawFrame before = b.jaws;
+  const Eigen::Vector3d hinge_W = b.jaws.hinge_W;
+  double work = 0.0;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  for (int n = 0; n <= cycles * ticks; ++n) {
+    JawFrame now = b.jaws;
+    now.hinge_W = hinge_W + amplitude_m * std::sin(2.0 * M_PI * hz * n * kTick) * dir_W;
+    work -= force.dot(now.hinge_W - before.hinge_W);  // the last tick's force over its motion
+    force = duct_coupling(b.settings, {now, before, kTick, 0.0}, b.pose_WD, nodes, b.grasp)
+                .force_on_tool_W;
+    before = now;
+    if (n % 5 == 0) {  // the modelling step on this tick's jaws, read from the next tick on
+      b.jaws = now;
+      b.step();
+      nodes = b.nodes_now();
+    }
+  }
+  return work;
+}
+
+TEST(DuctGrasp, TheHapticCouplingAbsorbsEnergyAgainstTheDuctSteppedAt200Hz) {
+  DuctGraspSettings undamped;
+  undamped.coupling_damping_n_s_per_m = 0.0;
+  for (const double hz : {1.0, 5.0, 20.0, 50.0, 100.0}) {
+    const double damped_j = work_into_coupling({}, hz, 0.0005);
+    const double undamped_j = work_into_coupling(undamped, hz, 0.0005);
+    EXPECT_GT(damped_j, 0.0) << hz << " Hz";
+    EXPECT_GT(damped_j, undamped_j) << hz << " Hz";
+    // The coupling without its damper (as it was) gives the jaws energy at 100 Hz: not passive.
+    if (hz == 100.0) {
+      EXPECT_LT(undamped_j, 0.0);
+    }
+    std::printf(
+        "[ duct coupling ] jaws +-0.5 mm at %5.1f Hz for 1 s: work into the coupling %.3e J "
+        "(undamped %.3e J)\n",
+        hz, damped_j, undamped_j);
+  }
 }
 
 }  // namespace

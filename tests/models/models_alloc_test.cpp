@@ -92,8 +92,8 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
                              .grasped_now
                          ? 1
                          : 0;
-      (void)duct_coupling({}, duct_jaws, Eigen::Isometry3d::Identity(), shell.mesh.nodes,
-                          duct_grasp);
+      (void)duct_coupling({}, {duct_jaws, duct_jaws, 0.001, 0.0}, Eigen::Isometry3d::Identity(),
+                          shell.mesh.nodes, duct_grasp);
       EXPECT_TRUE(step_modal_shell(duct_model, &duct_state, 0.005));
 
       cath.external_force[40] = Eigen::Vector3d(0.0, 0.01 * std::sin(0.01 * step), 0.0);
