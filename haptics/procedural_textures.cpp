@@ -81,6 +81,14 @@ double PerlinNoise::noise(const Eigen::Vector3d& q, Eigen::Vector3d* gradient) c
   return n;
 }
 
+Eigen::Vector3d PerlinNoise::lattice_gradient(int64_t x, int64_t y, int64_t z) const noexcept {
+  const int xi = static_cast<int>(x & 255);
+  const int yi = static_cast<int>(y & 255);
+  const int zi = static_cast<int>(z & 255);
+  const auto& g = kGradients[static_cast<size_t>(perm_[perm_[perm_[xi] + yi] + zi] & 15)];
+  return {g[0], g[1], g[2]};
+}
+
 HeightSample PerlinNoise::sample(const Eigen::Vector3d& p) const noexcept {
   Eigen::Vector3d g;
   const double n = noise(p * inv_wavelength_, &g);

@@ -21,6 +21,10 @@ class PerlinNoise final : public HeightField {
   [[nodiscard]] double max_height_m() const noexcept override { return kBound * amplitude_; }
   /// Unit-amplitude noise at q (in wavelengths) and its gradient with respect to q.
   [[nodiscard]] double noise(const Eigen::Vector3d& q, Eigen::Vector3d* gradient) const noexcept;
+  /// The gradient vector at lattice point (x, y, z) (cells taken modulo 256), one of the 12
+  /// cube-edge directions: noise is the sum over the 8 corners c of the point's cell of
+  /// fade-weights times lattice_gradient(c) . (q - c) (Perlin 2002).
+  [[nodiscard]] Eigen::Vector3d lattice_gradient(int64_t x, int64_t y, int64_t z) const noexcept;
   /// |noise| stays below this (checked by a test over many samples).
   static constexpr double kBound = 1.1;
 

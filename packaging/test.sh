@@ -34,8 +34,10 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   stage "ASan + UBSan tests"
   # Leak checking is off: Mesa, X11 and fontconfig keep process-lifetime allocations that
   # LeakSanitizer reports in the GUI test; memory errors and undefined behaviour still abort.
+  # The 60 s simulated-hand run without the passivity controllers (a demonstration that the
+  # test can fail) is the same code as the run with them, and takes a minute under ASan: skipped.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --preset asan --parallel "$jobs"
+    ctest --preset asan --parallel "$jobs" -E 'PortPassivity\.WithoutTheControllers'
 fi
 
 if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then

@@ -73,6 +73,50 @@ TEST(ProceduralTextures, AnalyticGradientsMatchFiniteDifferencesAndHeightsStayBo
   check_field(fourier, "fourier", 0.002);
 }
 
+// Perlin noise as defined, corner by corner: the sum over the cell's 8 corners c of
+// fade(1 - |x - c_x|) fade(...) fade(...) times lattice_gradient(c) . (q - c), and its gradient by
+// the product rule. noise() evaluates it in the expanded trilinear form; they agree to rounding.
+TEST(ProceduralTextures, PerlinNoiseIsTheCornerSumOfItsDefinition) {
+  const PerlinNoise perlin(1.0, 1.0, 7);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-40.0, 40.0);
+  const auto fade = [](double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); };
+  const auto dfade = [](double t) { return 30.0 * t * t * (t * (t - 2.0) + 1.0); };
+  double worst_value = 0.0;
+  double worst_gradient = 0.0;
+  for (int n = 0; n < 20000; ++n) {
+    const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d f(std::floor(q.x()), std::floor(q.y()), std::floor(q.z()));
+    const Eigen::Vector3d r = q - f;
+    double value = 0.0;
+    Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      const Eigen::Vector3d g = perlin.lattice_gradient(static_cast<int64_t>(f.x() + corner.x()),
+                                                        static_cast<int64_t>(f.y() + corner.y()),
+                                                        static_cast<int64_t>(f.z() + corner.z()));
+      const Eigen::Vector3d d = r - corner;
+      Eigen::Vector3d wt;
+      Eigen::Vector3d dwt;
+      for (int a = 0; a < 3; ++a) {
+        wt[a] = corner[a] != 0.0 ? fade(r[a]) : 1.0 - fade(r[a]);
+        dwt[a] = corner[a] != 0.0 ? dfade(r[a]) : -dfade(r[a]);
+      }
+      const double weight = wt.prod();
+      value += weight * g.dot(d);
+      gradient += weight * g + g.dot(d) * Eigen::Vector3d(dwt.x() * wt.y() * wt.z(),
+                                                          wt.x() * dwt.y() * wt.z(),
+                                                          wt.x() * wt.y() * dwt.z());
+    }
+    Eigen::Vector3d got;
+    const double n_got = perlin.noise(q, &got);
+    worst_value = std::max(worst_value, std::abs(n_got - value));
+    worst_gradient = std::max(worst_gradient, (got - gradient).norm());
+  }
+  EXPECT_LT(worst_value, 1e-12);
+  EXPECT_LT(worst_gradient, 1e-11);
+}
+
 TEST(ProceduralTextures, PerlinAndFractalAreC1AcrossLatticePlanes) {
   const PerlinNoise perlin(kA, 0.002, 5);
   const FractalNoise fbm(kA, 0.002, 3, 2.0, 0.5, 5);

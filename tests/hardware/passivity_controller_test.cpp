@@ -13,29 +13,12 @@
 #include <cstdio>
 #include <functional>
 
+#include "tests/support/simulated_hand.h"
+
 namespace lap::hardware {
 namespace {
 
 constexpr double kDt = 0.001;
-
-/// A hand: 0.15 kg on 200 N/m and 3 N s/m towards a target (estimates, as in
-/// tests/sim/session_passivity_test.cpp), moved along x.
-struct Hand {
-  double mass_kg = 0.15;
-  double stiffness_n_per_m = 200.0;
-  double damping_n_s_per_m = 3.0;
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();
-  /// One tick with the device's force held: semi-implicit Euler. Returns the work the device
-  /// did on the hand.
-  double step(const Eigen::Vector3d& device_force, const Eigen::Vector3d& target) {
-    const Eigen::Vector3d hand = stiffness_n_per_m * (target - x) - damping_n_s_per_m * v;
-    v += kDt * (device_force + hand) / mass_kg;
-    const Eigen::Vector3d dx = kDt * v;
-    x += dx;
-    return device_force.dot(dx);
-  }
-};
 
 struct HandRun {
   double delivered_net_max_j = 0.0;  ///< the most the device gave the hand over any prefix
@@ -48,7 +31,7 @@ struct HandRun {
 HandRun run(const std::function<Eigen::Vector3d(int, const Eigen::Vector3d&)>& render, bool control,
             double seconds = 2.0) {
   PassivityController pc(PassivityController::kMaxDampingNsPerM, control);
-  Hand hand;
+  test::SimulatedHand hand;
   HandRun r;
   double delivered = 0.0;
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
@@ -58,7 +41,7 @@ HandRun run(const std::function<Eigen::Vector3d(int, const Eigen::Vector3d&)>& r
     force = pc.apply(hand.x, wanted, kDt, 3.0);
     pc.sent(force);
     const Eigen::Vector3d target(0.005 * std::sin(2.0 * M_PI * 2.0 * n * kDt), 0.0, 0.0);
-    delivered += hand.step(force, target);
+    delivered += force.dot(hand.step(force, target, kDt).dx);
     if (!std::isfinite(delivered) || hand.v.norm() > 100.0) break;
     r.delivered_net_max_j = std::max(r.delivered_net_max_j, delivered);
     r.peak_speed = std::max(r.peak_speed, hand.v.norm());

@@ -620,20 +620,28 @@ Entry push_into_duct(const Eigen::Vector3d& tip, const Eigen::Vector3d& directio
   return out;
 }
 
+// A 3 mm ductotomy on the top of the default duct's wall (+y) at z_cut along it, and a catheter
+// coming down onto it at 60 degrees to the axis, its tip 2 mm above the cut, pointing along the
+// duct.
+struct IncisionApproach {
+  std::vector<uint8_t> open;
+  Eigen::Vector3d tip;
+  Eigen::Vector3d dir;
+  explicit IncisionApproach(double z_cut) {
+    const DuctSettings duct;
+    const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
+    open = open_patch(triangulate(make_duct_shell(duct).mesh), M_PI / 2, z_cut, 0.0015, mid_radius);
+    dir = Eigen::Vector3d(0.0, -std::sin(M_PI / 3), std::cos(M_PI / 3));
+    tip = Eigen::Vector3d(0.0, mid_radius, z_cut) - (0.002 / std::sin(M_PI / 3)) * dir;
+  }
+};
+
 TEST(CatheterContacts, TheCatheterEntersTheDuctThroughItsIncisionOnly) {
-  const DuctSettings duct;
-  const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
-  const haptics::TriangleMesh mesh = triangulate(make_duct_shell(duct).mesh);
-  // A 3 mm ductotomy on the top of the wall (+y), a third of the way along; the catheter comes
-  // down at 60 degrees to the axis, its tip 2 mm above the incision, pointing along the duct.
-  const double z_cut = duct.length_m / 3.0;
-  const std::vector<uint8_t> open = open_patch(mesh, M_PI / 2, z_cut, 0.0015, mid_radius);
-  ASSERT_GT(std::count(open.begin(), open.end(), 1), 4);
-  const Eigen::Vector3d dir(0.0, -std::sin(M_PI / 3), std::cos(M_PI / 3));
-  const Eigen::Vector3d at_cut(0.0, mid_radius, z_cut);
-  const Eigen::Vector3d tip = at_cut - (0.002 / std::sin(M_PI / 3)) * dir;
-  const Entry through = push_into_duct(tip, dir, 0.010, &open, 0.3);
-  const Entry intact = push_into_duct(tip, dir, 0.010, nullptr, 0.3);
+  const double z_cut = DuctSettings{}.length_m / 3.0;
+  const IncisionApproach a(z_cut);
+  ASSERT_GT(std::count(a.open.begin(), a.open.end(), 1), 4);
+  const Entry through = push_into_duct(a.tip, a.dir, 0.010, &a.open, 0.3);
+  const Entry intact = push_into_duct(a.tip, a.dir, 0.010, nullptr, 0.3);
   // Through the incision: in at the cut, and on along the lumen past it.
   EXPECT_TRUE(through.entered);
   EXPECT_NEAR(through.entry_z, z_cut, 0.0015);
@@ -663,16 +671,9 @@ TEST(CatheterContacts, TheCatheterEntersAnOpenEndOfTheDuct) {
 // the lumen (μ = 0.3 and 0). Past the incision, friction alone adds to the push: the mean push over
 // the insertion is larger with it.
 TEST(CatheterContacts, InsertionForceAgainstDepth) {
-  const DuctSettings duct;
-  const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
-  const haptics::TriangleMesh mesh = triangulate(make_duct_shell(duct).mesh);
-  const double z_cut = duct.length_m / 4.0;
-  const std::vector<uint8_t> open = open_patch(mesh, M_PI / 2, z_cut, 0.0015, mid_radius);
-  const Eigen::Vector3d dir(0.0, -std::sin(M_PI / 3), std::cos(M_PI / 3));
-  const Eigen::Vector3d tip =
-      Eigen::Vector3d(0.0, mid_radius, z_cut) - (0.002 / std::sin(M_PI / 3)) * dir;
-  const Entry with = push_into_duct(tip, dir, 0.016, &open, 0.3);
-  const Entry without = push_into_duct(tip, dir, 0.016, &open, 0.0);
+  const IncisionApproach a(DuctSettings{}.length_m / 4.0);
+  const Entry with = push_into_duct(a.tip, a.dir, 0.016, &a.open, 0.3);
+  const Entry without = push_into_duct(a.tip, a.dir, 0.016, &a.open, 0.0);
   ASSERT_TRUE(with.entered);
   ASSERT_TRUE(without.entered);
   double mean_with = 0.0;

@@ -17,22 +17,12 @@
 #include <vector>
 
 #include "tests/sim/session_test_support.h"
+#include "tests/support/simulated_hand.h"
 
 namespace lap::sim::session_test {
 namespace {
 
 constexpr double kDuration = 60.0;
-
-// The hand holding the instrument's handle: a mass pulled towards where the script wants the
-// handle by a spring and a damper, pushed by the device's force. Estimates: the hand and forearm
-// moving the handle, 0.15 kg (the range 0.1–0.3 kg used for a hand holding a stylus); a light
-// grip, 200 N/m, of the order of finger-pad stiffnesses measured under small forces (0.1–0.5
-// N/mm); 3 N s/m, a damping ratio of 0.27: an underdamped hand, the harder case for stability.
-struct HandSettings {
-  double mass_kg = 0.15;
-  double stiffness_n_per_m = 200.0;
-  double damping_n_s_per_m = 3.0;
-};
 
 // Where the script sends the tool's tip: an anchor (a point on an organ, the duct, or a particle
 // of the catheter taken where it is when the tool starts towards it) and how the jaws open
@@ -66,7 +56,7 @@ struct Trocar {
 // energy exchanged.
 class HandDevice final : public hardware::HapticDevice {
  public:
-  HandDevice(std::string name, Trocar trocar, const HandSettings& hand)
+  HandDevice(std::string name, Trocar trocar, const test::SimulatedHand& hand)
       : name_(std::move(name)), trocar_(std::move(trocar)), hand_(hand) {
     const auto ticks = static_cast<size_t>(kDuration * 1000.0) + 2;
     force_.reserve(ticks);
@@ -83,14 +73,12 @@ class HandDevice final : public hardware::HapticDevice {
     bool hold = false;
     const Eigen::Vector3d target = target_at(t, &q, &grip, &hold);
     if (tick == 0) {
-      x_ = target;
-      v_.setZero();
+      hand_.x = target;
+      hand_.v.setZero();
     } else {
-      const Eigen::Vector3d f_hand =
-          hand_.stiffness_n_per_m * (target - x_) - hand_.damping_n_s_per_m * v_;
-      v_ += dt * (command_ + f_hand) / hand_.mass_kg;
-      const Eigen::Vector3d dx = dt * v_;
-      x_ += dx;
+      const test::SimulatedHand::Step step = hand_.step(command_, target, dt);
+      const Eigen::Vector3d& dx = step.dx;
+      const Eigen::Vector3d& f_hand = step.hand_force;
       const double to_hand = command_.dot(dx);
       given_j_ += std::max(0.0, to_hand);
       taken_j_ += std::max(0.0, -to_hand);
@@ -101,8 +89,8 @@ class HandDevice final : public hardware::HapticDevice {
     force_.push_back(command_);
     holding_.push_back(hold ? 1 : 0);
     out->time_s = t;
-    out->position_W = x_;
-    out->velocity_W = v_;
+    out->position_W = hand_.x;
+    out->velocity_W = hand_.v;
     out->orientation_W = q;
     out->gripper_angle_rad = grip;
     return hardware::DeviceStatus::kOk;
@@ -201,14 +189,12 @@ class HandDevice final : public hardware::HapticDevice {
 
   std::string name_;
   Trocar trocar_;
-  HandSettings hand_;
+  test::SimulatedHand hand_;  // the hand moving the handle (estimates there)
   hardware::DeviceLimits limits_;
   std::vector<Anchor> anchors_;
   std::vector<Key> keys_;
   Session* session_ = nullptr;
   int side_ = 0;
-  Eigen::Vector3d x_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d command_ = Eigen::Vector3d::Zero();
 };
 
@@ -373,7 +359,7 @@ Outcome run_hands(bool passivity_control) {
   std::array<HandDevice*, 2> hands{};
   for (int side = 0; side < 2; ++side) {
     auto d = std::make_unique<HandDevice>(side == 0 ? "left hand" : "right hand",
-                                          trocar_of(scene, side), HandSettings{});
+                                          trocar_of(scene, side), test::SimulatedHand{});
     hands[static_cast<size_t>(side)] = d.get();
     devices[static_cast<size_t>(side)] = std::move(d);
   }
