@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "haptics/spatial_hash.h"
 
@@ -47,37 +48,55 @@ PerlinNoise::PerlinNoise(double amplitude_m, double wavelength_m, uint32_t seed)
 }
 
 double PerlinNoise::noise(const Eigen::Vector3d& q, Eigen::Vector3d* gradient) const noexcept {
-  const double fx = std::floor(q.x());
-  const double fy = std::floor(q.y());
-  const double fz = std::floor(q.z());
+  // floor() by truncation (a libm call otherwise on baseline x86-64): exact for |q| < 2^63.
+  const auto cell_floor = [](double t) {
+    const auto i = static_cast<int64_t>(t);
+    return t < static_cast<double>(i) ? i - 1 : i;
+  };
+  const int64_t ix = cell_floor(q.x());
+  const int64_t iy = cell_floor(q.y());
+  const int64_t iz = cell_floor(q.z());
   // Cells repeat every 256 (the table's period), far beyond any organ at these wavelengths.
-  const auto cell = [](double f) { return static_cast<int>(static_cast<int64_t>(f) & 255); };
-  const int xi = cell(fx);
-  const int yi = cell(fy);
-  const int zi = cell(fz);
-  const Eigen::Vector3d r(q.x() - fx, q.y() - fy, q.z() - fz);
-  const Eigen::Vector3d w(fade(r.x()), fade(r.y()), fade(r.z()));
-  const Eigen::Vector3d dw(dfade(r.x()), dfade(r.y()), dfade(r.z()));
+  const auto xi = static_cast<int>(ix & 255);
+  const auto yi = static_cast<int>(iy & 255);
+  const auto zi = static_cast<int>(iz & 255);
+  const double rx = q.x() - static_cast<double>(ix);
+  const double ry = q.y() - static_cast<double>(iy);
+  const double rz = q.z() - static_cast<double>(iz);
+  const double fx = fade(rx);
+  const double fy = fade(ry);
+  const double fz = fade(rz);
+  const double dx = dfade(rx);
+  const double dy = dfade(ry);
+  const double dz = dfade(rz);
+  // The corners' hashes perm[perm[perm[x + i] + y + j] + z + k], the shared lookups once.
+  const std::array<int, 2> row = {perm_[xi] + yi, perm_[xi + 1] + yi};
   double n = 0.0;
-  Eigen::Vector3d g = Eigen::Vector3d::Zero();
-  for (int c = 0; c < 8; ++c) {
-    const int i = c & 1;
-    const int j = (c >> 1) & 1;
-    const int k = (c >> 2) & 1;
-    const int h = perm_[perm_[perm_[xi + i] + yi + j] + zi + k] & 15;
-    const Eigen::Vector3d grad(kGradients[h][0], kGradients[h][1], kGradients[h][2]);
-    const Eigen::Vector3d d(r.x() - i, r.y() - j, r.z() - k);
-    const double value = grad.dot(d);
-    const double wx = i != 0 ? w.x() : 1.0 - w.x();
-    const double wy = j != 0 ? w.y() : 1.0 - w.y();
-    const double wz = k != 0 ? w.z() : 1.0 - w.z();
-    const double sx = i != 0 ? dw.x() : -dw.x();
-    const double sy = j != 0 ? dw.y() : -dw.y();
-    const double sz = k != 0 ? dw.z() : -dw.z();
-    n += wx * wy * wz * value;
-    g += wx * wy * wz * grad + value * Eigen::Vector3d(sx * wy * wz, wx * sy * wz, wx * wy * sz);
-  }
-  if (gradient != nullptr) *gradient = g;
+  double gx = 0.0;
+  double gy = 0.0;
+  double gz = 0.0;
+  // The eight corners in the order c = i + 2 j + 4 k, unrolled at compile time.
+  const auto corner = [&]<int c>() {
+    constexpr int i = c & 1;
+    constexpr int j = (c >> 1) & 1;
+    constexpr int k = (c >> 2) & 1;
+    const auto& grad = kGradients[perm_[perm_[row[i] + j] + zi + k] & 15];
+    const double value = grad[0] * (rx - i) + grad[1] * (ry - j) + grad[2] * (rz - k);
+    const double wx = i != 0 ? fx : 1.0 - fx;
+    const double wy = j != 0 ? fy : 1.0 - fy;
+    const double wz = k != 0 ? fz : 1.0 - fz;
+    const double sx = i != 0 ? dx : -dx;
+    const double sy = j != 0 ? dy : -dy;
+    const double sz = k != 0 ? dz : -dz;
+    const double weight = wx * wy * wz;
+    n += weight * value;
+    gx += weight * grad[0] + value * (sx * wy * wz);
+    gy += weight * grad[1] + value * (wx * sy * wz);
+    gz += weight * grad[2] + value * (wx * wy * sz);
+  };
+  [&]<int... c>(std::integer_sequence<int, c...>) { (corner.template operator()<c>(), ...); }
+  (std::make_integer_sequence<int, 8>{});
+  if (gradient != nullptr) *gradient = {gx, gy, gz};
   return n;
 }
 
@@ -106,24 +125,28 @@ FractalNoise::FractalNoise(double amplitude_m, double wavelength_m, int octaves,
   double sum = 0.0;
   double a = 1.0;
   for (int o = 0; o < octaves_; ++o, a *= gain_) sum += std::abs(a);
+  // The octaves' factors by the same products as a running loop would form them.
+  double amplitude = amplitude_;
+  double scale = inv_wavelength_;
+  for (int o = 0; o < octaves_; ++o, amplitude *= gain_, scale *= lacunarity_) {
+    octave_amplitude_[o] = amplitude;
+    octave_scale_[o] = scale;
+    // Each octave shifted so the octaves' lattices do not line up at the origin.
+    octave_offset_[o] = Eigen::Vector3d(17.13 * o, 31.71 * o, 7.37 * o);
+  }
   max_height_ = PerlinNoise::kBound * amplitude_ * sum;
 }
 
 HeightSample FractalNoise::sample(const Eigen::Vector3d& p) const noexcept {
-  HeightSample s;
-  double scale = inv_wavelength_;
-  double a = amplitude_;
+  double height = 0.0;
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
   for (int o = 0; o < octaves_; ++o) {
-    // Each octave shifted so the octaves' lattices do not line up at the origin.
-    const Eigen::Vector3d offset(17.13 * o, 31.71 * o, 7.37 * o);
     Eigen::Vector3d g;
-    const double n = base_.noise(p * scale + offset, &g);
-    s.height_m += a * n;
-    s.gradient += (a * scale) * g;
-    scale *= lacunarity_;
-    a *= gain_;
+    const double n = base_.noise(p * octave_scale_[o] + octave_offset_[o], &g);
+    height += octave_amplitude_[o] * n;
+    gradient += (octave_amplitude_[o] * octave_scale_[o]) * g;
   }
-  return s;
+  return {height, gradient};
 }
 
 WorleyCells::WorleyCells(double amplitude_m, double cell_m, uint32_t seed)

@@ -52,6 +52,10 @@ class FractalNoise final : public HeightField {
   double lacunarity_;
   double gain_;
   double max_height_;
+  // Per octave (setup): amplitude gain^o, spatial scale lacunarity^o / wavelength, offset.
+  std::array<double, kMaxOctaves> octave_amplitude_{};
+  std::array<double, kMaxOctaves> octave_scale_{};
+  std::array<Eigen::Vector3d, kMaxOctaves> octave_offset_{};
 };
 
 /// Worley's cellular texture (1996): one jittered feature point per cubic cell of side
