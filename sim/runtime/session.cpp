@@ -151,6 +151,7 @@ Result<std::unique_ptr<Session>> Session::create(
   }
   s->objects_ = m.objects();
   s->surfaces_to_haptic_.read()->point(s->objects_);
+  for (Tool& tool : s->tools_) tool.objects_holding_duct = s->objects_;
 
   ModelSnapshot m0;
   m0.catheter = s->world_->catheter().positions;
@@ -298,13 +299,15 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
                                               const ModelSnapshot& model, ToolSnapshot* ts,
                                               int64_t tick) noexcept {
   Tool& tool = tools_[i];
-  const haptics::GripperOutput out = tool.gripper.step(objects_, k.pose, model_->timing().dt_s);
+  const TissueModel& tissue = model_->tissue();
+  const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
+  const std::span<const haptics::HapticObject> objects = touched_objects(i, duct_grasp);
+  const haptics::GripperOutput out = tool.gripper.step(objects, k.pose, model_->timing().dt_s);
   Eigen::Vector3d force = out.force_W;
   Eigen::Vector3d torque = out.torque_W;
   double squeeze = out.squeeze_n;
   Eigen::Vector3d coupling_force = Eigen::Vector3d::Zero();  // the grasps' share, at the tip
   Eigen::Vector3d coupling_torque = Eigen::Vector3d::Zero();
-  const TissueModel& tissue = model_->tissue();
   const models::GraspState& grasp = model.grasps[i];
   const models::JawFrame jaws = jaw_frame(k.pose);
   if (!tool.jaws_seen) tool.last_jaws = jaws;
@@ -328,7 +331,6 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
                                               tissue.catheter_model(), grasp));
   }
   tool.last_jaws = jaws;
-  const models::DuctGraspState& duct_grasp = model.duct_grasps[i];
   if (duct_grasp.grasping() && tissue.duct_organ() >= 0) {
     // The same for grasped tissue, against the duct's wall as this loop's database has it: the
     // model's springs and a damper on the jaws' motion (duct_grasp.h).
@@ -368,7 +370,7 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   // grasp couplings in parallel, each through its lever; the limiter keeps it within the
   // device's (command_limiter.h). The couplings are taken at the jaws' tip, the longest lever.
   StiffnessBudget budget(k);
-  budget.add_contacts(tool.gripper, objects_);
+  budget.add_contacts(tool.gripper, objects);
   const Eigen::Vector3d jaw_tip_W =
       k.pose.hinge_W - tool.gripper.geometry().jaw_length_m * k.pose.shaft_dir_W;
   if (grasp.grasping()) {  // the coupling to the held section (catheter_grasp.h)
@@ -382,6 +384,22 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   if (command.force_W.allFinite())
     command.force_W += coupling_damper(i, k, force, coupling_force, coupling_torque);
   return command;
+}
+
+// The organs as tool i's proxies see them this tick. While the tool holds the duct, the grasp's
+// springs are the contact between its jaws and the held wall (duct_grasp.h): the wall's own force
+// law would render that contact a second time, against a wall the grasp itself moves at the
+// modelling rate, and the two exchange force from tick to tick (a buzz of about 2 N at the tip in
+// the simulated hand's holds). The duct stays a geometric obstacle for the proxies — they do not
+// pass through it, so letting go finds them where they were — but with its force clamped to zero.
+std::span<const haptics::HapticObject> Session::touched_objects(
+    size_t i, const models::DuctGraspState& duct_grasp) noexcept {
+  const int32_t duct = model_->tissue().duct_organ();
+  if (!duct_grasp.grasping() || duct < 0) return objects_;
+  std::vector<haptics::HapticObject>& held = tools_[i].objects_holding_duct;
+  std::copy(objects_.begin(), objects_.end(), held.begin());  // same size: no allocation
+  held[static_cast<size_t>(duct)].law.max_force_n = 0.0;
+  return held;
 }
 
 // The grasp couplings' own passivity controller: their share of the force at the handle, observed

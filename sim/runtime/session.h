@@ -225,6 +225,8 @@ class Session {
                                   const Eigen::Vector3d& force_tip_W,
                                   const Eigen::Vector3d& coupling_force_W,
                                   const Eigen::Vector3d& coupling_torque_W) noexcept;
+  [[nodiscard]] std::span<const haptics::HapticObject> touched_objects(
+      size_t i, const models::DuctGraspState& duct_grasp) noexcept;
   void send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
                      const HapticSnapshot& snap) noexcept;
   void publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept;
@@ -248,6 +250,9 @@ class Session {
     bool handle_read = false;                                     ///< this tick's sample was finite
     Eigen::Vector3d axis_W = Eigen::Vector3d::UnitY();
     models::JawFrame last_jaws;  ///< at the previous tick (the couplings' jaw velocity)
+    /// The organs as this tool's proxies see them while it holds the duct: the duct's force law
+    /// muted (session.cpp, tool_command). Sized with objects_ at creation.
+    std::vector<haptics::HapticObject> objects_holding_duct;
     bool jaws_seen = false;
     bool started = false;
     bool finished = false;

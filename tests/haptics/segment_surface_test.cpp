@@ -207,6 +207,31 @@ TEST(SegmentFrictionScope, AFrictionlessObjectAddsNoFriction) {
   EXPECT_NEAR(out.force_W.x(), 0.0, 1e-12);
 }
 
+// An object whose force law is clamped to zero (a session mutes the duct this way for a tool that
+// holds it: the grasp's springs are that contact) is still an obstacle — the probe stays on its
+// surface — but pushes nothing, and its friction (on a zero normal force) holds nothing either.
+TEST(SegmentFrictionScope, AMutedObjectStopsTheProbeAndPushesNothing) {
+  const FrictionBlock block;
+  HapticObject o = block.object();
+  o.law.max_force_n = 0.0;
+  for (const Pose pose : {Pose::kTip, Pose::kLying}) {
+    SegmentProxy proxy;
+    SegmentProxyOutput out = press(proxy, o, pose, 0.0, kDepth);
+    EXPECT_EQ(out.contact_count, 1);
+    EXPECT_EQ(out.force_W, Eigen::Vector3d::Zero());
+    EXPECT_GE(proxy.ideal_a().y(), kTop - 1e-6) << "the probe passed into the object";
+    for (int i = 1; i <= 100; ++i) {  // dragged 3 mm sideways, pressed in
+      Eigen::Vector3d a;
+      Eigen::Vector3d b;
+      probe_at(pose, 3e-5 * i, kDepth, &a, &b);
+      out = proxy.step({&o, 1}, a, b, kDt);
+      ASSERT_EQ(out.force_W, Eigen::Vector3d::Zero()) << "tick " << i;
+      ASSERT_EQ(out.friction_W, Eigen::Vector3d::Zero()) << "tick " << i;
+      ASSERT_GE(std::min(proxy.ideal_a().y(), proxy.ideal_b().y()), kTop - 1e-6) << "tick " << i;
+    }
+  }
+}
+
 // Force shading (§6.1) on a 24-sided cylinder: the tip pressing radially 1 mm deep, carried around
 // it. (A shaft lying parallel to the facets' edges is not yet followed around a convex crease: see
 // haptics/README.md.)
