@@ -355,6 +355,7 @@ Outcome run_hands(bool passivity_control) {
   const Scene& scene = default_scene();
   RuntimeSettings rs = fast(kDuration);
   rs.passivity_control = passivity_control;
+  rs.end_with_task = false;  // the hands' whole minute, whatever the task engine makes of it
   Devices devices;
   std::array<HandDevice*, 2> hands{};
   for (int side = 0; side < 2; ++side) {
