@@ -50,6 +50,29 @@ TEST(SessionTask, TheDuctsLumenAndIncisionAreTheScenarios) {
   EXPECT_EQ(m.forbidden, std::vector<uint8_t>(3, 0));
 }
 
+TEST(SessionTask, AnInsertionIntoWhatIsNoDuctWithAnIncisionIsAClearError) {
+  auto expect_refused = [](const Scene& scene, const std::string& message) {
+    const Result<std::shared_ptr<const SessionModel>> m =
+        SessionModel::build(scene, fast(1.0), {DeviceDescription{}, DeviceDescription{}});
+    ASSERT_FALSE(m.ok());
+    ASSERT_EQ(m.diagnostics().size(), 1U) << m.message();
+    EXPECT_EQ(m.diagnostics()[0].to_string(), scene.scenario.file.string() + ":" +
+                                                  std::to_string(scene.scenario.task->line) +
+                                                  ": task.target: " + message);
+  };
+  Scene liver = default_scene();
+  liver.scenario.task->target = "liver";
+  expect_refused(liver,
+                 "'liver' is not a modal-shell duct (the catheter is inserted into its lumen): "
+                 "expected the organ with model: modal-shell");
+  Scene uncut = default_scene();
+  for (OrganSpec& organ : uncut.scenario.organs) organ.incision.present = false;
+  expect_refused(uncut,
+                 "the duct 'cystic_duct' has no incision to insert the catheter by: expected an "
+                 "incision on it (organs[].incision)");
+  EXPECT_GT(default_scene().scenario.task->line, 0);
+}
+
 TEST(SessionTask, TheSessionEndsWithTheTaskUnlessAskedToGoOn) {
   Scene scene = default_scene();
   scene.scenario.task->time_limit_s = 1.0;
