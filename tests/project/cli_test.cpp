@@ -251,6 +251,9 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
                   "/left.lapdev --right replay:" + rec + "/right.lapdev --duration 1 --fast");
   ASSERT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_EQ(json_field(replay.out, "state_hash"), hash);
+  // The task is scored the same on the replay.
+  EXPECT_FALSE(json_field(r.out, "task").empty());
+  EXPECT_EQ(json_field(replay.out, "task"), json_field(r.out, "task"));
 }
 
 // The default scenario rewritten into a temporary folder (its meshes by absolute path), with

@@ -118,5 +118,26 @@ TEST(SessionTask, ATouchOnAForbiddenOrganIsSeen) {
   EXPECT_LE(m.task.end_s, static_cast<double>(kPressingTick) * 1e-3);
 }
 
+TEST(SessionTask, FastRunsScoreTheSameTwice) {
+  // The forbidden touch of the test above, twice: the same events at the same times.
+  Scene scene = default_scene();
+  scene.scenario.task->forbidden_organs = {"liver", "gallbladder"};
+  const SessionMetrics a = session_over(scene, fast(2.5))->run();
+  const SessionMetrics b = session_over(scene, fast(2.5))->run();
+  ASSERT_FALSE(a.task.events.empty());
+  ASSERT_EQ(a.task.events.size(), b.task.events.size());
+  for (size_t i = 0; i < a.task.events.size(); ++i) {
+    const TaskEvent& x = a.task.events[i];
+    const TaskEvent& y = b.task.events[i];
+    EXPECT_EQ(x.t_s, y.t_s);
+    EXPECT_EQ(x.kind, y.kind);
+    EXPECT_EQ(x.tool, y.tool);
+    EXPECT_EQ(x.organ, y.organ);
+    EXPECT_EQ(x.value, y.value);
+  }
+  EXPECT_EQ(a.task.end_s, b.task.end_s);
+  EXPECT_EQ(a.state_hash, b.state_hash);
+}
+
 }  // namespace
 }  // namespace lap::sim
