@@ -25,7 +25,7 @@ namespace lap::sim {
 enum class TaskKind : uint8_t {
   kNone,               ///< the scenario has no task: nothing is watched
   kCatheterInsertion,  ///< goals and every error
-  kFreeExploration,    ///< no goal, no time limit: the errors of the tools alone
+  kFreeExploration,    ///< no goal, no time limit: injuries, out of view, forbidden touches
 };
 
 struct TaskModel {
