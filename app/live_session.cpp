@@ -37,6 +37,7 @@ Status LiveSession::start(const sim::Scene& scene,
   rs.isolate_haptic_processor = true;
   rs.duration_s = 24.0 * 3600.0;  // until the window closes
   rs.record_s = 600.0;            // the first ten minutes of inputs are kept
+  rs.end_with_task = false;       // the window's session goes on; the task's outcome is kept
   auto created = sim::Session::create(scene, std::move(devices), rs);
   if (!created.ok()) return created.diagnostics();
   session_ = std::move(created).value();

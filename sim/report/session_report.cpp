@@ -37,6 +37,77 @@ nlohmann::ordered_json watchdog_event_json(const WatchdogEvent& e,
   return j;
 }
 
+namespace {
+
+std::string_view task_kind_name(TaskKind kind) {
+  switch (kind) {
+    case TaskKind::kNone:
+      return "none";
+    case TaskKind::kCatheterInsertion:
+      return "catheter-insertion";
+    case TaskKind::kFreeExploration:
+      return "free-exploration";
+  }
+  return "unknown";
+}
+
+nlohmann::ordered_json task_event_json(const TaskEvent& e,
+                                       const std::vector<std::string>& organ_names) {
+  nlohmann::ordered_json j;
+  j["t_s"] = e.t_s;
+  j["kind"] = std::string(to_string(e.kind));
+  if (e.tool >= 0) j["tool"] = e.tool == 0 ? "left" : "right";
+  if (e.organ >= 0) {
+    const auto organ = static_cast<size_t>(e.organ);
+    j["organ"] = organ < organ_names.size() ? organ_names[organ] : std::to_string(e.organ);
+  }
+  switch (e.kind) {
+    case TaskEventKind::kTargetDepthReached:
+    case TaskEventKind::kTargetDepthLost:
+      j["depth_m"] = e.value;
+      break;
+    case TaskEventKind::kDuctInjury:
+    case TaskEventKind::kOrganInjury:
+      j[e.squeeze ? "squeeze_n" : "force_n"] = e.value;
+      j["duration_s"] = e.duration_s;
+      break;
+    case TaskEventKind::kOutOfView:
+    case TaskEventKind::kCatheterDropped:
+      j["duration_s"] = e.duration_s;
+      break;
+    default:
+      break;
+  }
+  return j;
+}
+
+}  // namespace
+
+nlohmann::ordered_json task_to_json(TaskKind kind, const TaskState& t,
+                                    const std::vector<std::string>& organ_names) {
+  nlohmann::ordered_json j;
+  j["kind"] = std::string(task_kind_name(kind));
+  j["result"] = std::string(to_string(t.result));
+  j["reasons"] = nlohmann::ordered_json::array();
+  for (size_t i = 0; i < t.reason_count; ++i) {
+    j["reasons"].push_back(std::string(to_string(t.reasons[i])));
+  }
+  j["events"] = nlohmann::ordered_json::array();
+  for (const TaskEvent& e : t.events) j["events"].push_back(task_event_json(e, organ_names));
+  j["completion_time_s"] =
+      t.end_s >= 0.0 ? nlohmann::ordered_json(t.end_s) : nlohmann::ordered_json(nullptr);
+  nlohmann::ordered_json phases;
+  const char* const names[] = {"catheter_grasped", "tip_at_incision", "tip_in_lumen",
+                               "target_depth_reached", "held"};
+  for (size_t p = 0; p < t.phase_s.size(); ++p) {
+    phases[names[p]] = t.phase_s[p] >= 0.0 ? nlohmann::ordered_json(t.phase_s[p])
+                                           : nlohmann::ordered_json(nullptr);
+  }
+  j["phase_times_s"] = phases;
+  j["events_dropped"] = t.events_dropped;
+  return j;
+}
+
 nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::string& scenario,
                                        bool fast) {
   char hash[32];
@@ -44,6 +115,7 @@ nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::strin
   nlohmann::ordered_json j;
   j["scenario"] = scenario;
   j["mode"] = fast ? "fast" : "realtime";
+  j["task"] = task_to_json(m.task_kind, m.task, m.organ_names);
   j["haptic"] = loop_json(m.haptic);
   // Ticks the watchdog zeroed for starting late, the forces ramping back (no pause, no event).
   j["haptic"]["late_ticks"] = m.late_ticks;

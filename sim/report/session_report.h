@@ -6,6 +6,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 #include "sim/runtime/session.h"
@@ -15,6 +16,14 @@ namespace lap::sim {
 /// One loop's statistics (LoopStats) as a JSON object: ticks, rate, jitter quantiles [us], missed
 /// deadlines, overruns, step times [us].
 [[nodiscard]] nlohmann::ordered_json loop_json(const LoopStats& stats);
+
+/// The task's outcome as the JSON's top-level "task" object (docs/architecture.md): kind, result
+/// (`success`, `failure`, `incomplete`), reasons, events (`t_s`, `kind`, and per kind `tool`,
+/// `organ`, `depth_m`, `force_n` or `squeeze_n`, `duration_s`), completion_time_s (null while
+/// incomplete), phase_times_s (null where not reached), events_dropped. A scenario without a
+/// task: kind "none", result "incomplete", no reasons, no events.
+[[nodiscard]] nlohmann::ordered_json task_to_json(TaskKind kind, const TaskState& task,
+                                                  const std::vector<std::string>& organ_names);
 
 /// The session's metrics as a JSON object (what `laptrainer-cli run` prints), keys in the order
 /// written.

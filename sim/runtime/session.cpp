@@ -153,6 +153,13 @@ Result<std::unique_ptr<Session>> Session::create(
   s->surfaces_to_haptic_.read()->point(s->objects_);
   for (Tool& tool : s->tools_) tool.objects_holding_duct = s->objects_;
 
+  // The task engine: its state, and room for what each modelling step hands it.
+  s->task_ = TaskState::create(m.task());
+  const auto organs = static_cast<size_t>(m.organ_count());
+  s->organ_force_n_.assign(organs, 0.0);
+  s->organ_touched_.assign(organs, 0);
+  s->tool_push_W_.assign(organs, Eigen::Vector3d::Zero());
+
   ModelSnapshot m0;
   m0.catheter = s->world_->catheter().positions;
   m0.catheter_velocities = s->world_->catheter().velocities;
@@ -517,6 +524,7 @@ void Session::model_tick(int64_t tick) noexcept {
   }
   const ModelFault fault = world_->step(model_input_, model_->timing().model_dt_s);
   ++model_steps_;
+  step_task_engine(tick, h);
   for (const Eigen::Vector3d& p : world_->catheter().positions) hash_vector(&model_hash_, p);
   for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
     ModelSnapshot& m = buf->write_slot();
@@ -539,6 +547,47 @@ void Session::model_tick(int64_t tick) noexcept {
     }
     buf->publish();
   }
+}
+
+// The task engine on what this step has: the catheter and its grasps, each tool's tip and
+// contacts, the forces on every organ (a tool's contacts summed, its grasp's pull on the duct;
+// the catheter's push), the squeeze on the duct. Ends the session with the task when asked.
+void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
+  const TaskModel& tm = model_->task();
+  if (tm.kind == TaskKind::kNone || task_.done()) return;
+  std::fill(organ_force_n_.begin(), organ_force_n_.end(), 0.0);
+  std::fill(organ_touched_.begin(), organ_touched_.end(), uint8_t{0});
+  TaskInput in;
+  in.t_s = static_cast<double>(tick) * model_->timing().dt_s;
+  in.catheter = world_->catheter().positions;
+  for (size_t i = 0; i < 2; ++i) {
+    in.catheter_held[i] = world_->catheter_grasps()[i].grasping();
+    const ToolModelInput& tool = model_input_[i];
+    in.tool_valid[i] = tool.valid;
+    if (!tool.valid) continue;
+    in.tool_tip_W[i] = h.tools[i].pose.hinge_W;
+    std::fill(tool_push_W_.begin(), tool_push_W_.end(), Eigen::Vector3d::Zero());
+    for (int32_t c = 0; c < tool.contact_count; ++c) {
+      const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
+      if (tc.organ < 0 || static_cast<size_t>(tc.organ) >= tool_push_W_.size()) continue;
+      tool_push_W_[static_cast<size_t>(tc.organ)] += tc.force_on_organ_W;
+      organ_touched_[static_cast<size_t>(tc.organ)] = 1;
+    }
+    for (size_t o = 0; o < organ_force_n_.size(); ++o) {
+      double f = tool_push_W_[o].norm();
+      if (static_cast<int32_t>(o) == tm.duct_organ) f += world_->duct_grasp_force_n()[i];
+      organ_force_n_[o] = std::max(organ_force_n_[o], f);
+    }
+    in.duct_squeeze_n = std::max(in.duct_squeeze_n, world_->duct_squeeze_n()[i]);
+  }
+  for (size_t o = 0; o < organ_force_n_.size(); ++o) {
+    organ_force_n_[o] =
+        std::max(organ_force_n_[o], world_->catheter_push_n(static_cast<int32_t>(o)));
+  }
+  in.organ_force_n = organ_force_n_;
+  in.organ_touched = organ_touched_;
+  step_task(tm, in, &task_);
+  if (task_.done() && model_->settings().end_with_task) request_stop();
 }
 
 void Session::run_fast() {
@@ -686,6 +735,8 @@ SessionMetrics Session::run() {
   m.coupling_passivity = {tools_[0].coupling_passivity.figures(),
                           tools_[1].coupling_passivity.figures()};
   m.organ_names = model_->organ_names();
+  m.task_kind = model_->task().kind;
+  m.task = task_;
   return m;
 }
 

@@ -53,6 +53,7 @@
 #include "sim/runtime/deformed_surface.h"
 #include "sim/runtime/haptic_surfaces.h"
 #include "sim/runtime/loop_stats.h"
+#include "sim/runtime/task_engine.h"
 #include "sim/runtime/tissue_world.h"
 #include "sim/runtime/trocar_tool.h"
 #include "sim/setup/runtime_settings.h"
@@ -134,6 +135,9 @@ struct SessionMetrics {
   std::array<hardware::PassivityFigures, 2> passivity{};
   std::array<hardware::PassivityFigures, 2> coupling_passivity{};  ///< the couplings' own
   std::vector<std::string> organ_names;  ///< for naming the organ of a model fault
+  /// The task engine's outcome: result, reasons, events, phase times (task_engine.h).
+  TaskKind task_kind = TaskKind::kNone;
+  TaskState task;
 };
 
 /// What a watchdog event's reason says to a user: its reason, and for a model fault which model
@@ -231,6 +235,7 @@ class Session {
                      const HapticSnapshot& snap) noexcept;
   void publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept;
   void model_tick(int64_t tick) noexcept;
+  void step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept;
   void trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault = {}) noexcept;
   void run_fast();
   void run_realtime();
@@ -272,6 +277,11 @@ class Session {
   int64_t injected_fault_tick_ = -1;
   ModelFaultKind injected_fault_ = ModelFaultKind::kNone;
   int64_t injected_fault_steps_ = 0;
+  // The task engine's state and its inputs' storage, sized at set-up (modelling thread).
+  TaskState task_;
+  std::vector<double> organ_force_n_;         ///< per organ [N]
+  std::vector<uint8_t> organ_touched_;        ///< per organ
+  std::vector<Eigen::Vector3d> tool_push_W_;  ///< per organ, one tool's contacts' sum [N]
   // Scheduling warnings, published once each (bit 0: the haptic thread's priority, bit 1: the
   // memory lock); each string is written before its bit is set and never after.
   std::string priority_warning_;

@@ -86,6 +86,9 @@ ModelFault TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double 
     const std::span<models::SurfaceReaction> reactions(s.reactions.data(),
                                                        static_cast<size_t>(s.reaction_count));
     models::settle_reactions(*catheter_, reactions);
+    Eigen::Vector3d push = Eigen::Vector3d::Zero();
+    for (const models::SurfaceReaction& r : reactions) push += r.force_on_surface_W;
+    s.catheter_push_n = push.norm();
     const TissueKind kind = model_->organ(i).kind;
     bool ok = true;
     if (kind == TissueKind::kLocal) {
@@ -108,6 +111,8 @@ void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools) noexcept {
   models::clear_anchors(catheter_.get());
   for (size_t t = 0; t < 2; ++t) {
     squeeze_[t] = 0.0;
+    duct_grasp_force_n_[t] = 0.0;
+    duct_squeeze_n_[t] = 0.0;
     if (!tools[t].valid) continue;
     const models::GraspOutput g =
         models::update_grasp(settings.catheter_grasp, tools[t].jaws, model_->catheter_model(),
@@ -118,6 +123,8 @@ void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools) noexcept {
           models::update_duct_grasp(settings.duct_grasp, tools[t].jaws, duct.pose_WD, duct.rest_D,
                                     *duct.model, duct_state_.get(), &duct_grasps_[t]);
       squeeze_[t] = std::max(squeeze_[t], d.squeeze_n);
+      duct_grasp_force_n_[t] = d.force_on_tool_W.norm();
+      duct_squeeze_n_[t] = d.squeeze_n;
     }
   }
 }

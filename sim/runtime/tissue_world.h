@@ -122,6 +122,18 @@ class TissueWorld {
   [[nodiscard]] const TissueWorldSettings& settings() const { return model_->settings(); }
   /// The jaws' squeeze on what they hold, per tool, at the last step [N].
   [[nodiscard]] const std::array<double, 2>& squeeze() const { return squeeze_; }
+  /// The pull of each tool's grasp on the duct (its springs' force on the jaws), at the last
+  /// step [N]; 0 where it does not hold the duct.
+  [[nodiscard]] const std::array<double, 2>& duct_grasp_force_n() const {
+    return duct_grasp_force_n_;
+  }
+  /// Each tool's jaws' squeeze on the duct alone, at the last step [N].
+  [[nodiscard]] const std::array<double, 2>& duct_squeeze_n() const { return duct_squeeze_n_; }
+  /// The catheter's push on organ i, the norm of its contacts' summed reactions, at the last
+  /// step [N].
+  [[nodiscard]] double catheter_push_n(int32_t organ) const {
+    return organs_[static_cast<size_t>(organ)].catheter_push_n;
+  }
   /// Catheter particles in contact with an organ or the duct, at the last step.
   [[nodiscard]] int32_t catheter_contacts() const { return catheter_contacts_; }
   /// Largest displacement of any surface vertex from rest, at the last step [m].
@@ -140,6 +152,7 @@ class TissueWorld {
     std::unique_ptr<models::SurfaceTracking> tracking;
     std::vector<models::SurfaceReaction> reactions;  // one per particle
     int32_t reaction_count = 0;
+    double catheter_push_n = 0.0;  // the norm of the settled reactions' sum [N]
   };
   TissueWorld() = default;
   void grasp(const std::array<ToolModelInput, 2>& tools) noexcept;
@@ -157,6 +170,8 @@ class TissueWorld {
   std::array<models::GraspState, 2> catheter_grasps_{};
   std::array<models::DuctGraspState, 2> duct_grasps_{};
   std::array<double, 2> squeeze_{};
+  std::array<double, 2> duct_grasp_force_n_{};
+  std::array<double, 2> duct_squeeze_n_{};
   int32_t catheter_contacts_ = 0;
   double deepest_dent_ = 0.0;
   ModelFaultKind injected_ = ModelFaultKind::kNone;

@@ -14,6 +14,9 @@ struct RuntimeSettings {
   double duration_s = 10.0;    ///< the session ends here, or when every device has finished
   double resume_ramp_s = 0.5;  ///< forces ramp from 0 to full over this after resume()
   double record_s = -1.0;      ///< inputs kept for this long (reserved at start); < 0: the duration
+  /// The session ends when the scenario's task ends (success or failure; sim/runtime/
+  /// task_engine.h), as `laptrainer-cli run` wants; the app keeps the trainee's session going.
+  bool end_with_task = true;
   /// The watchdog's timing (docs/architecture.md, "The watchdog"). A desktop kernel starts a
   /// tick more than 2 ms late now and then (an idle real-time sleep loop shows the same), and
   /// pausing the session for each would interrupt a trainee several times a minute. So:

@@ -142,12 +142,34 @@ struct CatheterSpec {
   double bending_stiffness_n_m2 = 1.0e-4;  ///< EI [N m^2]
 };
 
-/// What the resident must do.
+/// What the resident must do (thesis §7.4), and what counts as an error; the task engine
+/// (sim/setup/task_model.h, sim/runtime/task_engine.h) watches it. Defaults and their sources:
+/// scenarios/README.md.
 struct TaskSpec {
   std::string kind = "catheter-insertion";
   std::string target;               ///< organ name (the duct)
-  double insertion_depth_m = 0.01;  ///< depth counted as success
+  double insertion_depth_m = 0.01;  ///< catheter inside the lumen that counts as the goal [m]
+  double hold_s = 3.0;              ///< kept at that depth this long: success [s] (estimate)
   double time_limit_s = 600.0;
+  /// A tool or the catheter pushing (or a grasp pulling) the duct harder than this for longer
+  /// than duct_injury_time_s injures it [N] (estimate).
+  double duct_injury_force_n = 2.0;
+  double duct_injury_time_s = 1.0;
+  /// The jaws squeezing the duct harder than this for longer than duct_injury_time_s crush it
+  /// [N] (estimate, below the 15 N pinch that damaged pig cecum in Heijnsdijk et al., Surg
+  /// Endosc 2004;18:974).
+  double duct_squeeze_n = 5.0;
+  /// The same for every other organ [N], [s] (estimates).
+  double organ_injury_force_n = 5.0;
+  double organ_injury_time_s = 2.0;
+  /// A catheter held by no tool, its tip not in the lumen, this long: dropped [s] (estimate;
+  /// shorter lets go and grasps again, hand over hand).
+  double drop_grace_s = 1.0;
+  /// An instrument's tip outside the laparoscope's view this long: out of view [s] (estimate).
+  double out_of_view_grace_s = 3.0;
+  /// Organs the instruments must not touch (names from organs).
+  std::vector<std::string> forbidden_organs;
+  int line = 0;  ///< where it is in the file, for later messages
 };
 
 /// A whole scenario file.

@@ -279,9 +279,14 @@ class ScenarioParser {
 
   void parse_task(const YAML::Node& n) {
     TaskSpec t;
-    if (!fields_.expect_map(n, "task", {"kind", "target", "insertion_depth_m", "time_limit_s"})) {
+    if (!fields_.expect_map(
+            n, "task",
+            {"kind", "target", "insertion_depth_m", "hold_s", "time_limit_s", "duct_injury_force_n",
+             "duct_injury_time_s", "duct_squeeze_n", "organ_injury_force_n", "organ_injury_time_s",
+             "drop_grace_s", "out_of_view_grace_s", "forbidden_organs"})) {
       return;
     }
+    t.line = yaml_line(n);
     if (fields_.require(n, "kind", "task")) {
       if (auto v = fields_.string(n["kind"], "task.kind")) {
         if (*v != "catheter-insertion" && *v != "free-exploration") {
@@ -292,14 +297,55 @@ class ScenarioParser {
       }
     }
     parse_task_target(n, t);
-    fields_.optional_number(n, "insertion_depth_m", "task", t.insertion_depth_m, 0.001, 0.2,
-                            "from 0.001 to 0.2 (m)");
-    fields_.optional_number(n, "time_limit_s", "task", t.time_limit_s, 1.0, 7200.0,
-                            "from 1 to 7200 (s)");
+    parse_task_limits(n, t);
+    if (n["forbidden_organs"]) parse_forbidden_organs(n["forbidden_organs"], t);
     if (t.kind == "catheter-insertion" && !s_.catheter) {
       fields_.problem(n, "task.kind", "catheter-insertion needs a catheter section");
     }
     s_.task = t;
+  }
+
+  // The goal's depth and hold, the time limit, and the thresholds of the errors.
+  void parse_task_limits(const YAML::Node& n, TaskSpec& t) {
+    fields_.optional_number(n, "insertion_depth_m", "task", t.insertion_depth_m, 0.001, 0.2,
+                            "from 0.001 to 0.2 (m)");
+    fields_.optional_number(n, "hold_s", "task", t.hold_s, 0.0, 600.0, "from 0 to 600 (s)");
+    fields_.optional_number(n, "time_limit_s", "task", t.time_limit_s, 1.0, 7200.0,
+                            "from 1 to 7200 (s)");
+    fields_.optional_number(n, "duct_injury_force_n", "task", t.duct_injury_force_n, 0.01, 100.0,
+                            "from 0.01 to 100 (N)");
+    fields_.optional_number(n, "duct_injury_time_s", "task", t.duct_injury_time_s, 0.0, 60.0,
+                            "from 0 to 60 (s)");
+    fields_.optional_number(n, "duct_squeeze_n", "task", t.duct_squeeze_n, 0.01, 100.0,
+                            "from 0.01 to 100 (N)");
+    fields_.optional_number(n, "organ_injury_force_n", "task", t.organ_injury_force_n, 0.01, 100.0,
+                            "from 0.01 to 100 (N)");
+    fields_.optional_number(n, "organ_injury_time_s", "task", t.organ_injury_time_s, 0.0, 60.0,
+                            "from 0 to 60 (s)");
+    fields_.optional_number(n, "drop_grace_s", "task", t.drop_grace_s, 0.0, 60.0,
+                            "from 0 to 60 (s)");
+    fields_.optional_number(n, "out_of_view_grace_s", "task", t.out_of_view_grace_s, 0.0, 600.0,
+                            "from 0 to 600 (s)");
+  }
+
+  void parse_forbidden_organs(const YAML::Node& n, TaskSpec& t) {
+    if (!fields_.expect_list(n, "task.forbidden_organs", "a list of organ names")) return;
+    const auto& os = s_.organs;
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string f = "task.forbidden_organs[" + std::to_string(i) + "]";
+      const std::optional<std::string> v = fields_.string(n[i], f);
+      if (!v) continue;
+      if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
+        fields_.problem(n[i], f, "no organ named '" + *v + "' (expected a name from organs)");
+      } else if (*v == t.target) {
+        fields_.problem(n[i], f, "'" + *v + "' is the task's target (the instruments work on it)");
+      } else if (std::find(t.forbidden_organs.begin(), t.forbidden_organs.end(), *v) !=
+                 t.forbidden_organs.end()) {
+        fields_.problem(n[i], f, "'" + *v + "' is listed twice");
+      } else {
+        t.forbidden_organs.push_back(*v);
+      }
+    }
   }
 
   void parse_task_target(const YAML::Node& n, TaskSpec& t) {

@@ -59,6 +59,9 @@ Result<std::shared_ptr<const SessionModel>> SessionModel::build(
   if (Status timing = m->build_timing(); !timing.ok()) return timing.diagnostics();
   if (Status tools = m->build_tools(scene, devices); !tools.ok()) return tools.diagnostics();
   if (Status tissue = m->build_tissue(scene); !tissue.ok()) return tissue.diagnostics();
+  Result<TaskModel> task = TaskModel::build(scene.scenario, *m->tissue_);
+  if (!task.ok()) return task.diagnostics();
+  m->task_ = std::move(task).value();
   m->build_surfaces(scene);
   m->duct_wall_stiffness_n_per_m_ = duct_wall_stiffness(m->tissue_->duct());
   m->note_stiffness_budget(scene);

@@ -24,6 +24,7 @@
 #include "sim/setup/organ_surface.h"
 #include "sim/setup/runtime_settings.h"
 #include "sim/setup/scene.h"
+#include "sim/setup/task_model.h"
 #include "sim/setup/tissue_model.h"
 #include "sim/setup/tool_model.h"
 
@@ -50,6 +51,8 @@ class SessionModel {
   [[nodiscard]] const ToolModel& tool(size_t side) const { return tools_[side]; }
   [[nodiscard]] const TissueModel& tissue() const { return *tissue_; }
   [[nodiscard]] const std::shared_ptr<const TissueModel>& tissue_ptr() const { return tissue_; }
+  /// The task engine's fixed part (the scenario's task, the duct's lumen and incision).
+  [[nodiscard]] const TaskModel& task() const { return task_; }
 
   [[nodiscard]] int32_t organ_count() const { return static_cast<int32_t>(objects_.size()); }
   /// Each organ as the proxies see it, with its force law and surface properties set and no
@@ -93,6 +96,7 @@ class SessionModel {
   std::string scenario_file_;
   std::array<ToolModel, 2> tools_;
   std::shared_ptr<const TissueModel> tissue_;
+  TaskModel task_;
   std::vector<std::unique_ptr<const haptics::MeshDatabase>> databases_;
   std::vector<std::unique_ptr<const haptics::SegmentDatabase>> segment_databases_;
   std::vector<OrganSurface> surfaces_;  // each organ's shading, texture, friction

@@ -93,6 +93,7 @@ void run_runtime(benchmark::State& state, bool isolate_by_default, const Graphic
         std::make_unique<hardware::ScriptedDevice>(sweep(r.value(), 1, duration), "right")};
     sim::RuntimeSettings rs;
     rs.duration_s = duration;
+    rs.end_with_task = false;  // the loops' timing over the whole sweep, not the task
     // The haptic thread's processor kept to itself as the app does when it renders, not
     // headless (as laptrainer-cli); LAP_RUNTIME_ISOLATE=0 or 1 overrides.
     const char* isolate = std::getenv("LAP_RUNTIME_ISOLATE");

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
@@ -250,6 +251,113 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
                   "/left.lapdev --right replay:" + rec + "/right.lapdev --duration 1 --fast");
   ASSERT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_EQ(json_field(replay.out, "state_hash"), hash);
+  // The task is scored the same on the replay.
+  EXPECT_FALSE(json_field(r.out, "task").empty());
+  EXPECT_EQ(json_field(replay.out, "task"), json_field(r.out, "task"));
+}
+
+// The default scenario rewritten into a temporary folder (its meshes by absolute path), with
+// `edit` applied to its text.
+std::filesystem::path default_scenario_copy(const TempDir& dir,
+                                            const std::function<void(std::string&)>& edit) {
+  std::ifstream in(source_dir() / "scenarios/default.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const std::string assets = (source_dir() / "assets").string();
+  for (size_t at = 0; (at = text.find("../assets", at)) != std::string::npos;) {
+    text.replace(at, 9, assets);
+    at += assets.size();
+  }
+  edit(text);
+  return dir.write("scenario.yaml", text);
+}
+
+// The top-level "task" object of `run` (docs/architecture.md): result, reasons, events with
+// t_s and kind, completion_time_s.
+void expect_task_contract(const nlohmann::ordered_json& task) {
+  ASSERT_TRUE(task.is_object()) << task.dump();
+  for (const char* key : {"result", "reasons", "events", "completion_time_s"}) {
+    ASSERT_TRUE(task.contains(key)) << key << " missing: " << task.dump();
+  }
+  ASSERT_TRUE(task.at("result").is_string());
+  const std::string result = task.at("result");
+  EXPECT_TRUE(result == "success" || result == "failure" || result == "incomplete") << result;
+  ASSERT_TRUE(task.at("reasons").is_array());
+  ASSERT_TRUE(task.at("events").is_array());
+  for (const auto& e : task.at("events")) {
+    EXPECT_TRUE(e.contains("t_s") && e.at("t_s").is_number()) << e.dump();
+    EXPECT_TRUE(e.contains("kind") && e.at("kind").is_string()) << e.dump();
+  }
+  const auto& done = task.at("completion_time_s");
+  EXPECT_TRUE(done.is_null() || done.is_number()) << done.dump();
+}
+
+TEST(CliRun, TheTaskObjectFollowsTheContract) {
+  TempDir dir;
+  // Scripts that last 3 s, the tools held in front of their ports.
+  const auto left = dir.write("left.csv",
+                              "time_s,x_m,y_m,z_m,qw,qx,qy,qz,gripper_rad\n"
+                              "0.0,-0.07,0.03,0.40,1,0,0,0,0.8\n"
+                              "3.0,-0.07,0.03,0.40,1,0,0,0,0.8\n");
+  const auto right = dir.write("right.csv",
+                               "0.0,0.06,0.03,0.40,1,0,0,0,0.8\n"
+                               "3.0,0.06,0.03,0.40,1,0,0,0,0.8\n");
+  const std::string devices =
+      " --left scripted:" + left.string() + " --right scripted:" + right.string() + " --fast";
+  auto run = [&](const std::filesystem::path& scenario, double duration) {
+    const CommandResult r = run_command(cli() + " run --scenario " + scenario.string() + devices +
+                                        " --duration " + std::to_string(duration));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::ordered_json::parse(r.out, nullptr, /*allow_exceptions=*/false);
+  };
+
+  // Nothing happens within half a second: incomplete, no reasons, no completion time.
+  auto plain = run(source_dir() / "scenarios/default.yaml", 0.5);
+  ASSERT_FALSE(plain.is_discarded());
+  expect_task_contract(plain["task"]);
+  EXPECT_EQ(plain["task"]["kind"], "catheter-insertion");
+  EXPECT_EQ(plain["task"]["result"], "incomplete");
+  EXPECT_TRUE(plain["task"]["reasons"].empty());
+  EXPECT_TRUE(plain["task"]["completion_time_s"].is_null());
+  EXPECT_EQ(plain["haptic"]["ticks"], 500);
+
+  // A one-second time limit: the task fails at 1 s and the session ends there, not at 3 s.
+  auto limited = run(default_scenario_copy(dir,
+                                           [](std::string& t) {
+                                             const size_t at = t.find("time_limit_s: 600");
+                                             ASSERT_NE(at, std::string::npos);
+                                             t.replace(at, 17, "time_limit_s: 1");
+                                           }),
+                     3.0);
+  ASSERT_FALSE(limited.is_discarded());
+  auto& task = limited["task"];
+  expect_task_contract(task);
+  EXPECT_EQ(task["result"], "failure");
+  EXPECT_EQ(task["reasons"], nlohmann::ordered_json::array({"time_limit"}));
+  ASSERT_EQ(task["events"].size(), 2U) << task.dump();
+  EXPECT_EQ(task["events"][0]["kind"], "time_limit");
+  EXPECT_EQ(task["events"][1]["kind"], "failure");
+  EXPECT_DOUBLE_EQ(task["events"][1]["t_s"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(task["completion_time_s"].get<double>(), 1.0);
+  // The modelling step at tick 1000 ends it; the loop stops before the next tick.
+  EXPECT_EQ(limited["haptic"]["ticks"], 1001);
+
+  // Without a task: nothing watched, said so.
+  auto free = run(default_scenario_copy(dir,
+                                        [](std::string& t) {
+                                          const size_t at = t.find("\ntask:");
+                                          ASSERT_NE(at, std::string::npos);
+                                          t.erase(at + 1);
+                                        }),
+                  0.5);
+  ASSERT_FALSE(free.is_discarded());
+  expect_task_contract(free["task"]);
+  EXPECT_EQ(free["task"]["kind"], "none");
+  EXPECT_EQ(free["task"]["result"], "incomplete");
+  EXPECT_TRUE(free["task"]["reasons"].empty());
+  EXPECT_TRUE(free["task"]["events"].empty());
+  EXPECT_TRUE(free["task"]["completion_time_s"].is_null());
 }
 
 TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {

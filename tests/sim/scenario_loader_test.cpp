@@ -302,6 +302,81 @@ TEST_F(ScenarioFixture, Bad31_CatheterFrictionOutOfRange) {
              "17: organs[0].material.catheter_friction: expected a number from 0 to 2, got 3");
 }
 
+TEST_F(ScenarioFixture, Bad32_TaskHoldTimeNegative) {
+  expect_one(load_with(33, "  target: duct\n  hold_s: -1"),
+             "34: task.hold_s: expected a number from 0 to 600 (s), got -1");
+}
+
+TEST_F(ScenarioFixture, Bad33_DuctInjuryForceZero) {
+  expect_one(load_with(33, "  target: duct\n  duct_injury_force_n: 0"),
+             "34: task.duct_injury_force_n: expected a number from 0.01 to 100 (N), got 0");
+}
+
+TEST_F(ScenarioFixture, Bad34_ForbiddenOrganUnknown) {
+  expect_one(load_with(33, "  target: duct\n  forbidden_organs: [liver, stomach]"),
+             "34: task.forbidden_organs[1]: no organ named 'stomach' (expected a name from "
+             "organs)");
+}
+
+TEST_F(ScenarioFixture, Bad35_ForbiddenOrganIsTheTarget) {
+  expect_one(load_with(33, "  target: duct\n  forbidden_organs: [duct]"),
+             "34: task.forbidden_organs[0]: 'duct' is the task's target (the instruments work "
+             "on it)");
+}
+
+TEST_F(ScenarioFixture, Bad36_ForbiddenOrgansNotAList) {
+  expect_one(load_with(33, "  target: duct\n  forbidden_organs: liver"),
+             "34: task.forbidden_organs: expected a list of organ names, got 'liver'");
+}
+
+TEST_F(ScenarioFixture, Bad37_MisspelledTaskField) {
+  expect_one(load_with(33, "  target: duct\n  hold_time_s: 3"),
+             "34: task.hold_time_s: unknown field (expected one of: kind, target, "
+             "insertion_depth_m, hold_s, time_limit_s, duct_injury_force_n, duct_injury_time_s, "
+             "duct_squeeze_n, organ_injury_force_n, organ_injury_time_s, drop_grace_s, "
+             "out_of_view_grace_s, forbidden_organs)");
+}
+
+TEST_F(ScenarioFixture, Bad38_OutOfViewGraceTooLong) {
+  expect_one(load_with(33, "  target: duct\n  out_of_view_grace_s: 601"),
+             "34: task.out_of_view_grace_s: expected a number from 0 to 600 (s), got 601");
+}
+
+TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {
+  const ScenarioLoadResult defaults = load_with(0, "");
+  ASSERT_TRUE(defaults.ok()) << all(defaults);
+  const TaskSpec& d = *defaults.value().task;
+  EXPECT_DOUBLE_EQ(d.hold_s, 3.0);
+  EXPECT_DOUBLE_EQ(d.duct_injury_force_n, 2.0);
+  EXPECT_DOUBLE_EQ(d.duct_injury_time_s, 1.0);
+  EXPECT_DOUBLE_EQ(d.duct_squeeze_n, 5.0);
+  EXPECT_DOUBLE_EQ(d.organ_injury_force_n, 5.0);
+  EXPECT_DOUBLE_EQ(d.organ_injury_time_s, 2.0);
+  EXPECT_DOUBLE_EQ(d.drop_grace_s, 1.0);
+  EXPECT_DOUBLE_EQ(d.out_of_view_grace_s, 3.0);
+  EXPECT_TRUE(d.forbidden_organs.empty());
+  EXPECT_EQ(d.line, 32);
+  const ScenarioLoadResult r =
+      load_with(33,
+                "  target: duct\n  insertion_depth_m: 0.015\n  hold_s: 5\n  time_limit_s: 300\n"
+                "  duct_injury_force_n: 1.5\n  duct_injury_time_s: 0.5\n  duct_squeeze_n: 4\n"
+                "  organ_injury_force_n: 6\n  organ_injury_time_s: 3\n  drop_grace_s: 2\n"
+                "  out_of_view_grace_s: 10\n  forbidden_organs: [liver]");
+  ASSERT_TRUE(r.ok()) << all(r);
+  const TaskSpec& t = *r.value().task;
+  EXPECT_DOUBLE_EQ(t.insertion_depth_m, 0.015);
+  EXPECT_DOUBLE_EQ(t.hold_s, 5.0);
+  EXPECT_DOUBLE_EQ(t.time_limit_s, 300.0);
+  EXPECT_DOUBLE_EQ(t.duct_injury_force_n, 1.5);
+  EXPECT_DOUBLE_EQ(t.duct_injury_time_s, 0.5);
+  EXPECT_DOUBLE_EQ(t.duct_squeeze_n, 4.0);
+  EXPECT_DOUBLE_EQ(t.organ_injury_force_n, 6.0);
+  EXPECT_DOUBLE_EQ(t.organ_injury_time_s, 3.0);
+  EXPECT_DOUBLE_EQ(t.drop_grace_s, 2.0);
+  EXPECT_DOUBLE_EQ(t.out_of_view_grace_s, 10.0);
+  EXPECT_EQ(t.forbidden_organs, std::vector<std::string>{"liver"});
+}
+
 TEST_F(ScenarioFixture, AnIncisionInTheDuctIsRead) {
   const ScenarioLoadResult r =
       load_with(21,

@@ -352,9 +352,17 @@ struct Outcome {
 };
 
 Outcome run_hands(bool passivity_control) {
-  const Scene& scene = default_scene();
+  // The task engine watches the whole minute, its injury thresholds and graces out of the
+  // hands' reach (a hand presses the gallbladder with about 10 N): the hands' grasps of the
+  // catheter show as its events (tested below).
+  Scene scene = default_scene();
+  TaskSpec& task = *scene.scenario.task;
+  task.duct_injury_force_n = task.duct_squeeze_n = task.organ_injury_force_n = 100.0;
+  task.drop_grace_s = 60.0;
+  task.out_of_view_grace_s = 600.0;
   RuntimeSettings rs = fast(kDuration);
   rs.passivity_control = passivity_control;
+  rs.end_with_task = false;  // the hands' whole minute, whatever the task engine makes of it
   Devices devices;
   std::array<HandDevice*, 2> hands{};
   for (int side = 0; side < 2; ++side) {
@@ -447,6 +455,17 @@ TEST(PortPassivity, AHandGetsNoMoreEnergyThanItGaveAndNoSustainedOscillation) {
   const Outcome o = run_hands(true);
   print("with the controllers", o);
   EXPECT_TRUE(o.metrics.events.empty());
+  // The task engine saw each hand take hold of the catheter.
+  std::array<int, 2> grasped{};
+  for (const TaskEvent& e : o.metrics.task.events) {
+    std::printf("[ task ] %.3f s %s tool %d organ %d value %.4f\n", e.t_s,
+                std::string(to_string(e.kind)).c_str(), e.tool, e.organ, e.value);
+    if (e.kind == TaskEventKind::kCatheterGrasped && e.tool >= 0) {
+      ++grasped[static_cast<size_t>(e.tool)];
+    }
+  }
+  EXPECT_GE(grasped[0], 1);
+  EXPECT_GE(grasped[1], 1);
   double worst_excess = 0.0;
   double worst_ratio = 0.0;
   double worst_rms = 0.0;
