@@ -405,7 +405,9 @@ std::span<const haptics::HapticObject> Session::touched_objects(
   if (!duct_grasp.grasping() || duct < 0) return objects_;
   std::vector<haptics::HapticObject>& held = tools_[i].objects_holding_duct;
   std::copy(objects_.begin(), objects_.end(), held.begin());  // same size: no allocation
-  held[static_cast<size_t>(duct)].law.max_force_n = 0.0;
+  haptics::ForceLaw& law = held[static_cast<size_t>(duct)].law;
+  law.max_force_n = 0.0;        // no force, whatever the law
+  law.stiffness_n_per_m = 0.0;  // and none in the stiffness budget at the handle
   return held;
 }
 

@@ -198,7 +198,8 @@ void SessionModel::note_stiffness_budget(const Scene& scene) {
   // (sim/runtime/trocar_tool.h, hardware/command_limiter.h): worth telling beforehand where the
   // budget will bind. Per tool: its three segments pressing each organ from the first touch on
   // (the organ's point nearest the port: the shortest lever, so the least the hand feels there),
-  // holding the duct (the contacts and every grasped node's spring) and holding the catheter at
+  // holding the duct (every grasped node's spring: the held duct's own contacts are muted for
+  // that tool, Session::touched_objects) and holding the catheter at
   // the task's target (its haptic-rate coupling). On the axis a spring's lever² is
   // max(1, (b/a)²).
   const TissueWorldSettings& ws = tissue_->settings();
@@ -241,10 +242,9 @@ void SessionModel::note_stiffness_budget(const Scene& scene) {
         const double k_grasp =
             models::DuctGraspState::kMaxNodes * ws.duct_grasp.attach_stiffness_n_per_m;
         item("holding " + scene.organs[i].name,
-             "3 segments × " + number(k) + " + " +
-                 std::to_string(models::DuctGraspState::kMaxNodes) + " nodes × " +
+             std::to_string(models::DuctGraspState::kMaxNodes) + " nodes × " +
                  number(ws.duct_grasp.attach_stiffness_n_per_m) + " N/m",
-             lever2(p), 3.0 * k + k_grasp);
+             lever2(p), k_grasp);
       }
     }
     if (scene.scenario.catheter) {
