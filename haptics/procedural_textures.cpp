@@ -116,25 +116,20 @@ HeightSample PerlinNoise::sample(const Eigen::Vector3d& p) const noexcept {
 
 FractalNoise::FractalNoise(double amplitude_m, double wavelength_m, int octaves, double lacunarity,
                            double gain, uint32_t seed)
-    : base_(1.0, 1.0, seed),
-      amplitude_(amplitude_m),
-      inv_wavelength_(1.0 / wavelength_m),
-      octaves_(std::clamp(octaves, 1, kMaxOctaves)),
-      lacunarity_(lacunarity),
-      gain_(gain) {
+    : base_(1.0, 1.0, seed), octaves_(std::clamp(octaves, 1, kMaxOctaves)) {
   double sum = 0.0;
   double a = 1.0;
-  for (int o = 0; o < octaves_; ++o, a *= gain_) sum += std::abs(a);
+  for (int o = 0; o < octaves_; ++o, a *= gain) sum += std::abs(a);
   // The octaves' factors by the same products as a running loop would form them.
-  double amplitude = amplitude_;
-  double scale = inv_wavelength_;
-  for (int o = 0; o < octaves_; ++o, amplitude *= gain_, scale *= lacunarity_) {
+  double amplitude = amplitude_m;
+  double scale = 1.0 / wavelength_m;
+  for (int o = 0; o < octaves_; ++o, amplitude *= gain, scale *= lacunarity) {
     octave_amplitude_[o] = amplitude;
     octave_scale_[o] = scale;
     // Each octave shifted so the octaves' lattices do not line up at the origin.
     octave_offset_[o] = Eigen::Vector3d(17.13 * o, 31.71 * o, 7.37 * o);
   }
-  max_height_ = PerlinNoise::kBound * amplitude_ * sum;
+  max_height_ = PerlinNoise::kBound * amplitude_m * sum;
 }
 
 HeightSample FractalNoise::sample(const Eigen::Vector3d& p) const noexcept {

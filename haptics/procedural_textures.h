@@ -46,11 +46,7 @@ class FractalNoise final : public HeightField {
 
  private:
   PerlinNoise base_;
-  double amplitude_;
-  double inv_wavelength_;
   int octaves_;
-  double lacunarity_;
-  double gain_;
   double max_height_;
   // Per octave (setup): amplitude gain^o, spatial scale lacunarity^o / wavelength, offset.
   std::array<double, kMaxOctaves> octave_amplitude_{};
