@@ -75,7 +75,9 @@ TEST(ProceduralTextures, AnalyticGradientsMatchFiniteDifferencesAndHeightsStayBo
 
 // Perlin noise as defined, corner by corner: the sum over the cell's 8 corners c of
 // fade(1 - |x - c_x|) fade(...) fade(...) times lattice_gradient(c) . (q - c), and its gradient by
-// the product rule. noise() evaluates it in the expanded trilinear form; they agree to rounding.
+// the product rule, with each corner's gradient from lattice_gradient (the hash as defined):
+// noise() shares the hash lookups between corners and finds the cell by truncation; they agree to
+// rounding.
 TEST(ProceduralTextures, PerlinNoiseIsTheCornerSumOfItsDefinition) {
   const PerlinNoise perlin(1.0, 1.0, 7);
   std::mt19937 rng(11);
