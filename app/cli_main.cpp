@@ -22,6 +22,7 @@
 #include "haptics/setup/mesh_repair.h"
 #include "haptics/setup/mesh_validation.h"
 #include "hardware/device_spec.h"
+#include "sim/authoring/expert_run.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/device_factory.h"
@@ -55,7 +56,10 @@ const char* const kUsage =
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
     "      replay:FILE or phantom[:NAME]; prints the metrics as JSON\n"
     "  generate-assets --out DIR\n"
-    "      write the project's generated stand-in organ meshes (OBJ) into DIR\n";
+    "      write the project's generated stand-in organ meshes (OBJ) into DIR\n"
+    "  plan-expert --scenario FILE --out DIR\n"
+    "      plan the expert's catheter insertion for the scenario and write it as keyframe\n"
+    "      scripts DIR/expert_left.csv and DIR/expert_right.csv (run them with scripted:FILE)\n";
 
 // Parses --key value pairs and bare --flags after the command.
 struct Args {
@@ -438,6 +442,40 @@ int cmd_generate_assets(int argc, char** argv) {
   return kExitOk;
 }
 
+int cmd_plan_expert(int argc, char** argv) {
+  Args args(argc, argv, {});
+  if (!args.only({"--scenario", "--out"}) || !args.has("--scenario") || !args.has("--out")) {
+    if (!args.has("--scenario")) args.errors.push_back("plan-expert needs --scenario FILE");
+    if (!args.has("--out")) args.errors.push_back("plan-expert needs --out DIR");
+    return usage_error(args);
+  }
+  const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
+  if (!r.ok()) return print_problems(r.diagnostics());
+  lap::sim::RuntimeSettings rs;
+  rs.fast = true;
+  const std::array<lap::sim::DeviceDescription, 2> devices{
+      lap::sim::DeviceDescription{"left", {}}, lap::sim::DeviceDescription{"right", {}}};
+  auto model = lap::sim::SessionModel::build(r.value(), rs, devices);
+  if (!model.ok()) return print_problems(model.diagnostics());
+  const auto plan = lap::sim::plan_expert_run(r.value(), *model.value());
+  if (!plan.ok()) return print_problems(plan.diagnostics());
+  const fs::path dir = args.get("--out");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  for (const auto& [trajectory, name] : {std::pair{&plan.value().left, "expert_left.csv"},
+                                         std::pair{&plan.value().right, "expert_right.csv"}}) {
+    if (lap::Status saved = lap::sim::save_trajectory_csv(*trajectory, dir / name); !saved.ok()) {
+      return print_problems(saved.diagnostics());
+    }
+  }
+  std::printf(
+      "wrote expert_left.csv, expert_right.csv to %s (%.1f s; the catheter within %.1f deg "
+      "of the planned entry direction)\n",
+      dir.string().c_str(), plan.value().right.duration_s(),
+      plan.value().worst_direction_error_deg);
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -450,6 +488,7 @@ int main(int argc, char** argv) {
     if (cmd == "validate") return cmd_validate(argc, argv);
     if (cmd == "mesh-info") return cmd_mesh_info(argc, argv);
     if (cmd == "generate-assets") return cmd_generate_assets(argc, argv);
+    if (cmd == "plan-expert") return cmd_plan_expert(argc, argv);
     if (cmd == "probe") return cmd_probe(argc, argv);
     if (cmd == "run") return cmd_run(argc, argv);
   } catch (const std::exception& e) {

@@ -41,6 +41,24 @@ Opening opening(const haptics::MeshDatabase& m, haptics::PrimitiveRef p,
   return open > 0 ? Opening::kRim : Opening::kWall;
 }
 
+// Beside an opening: a rim, or a wall face with a corner on an open face (or on the surface's
+// boundary).
+bool beside_opening(const haptics::MeshDatabase& m, haptics::PrimitiveRef p, Opening where,
+                    std::span<const uint8_t> open_faces) {
+  if (where != Opening::kWall) return true;
+  if (p.kind != haptics::PrimitiveKind::kFace) return false;
+  bool beside = false;
+  for (const int32_t v : m.face_vertices(p.index)) {
+    m.for_each_vertex_face(v, [&](int32_t f) {
+      if (is_open(m, open_faces, f)) beside = true;
+      for (const int32_t e : m.face_edges(f)) {
+        if (m.edge_faces(e)[1] < 0) beside = true;
+      }
+    });
+  }
+  return beside;
+}
+
 // The nearest face of p by the tree, and the side of it p is on.
 void find_nearest(const haptics::MeshDatabase& surface, const Eigen::Vector3d& p,
                   haptics::PrimitiveRef* nearest, int8_t* side) noexcept {
@@ -146,6 +164,22 @@ int32_t update_surface_contacts(const haptics::MeshDatabase& surface,
     // in front, or whose nearest point is inside an opening, is free. Passing a rim or an
     // opening is the one way from one side to the other.
     const Opening where = opening(surface, prim, open_faces);
+    // Threading an opening: a neighbour along the catheter has passed to the other side, so the
+    // catheter's line already goes through the opening; at its edge the particle follows it
+    // through (the soft rim gives way to the catheter's body) instead of being held back by the
+    // wall beside the opening, which on a chain of particles a few millimetres apart would stop
+    // the catheter after its first particle or two.
+    const size_t count_n = cath->positions.size();
+    const auto other_side = [&](size_t j) {
+      return tracking->away[j] == 0 && tracking->side[j] != tracking->side[i];
+    };
+    const bool threading = (i + 1 < count_n && other_side(i + 1)) || (i > 0 && other_side(i - 1));
+    if (threading && (open_faces.size() > 0 || surface.has_boundary()) &&
+        beside_opening(surface, prim, where, open_faces)) {
+      const double along_normal = surface.normal(prim).dot(p - q);
+      if (along_normal != 0.0) tracking->side[i] = along_normal > 0.0 ? 1 : -1;
+      continue;
+    }
     if (where != Opening::kWall) {
       const Eigen::Vector3d d = p - q;
       const double len = d.norm();

@@ -114,7 +114,7 @@ struct CatheterState {
   static constexpr int32_t kMaxAnchors = 16;  ///< two grasps of up to 6 anchors, and spare
   std::array<CenterlineAnchor, kMaxAnchors> anchors{};
   int32_t anchor_count = 0;
-  static constexpr int32_t kMaxFrictions = 2;  ///< a grasp per tool
+  static constexpr int32_t kMaxFrictions = 3;  ///< a grasp per tool, the incision's rim
   std::array<AnchorFriction, kMaxFrictions> frictions{};
   int32_t friction_count = 0;
   /// Per friction slot, what it did in the last step (kept until a step overwrites it).

@@ -71,6 +71,10 @@ const haptics::MeshDatabase& TissueWorld::contact_surface(int32_t organ) const {
 ModelFault TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double dt) noexcept {
   ModelFault fault;
   grasp(tools);
+  // 1b. The incision's rim holds the catheter where it passes through it (incision_rim.h).
+  const DuctTissue& duct = model_->duct();
+  if (duct.has_incision)
+    models::hold_at_incision(duct.rim, model_->catheter_model(), catheter_.get());
   find_catheter_contacts();
   // 3. The catheter.
   if (injected_ == ModelFaultKind::kCatheter) {

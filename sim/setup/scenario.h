@@ -135,11 +135,20 @@ struct CameraSpec {
 
 /// The catheter inserted into the cystic duct (thesis §7.7(3)).
 struct CatheterSpec {
+  /// The port it enters by (a trocar's name; its own, or an instrument's for a cholangiography
+  /// clamp): its proximal end is held there. Empty: between the two tools' ports.
+  std::string port;
+  /// Where it lies at the start: straight from the port towards this point, for its length.
+  /// Absent: towards the task's target, ending 2 cm short of it.
+  std::optional<Eigen::Vector3d> aim_m;
   double length_m = 0.3;
   double diameter_m = 0.0025;
   int particles = 64;
   double mass_kg = 0.01;
   double bending_stiffness_n_m2 = 1.0e-4;  ///< EI [N m^2]
+  int line = 0;                            ///< where the section starts, for later messages
+  int length_line = 0;                     ///< where length_m is (its own line when given)
+  int aim_line = 0;                        ///< where aim_m is (its own line when given)
 };
 
 /// What the resident must do (thesis §7.4), and what counts as an error; the task engine

@@ -1,6 +1,7 @@
 #include "sim/setup/scenario_loader.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -44,6 +45,7 @@ class ScenarioParser {
     if (root["tools"]) parse_tools(root["tools"]);
     if (root["catheter"]) parse_catheter(root["catheter"]);
     if (root["task"]) parse_task(root["task"]);
+    if (root["catheter"] && root["task"]) check_catheter_reach(root["catheter"]);
   }
 
  private:
@@ -260,11 +262,24 @@ class ScenarioParser {
 
   void parse_catheter(const YAML::Node& n) {
     CatheterSpec c;
-    if (!fields_.expect_map(
-            n, "catheter",
-            {"length_m", "diameter_m", "particles", "mass_kg", "bending_stiffness_n_m2"})) {
+    if (!fields_.expect_map(n, "catheter",
+                            {"port", "aim_m", "length_m", "diameter_m", "particles", "mass_kg",
+                             "bending_stiffness_n_m2"})) {
       return;
     }
+    c.line = yaml_line(n);
+    c.length_line = n["length_m"] ? yaml_line(n["length_m"]) : c.line;
+    c.aim_line = n["aim_m"] ? yaml_line(n["aim_m"]) : c.line;
+    if (n["port"]) {
+      if (auto v = fields_.string(n["port"], "catheter.port")) {
+        c.port = *v;
+        if (s_.trocar(*v) == nullptr) {
+          fields_.problem(n["port"], "catheter.port",
+                          "no trocar named '" + *v + "' (expected a name from trocars)");
+        }
+      }
+    }
+    if (n["aim_m"]) c.aim_m = fields_.vec3(n["aim_m"], "catheter.aim_m");
     fields_.optional_number(n, "length_m", "catheter", c.length_m, 0.01, 2.0, "from 0.01 to 2 (m)");
     fields_.optional_number(n, "diameter_m", "catheter", c.diameter_m, 0.0005, 0.005,
                             "from 0.0005 to 0.005 (m)");
@@ -275,6 +290,48 @@ class ScenarioParser {
     fields_.optional_number(n, "bending_stiffness_n_m2", "catheter", c.bending_stiffness_n_m2, 1e-9,
                             1.0, "from 1e-9 to 1 (N m^2)");
     s_.catheter = c;
+  }
+
+  // A catheter-insertion task must be possible: the catheter, held at its port, reaches the
+  // target depth past the incision with 5 mm to spare (its length is all there is: the chain is
+  // nearly inextensible), and it starts outside the duct, at least 1 cm from the incision.
+  void check_catheter_reach(const YAML::Node& n) {
+    if (!s_.catheter || !s_.task || s_.task->kind != "catheter-insertion") return;
+    const CatheterSpec& c = *s_.catheter;
+    const TrocarSpec* port = c.port.empty() ? nullptr : s_.trocar(c.port);
+    if (port == nullptr || !c.aim_m) return;  // the old lay, or a problem reported already
+    const auto target = std::find_if(s_.organs.begin(), s_.organs.end(),
+                                     [&](const OrganSpec& o) { return o.name == s_.task->target; });
+    if (target == s_.organs.end() || !target->incision.present) return;
+    const Eigen::Vector3d incision = target->incision.center_m;
+    const double to_incision = (incision - port->position_m).norm();
+    const double need = to_incision + s_.task->insertion_depth_m + 0.005;
+    if (c.length_m < need) {
+      fields_.problem(n["length_m"] ? n["length_m"] : n, "catheter.length_m",
+                      fixed_mm(c.length_m) + " cannot reach " +
+                          fixed_mm(s_.task->insertion_depth_m) + " into the incision " +
+                          fixed_mm(to_incision) + " from the port '" + c.port + "': at least " +
+                          fixed_mm(need) + " (with 5 mm to spare)");
+      return;
+    }
+    const Eigen::Vector3d dir = *c.aim_m - port->position_m;
+    if (dir.norm() < 1e-6) {
+      fields_.problem(n["aim_m"], "catheter.aim_m", "must differ from the port's position");
+      return;
+    }
+    const Eigen::Vector3d tip = port->position_m + c.length_m * dir.normalized();
+    if ((tip - incision).norm() < 0.01) {
+      fields_.problem(n["aim_m"], "catheter.aim_m",
+                      "lays the catheter's tip " + fixed_mm((tip - incision).norm()) +
+                          " from the incision: it must start outside the duct, at least 10 mm "
+                          "away");
+    }
+  }
+
+  static std::string fixed_mm(double m) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f mm", m * 1000.0);
+    return buf;
   }
 
   void parse_task(const YAML::Node& n) {

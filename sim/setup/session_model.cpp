@@ -117,8 +117,7 @@ Status SessionModel::build_tools(const Scene& scene,
 }
 
 Status SessionModel::build_tissue(const Scene& scene) {
-  // The tissue (§6.5, §7.7): the catheter (§7.7(3)), its proximal end held where it enters,
-  // between the two ports, pointing at the task's target and ending 2 cm short of its centre;
+  // The tissue (§6.5, §7.7): the catheter (§7.7(3)), its proximal end held where it enters;
   // the organs' and the duct's models.
   const Scenario& sc = scene.scenario;
   TissueWorldSettings ws;
@@ -129,13 +128,21 @@ Status SessionModel::build_tissue(const Scene& scene) {
     ws.catheter.bending_stiffness_n_m2 = sc.catheter->bending_stiffness_n_m2;
     ws.catheter.linear_density_kg_per_m = sc.catheter->mass_kg / sc.catheter->length_m;
   }
+  // Where it lies: from its own port towards its aim (the scenario's), or, for a scenario that
+  // names neither, from between the tools' ports towards the target, ending 2 cm short of it.
   const Eigen::Vector3d target = scene.task_target_point();
-  const Eigen::Vector3d entry = 0.5 * (tools_[0].trocar.port_W + tools_[1].trocar.port_W);
-  Eigen::Vector3d dir = target - entry;
+  const TrocarSpec* port =
+      sc.catheter && !sc.catheter->port.empty() ? sc.trocar(sc.catheter->port) : nullptr;
+  const Eigen::Vector3d entry = port != nullptr
+                                    ? port->position_m
+                                    : 0.5 * (tools_[0].trocar.port_W + tools_[1].trocar.port_W);
+  const Eigen::Vector3d aim = sc.catheter && sc.catheter->aim_m ? *sc.catheter->aim_m : target;
+  Eigen::Vector3d dir = aim - entry;
   dir = dir.norm() > 1e-9 ? Eigen::Vector3d(dir.normalized())
                           : Eigen::Vector3d(-Eigen::Vector3d::UnitY());
   ws.catheter_direction_W = dir;
-  ws.catheter_start_W = target - (ws.catheter.length_m + 0.02) * dir;
+  ws.catheter_start_W =
+      port != nullptr ? entry : Eigen::Vector3d(target - (ws.catheter.length_m + 0.02) * dir);
   Result<std::shared_ptr<const TissueModel>> tissue = TissueModel::build(scene, ws, &notes_);
   if (!tissue.ok()) {
     // The same words as before the model existed: `file: organ: problem`.

@@ -1,5 +1,7 @@
 #include "sim/setup/tissue_model.h"
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 
 #include "sim/setup/duct_fit.h"
@@ -7,6 +9,43 @@
 #include "sim/setup/modal_shell_cache.h"
 
 namespace lap::sim {
+namespace {
+
+// The duct's lumen from its shell at rest (its length, the mid-surface's mean radius) and the
+// incision in its frame, half axes widened by the largest edge of an open face and the
+// catheter's radius: the hole the catheter's contacts let it through (duct_incision.h).
+void measure_lumen(const OrganTissue& wall, const IncisionSpec& incision, double catheter_radius_m,
+                   DuctTissue* duct) {
+  models::IncisionRim& rim = duct->rim;
+  rim.pose_DW = duct->pose_WD.inverse();
+  double radius = 0.0;
+  for (const Eigen::Vector3d& p : duct->rest_D) {
+    rim.length_m = std::max(rim.length_m, p.z());
+    radius += p.head<2>().norm();
+  }
+  rim.mid_radius_m = duct->rest_D.empty() ? 0.0 : radius / static_cast<double>(duct->rest_D.size());
+  if (!incision.present) return;
+  const Eigen::Vector3d c = rim.pose_DW * incision.center_m;
+  duct->has_incision = true;
+  duct->incision_center_W = incision.center_m;
+  rim.z_m = c.z();
+  rim.angle_rad = std::atan2(c.y(), c.x());
+  double edge = 0.0;
+  for (size_t f = 0; f < wall.open_faces.size() && f < wall.surface.triangles.size(); ++f) {
+    if (wall.open_faces[f] == 0) continue;
+    const auto& t = wall.surface.triangles[f];
+    for (size_t k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& a = wall.surface.positions[static_cast<size_t>(t[k])];
+      const Eigen::Vector3d& b = wall.surface.positions[static_cast<size_t>(t[(k + 1) % 3])];
+      edge = std::max(edge, (a - b).norm());
+    }
+  }
+  const double margin = edge + catheter_radius_m;
+  rim.half_length_m = 0.5 * incision.length_m + margin;
+  rim.half_width_m = 0.5 * incision.width_m + margin;
+}
+
+}  // namespace
 
 Result<std::shared_ptr<const TissueModel>> TissueModel::build(const Scene& scene,
                                                               const TissueWorldSettings& settings,
@@ -73,6 +112,7 @@ Status TissueModel::add_organ(const Organ& organ, int32_t index, std::vector<std
         }
         t.open_faces = std::move(open).value();
       }
+      measure_lumen(t, organ.incision, 0.5 * settings_.catheter.outer_diameter_m, &duct_);
     } else {
       t.surface = organ.mesh;
       auto rest = std::make_unique<haptics::MeshDatabase>(haptics::MeshDatabase::build(t.surface));

@@ -25,6 +25,7 @@
 #include "models/catheter_grasp.h"
 #include "models/catheter_model.h"
 #include "models/duct_grasp.h"
+#include "models/incision_rim.h"
 #include "models/local_deformation.h"
 #include "models/modal_shell.h"
 #include "sim/setup/scene.h"
@@ -70,6 +71,13 @@ struct DuctTissue {
   Eigen::Isometry3d pose_WD = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3d> rest_D;  ///< shell nodes, duct frame
   std::unique_ptr<const models::ModalShellModel> model;
+  /// Its lumen at rest (length, the mid-surface's mean radius) and the incision in the duct's
+  /// frame, its half axes widened by the largest edge of an open face and the catheter's radius
+  /// (the hole the catheter's contacts pass, duct_incision.h): the rim's hold and the task
+  /// engine read it. Without an incision, half axes 0.
+  models::IncisionRim rim;
+  bool has_incision = false;
+  Eigen::Vector3d incision_center_W = Eigen::Vector3d::Zero();  ///< the scenario's point
 };
 
 class TissueModel {

@@ -355,7 +355,11 @@ Outcome run_hands(bool passivity_control) {
   // The task engine watches the whole minute, its injury thresholds and graces out of the
   // hands' reach (a hand presses the gallbladder with about 10 N): the hands' grasps of the
   // catheter show as its events (tested below).
-  Scene scene = default_scene();
+  // The scene the hands were placed in (tests/data/README.md).
+  static const SceneLoadResult loaded =
+      load_scene_file(test::source_dir() / "tests/data/passivity_scene.yaml");
+  EXPECT_TRUE(loaded.ok()) << loaded.message();
+  Scene scene = loaded.value();
   TaskSpec& task = *scene.scenario.task;
   task.duct_injury_force_n = task.duct_squeeze_n = task.organ_injury_force_n = 100.0;
   task.drop_grace_s = 60.0;
