@@ -57,9 +57,11 @@ const char* const kUsage =
     "      replay:FILE or phantom[:NAME]; prints the metrics as JSON\n"
     "  generate-assets --out DIR\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR\n"
-    "  plan-expert --scenario FILE --out DIR\n"
+    "  plan-expert --scenario FILE --out DIR [--mistake drop|overshoot|tear]\n"
     "      plan the expert's catheter insertion for the scenario and write it as keyframe\n"
-    "      scripts DIR/expert_left.csv and DIR/expert_right.csv (run them with scripted:FILE)\n";
+    "      scripts DIR/expert_left.csv and DIR/expert_right.csv (run them with scripted:FILE);\n"
+    "      with --mistake, a clumsy run instead (the catheter dropped, pushed through the wall,\n"
+    "      the duct torn), written as DIR/clumsy_MISTAKE_left.csv and _right.csv\n";
 
 // Parses --key value pairs and bare --flags after the command.
 struct Args {
@@ -444,7 +446,24 @@ int cmd_generate_assets(int argc, char** argv) {
 
 int cmd_plan_expert(int argc, char** argv) {
   Args args(argc, argv, {});
-  if (!args.only({"--scenario", "--out"}) || !args.has("--scenario") || !args.has("--out")) {
+  lap::sim::ExpertRunSettings settings;
+  std::string prefix = "expert";
+  if (args.has("--mistake")) {
+    const std::string m = args.get("--mistake");
+    using lap::sim::ExpertMistake;
+    if (m == "drop") {
+      settings.mistake = ExpertMistake::kDropsCatheter;
+    } else if (m == "overshoot") {
+      settings.mistake = ExpertMistake::kOvershoots;
+    } else if (m == "tear") {
+      settings.mistake = ExpertMistake::kTearsDuct;
+    } else {
+      args.errors.push_back("--mistake: expected drop, overshoot or tear, got '" + m + "'");
+    }
+    prefix = "clumsy_" + m;
+  }
+  if (!args.only({"--scenario", "--out", "--mistake"}) || !args.has("--scenario") ||
+      !args.has("--out") || !args.errors.empty()) {
     if (!args.has("--scenario")) args.errors.push_back("plan-expert needs --scenario FILE");
     if (!args.has("--out")) args.errors.push_back("plan-expert needs --out DIR");
     return usage_error(args);
@@ -457,21 +476,22 @@ int cmd_plan_expert(int argc, char** argv) {
       lap::sim::DeviceDescription{"left", {}}, lap::sim::DeviceDescription{"right", {}}};
   auto model = lap::sim::SessionModel::build(r.value(), rs, devices);
   if (!model.ok()) return print_problems(model.diagnostics());
-  const auto plan = lap::sim::plan_expert_run(r.value(), *model.value());
+  const auto plan = lap::sim::plan_expert_run(r.value(), *model.value(), settings);
   if (!plan.ok()) return print_problems(plan.diagnostics());
   const fs::path dir = args.get("--out");
   std::error_code ec;
   fs::create_directories(dir, ec);
-  for (const auto& [trajectory, name] : {std::pair{&plan.value().left, "expert_left.csv"},
-                                         std::pair{&plan.value().right, "expert_right.csv"}}) {
-    if (lap::Status saved = lap::sim::save_trajectory_csv(*trajectory, dir / name); !saved.ok()) {
+  for (const auto& [trajectory, side] :
+       {std::pair{&plan.value().left, "left"}, std::pair{&plan.value().right, "right"}}) {
+    const fs::path file = dir / (prefix + "_" + side + ".csv");
+    if (lap::Status saved = lap::sim::save_trajectory_csv(*trajectory, file); !saved.ok()) {
       return print_problems(saved.diagnostics());
     }
   }
   std::printf(
-      "wrote expert_left.csv, expert_right.csv to %s (%.1f s; the catheter within %.1f deg "
-      "of the planned entry direction)\n",
-      dir.string().c_str(), plan.value().right.duration_s(),
+      "wrote %s_left.csv, %s_right.csv to %s (%.1f s; the catheter within %.1f deg of "
+      "the planned entry direction)\n",
+      prefix.c_str(), prefix.c_str(), dir.string().c_str(), plan.value().right.duration_s(),
       plan.value().worst_direction_error_deg);
   return kExitOk;
 }

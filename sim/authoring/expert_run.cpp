@@ -152,7 +152,7 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
   const V cath_dir = ws.catheter_direction_W.normalized();
   const V cath_tip = ws.catheter_start_W + ws.catheter.length_m * cath_dir;
   const V held = cath_tip - settings.grasp_from_tip_m * cath_dir;
-  const V grasp_hinge = hinge_holding(p.right, held, jaw_mid_m);
+  const V grasp_hinge = hinge_holding(p.right, held, settings.grasp_depth * 2.0 * jaw_mid_m);
   const V grasp_x = p.right.shaft_dir(grasp_hinge).cross(cath_dir).normalized();
   const Eigen::Matrix3d grasp_frame = p.right.frame(grasp_hinge, grasp_x);
   const HeldCatheter hold{grasp_frame.transpose() * (cath_tip - grasp_hinge),
@@ -199,9 +199,26 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
   const V out_front = incision - 0.025 * in_dir + 0.01 * normal;
   const V start = incision - settings.start_out_m * in_dir;
   carry(2.5, cath_tip, out_front, cath_dir, in_dir);
+  if (settings.mistake == ExpertMistake::kDropsCatheter) {
+    // The jaws open on the way and stay open: from here on every keyframe lets go.
+    const size_t from = r.keyframes.size() - 10;
+    for (size_t k = from; k < r.keyframes.size(); ++k) {
+      const double e = smoothstep(static_cast<double>(k - from + 1) / 10.0);
+      r.keyframes[k].gripper_angle_rad = closed + e * (open - closed);
+    }
+  }
   carry(1.5, out_front, start, in_dir, in_dir);
   along_line(0.5, -settings.start_out_m, -settings.start_out_m);
-  along_line(6.0, -settings.start_out_m, settings.advance_m - settings.start_out_m);
+  // The clumsy push goes on 2 cm past where the expert stops, as fast.
+  const bool overshoot = settings.mistake == ExpertMistake::kOvershoots;
+  const double advance = settings.advance_m + (overshoot ? 0.02 : 0.0);
+  along_line(6.0 * advance / settings.advance_m, -settings.start_out_m,
+             advance - settings.start_out_m);
+  if (settings.mistake == ExpertMistake::kDropsCatheter) {
+    for (size_t k = 0; k < r.keyframes.size(); ++k) {
+      if (r.keyframes[k].time_s > 6.0) r.keyframes[k].gripper_angle_rad = open;
+    }
+  }
   const double end_s = r.keyframes.back().time_s + settings.hold_after_s;
   hardware::Keyframe last = r.keyframes.back();
   last.time_s = end_s;
@@ -235,6 +252,26 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
   p.key(&l, p.left, 0.0, left_entry, left_x, open);
   p.move(&l, p.left, 1.5, left_entry, park, left_x, left_x, open, open);
   p.key(&l, p.left, end_s, park, left_x, open);
+
+  if (settings.mistake == ExpertMistake::kTearsDuct) {
+    // The right hand, instead of taking the catheter, takes the duct beside the incision
+    // between its jaws (across them, at mid-jaw), jaws shut, and pulls it 3 cm towards its
+    // port.
+    r.keyframes.clear();
+    const V on_axis = pose_WD * V(0.0, 0.0,
+                                  rim.z_m + (rim.z_m < 0.5 * rim.length_m ? 1 : -1) *
+                                                (rim.half_length_m + 0.004));
+    const V hinge = hinge_holding(p.right, on_axis, jaw_mid_m);
+    const V x = p.right.shaft_dir(hinge).cross(axis).normalized();
+    const V over = hinge + 0.02 * p.right.shaft_dir(hinge);
+    p.key(&r, p.right, 0.0, entry, x, open);
+    p.move(&r, p.right, 1.5, entry, over, x, x, open, open);
+    p.move(&r, p.right, 1.0, over, hinge, x, x, open, open);
+    p.move(&r, p.right, 0.5, hinge, hinge, x, x, open, 0.0);
+    const V pulled = hinge + 0.03 * p.right.shaft_dir(hinge);
+    p.move(&r, p.right, 1.0, hinge, pulled, x, x, 0.0, 0.0);
+    p.key(&r, p.right, end_s, pulled, x, 0.0);
+  }
   return std::move(p.run);
 }
 

@@ -26,16 +26,29 @@
 
 namespace lap::sim {
 
+/// What a clumsy run gets wrong, each failing the task for its own reason: the right hand
+/// opens its jaws on the way to the incision and leaves the catheter lying (catheter_dropped);
+/// it pushes on 2 cm past where the expert stops, and the tip goes through the duct's wall
+/// (wall_perforation); instead of taking the catheter it takes the duct beside the incision and
+/// pulls it 3 cm towards its port (duct_injury: the grasp's pull on the duct). The time limit's
+/// clumsy run is the expert's own, too slow for a shorter limit (tests/sim/expert_run_test.cpp).
+/// Pushing the duct is not among them: a soft tube held only at its ends (20–60 N/m to a push
+/// at its middle) moves away long before the 2 N threshold, and the jaws' squeeze on it stays
+/// under 0.5 N shut (models/duct_grasp.h).
+enum class ExpertMistake { kNone, kDropsCatheter, kOvershoots, kTearsDuct };
+
 struct ExpertRunSettings {
+  ExpertMistake mistake = ExpertMistake::kNone;
   /// The catheter's slant to the duct's axis as it enters, into the wall [deg]: shallow enough
   /// to turn along the lumen, steep enough to pass the hole (the catheter is 1.7 mm across, the
   /// lumen 3 mm).
-  double entry_slant_deg = 30.0;
+  double entry_slant_deg = 39.0;
   double grasp_from_tip_m = 0.025;  ///< where the jaws take the catheter, behind its tip
+  double grasp_depth = 0.5;         ///< how far along the jaws it lies, from the hinge (of 1)
   double start_out_m = 0.010;       ///< the tip's start in front of the incision, along the line
   /// How far the line is pushed past the incision: the target depth and what the catheter's
   /// bend in the lumen takes up.
-  double advance_m = 0.028;
+  double advance_m = 0.027;
   double grip_open_rad = 0.8;
   double grip_closed_rad = 0.1;  ///< below the grasp angle (models/catheter_grasp.h)
   double keyframe_step_s = 0.1;

@@ -360,6 +360,54 @@ TEST(CliRun, TheTaskObjectFollowsTheContract) {
   EXPECT_TRUE(free["task"]["completion_time_s"].is_null());
 }
 
+TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
+  // The contract's outside check: the expert's scripts for the default scenario, --fast, a long
+  // --duration: "success", no reasons, the completion time, and the session ended there.
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const CommandResult r = run_command(
+      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+      " --left scripted:" + (scripts / "expert_left.csv").string() +
+      " --right scripted:" + (scripts / "expert_right.csv").string() + " --fast --duration 120");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto out = nlohmann::ordered_json::parse(r.out, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(out.is_discarded()) << r.out;
+  const auto& task = out["task"];
+  expect_task_contract(task);
+  EXPECT_EQ(task["result"], "success") << task.dump();
+  EXPECT_TRUE(task["reasons"].empty());
+  const double done = task["completion_time_s"].get<double>();
+  EXPECT_GT(done, 10.0);
+  EXPECT_LT(done, 20.0);
+  EXPECT_EQ(task["events"].back()["kind"], "success");
+  EXPECT_LE(out["haptic"]["ticks"].get<int64_t>(), static_cast<int64_t>(done * 1000.0) + 1);
+}
+
+TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {
+  TempDir dir;
+  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const CommandResult ok = run_command(cli() + " plan-expert --scenario " + scenario + " --out " +
+                                       dir.path().string() + " --mistake drop");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "clumsy_drop_left.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "clumsy_drop_right.csv"));
+  const CommandResult bad = run_command(cli() + " plan-expert --scenario " + scenario + " --out " +
+                                        dir.path().string() + " --mistake sneeze");
+  EXPECT_EQ(bad.exit_code, 64);
+  EXPECT_NE(bad.err.find("--mistake: expected drop, overshoot or tear, got 'sneeze'"),
+            std::string::npos)
+      << bad.err;
+  // A scenario without a task has no insertion to plan: exit 2, saying so.
+  const auto no_task = default_scenario_copy(dir, [](std::string& t) {
+    const size_t at = t.find("\ntask:");
+    ASSERT_NE(at, std::string::npos);
+    t.erase(at + 1);
+  });
+  const CommandResult none = run_command(cli() + " plan-expert --scenario " + no_task.string() +
+                                         " --out " + dir.path().string());
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("catheter-insertion task"), std::string::npos) << none.err;
+}
+
 TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {
   // The fake libHD.so stands in for OpenHaptics: found through LD_LIBRARY_PATH as the real one
   // would be through the system's library path.

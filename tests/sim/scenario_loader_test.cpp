@@ -342,6 +342,36 @@ TEST_F(ScenarioFixture, Bad38_OutOfViewGraceTooLong) {
              "34: task.out_of_view_grace_s: expected a number from 0 to 600 (s), got 601");
 }
 
+TEST_F(ScenarioFixture, Bad39_CatheterPortIsNoTrocar) {
+  expect_one(load_with(30, "  particles: 32\n  port: nowhere"),
+             "31: catheter.port: no trocar named 'nowhere' (expected a name from trocars)");
+}
+
+// The duct with an incision at the origin (kBase's line 21 and after it), the catheter from
+// left_port (0.245 m from it) towards `aim`, `length` long, and the task's depth.
+std::map<int, std::string> catheter_towards_incision(const std::string& aim,
+                                                     const std::string& length,
+                                                     const std::string& depth = "0.01") {
+  return {{21, "      stiffness_n_per_m: 150\n    incision:\n      center_m: [0, 0, 0]"},
+          {30, "  particles: 32\n  port: left_port\n  aim_m: " + aim + "\n  length_m: " + length},
+          {33, "  target: duct\n  insertion_depth_m: " + depth}};
+}
+
+TEST_F(ScenarioFixture, Bad40_CatheterTooShortToReachTheTargetDepth) {
+  expect_one(load_with(catheter_towards_incision("[0, 0, -0.1]", "0.1")),
+             "35: catheter.length_m: 100 mm cannot reach 10 mm into the incision 245 mm from the "
+             "port 'left_port': at least 260 mm (with 5 mm to spare)");
+  EXPECT_TRUE(load_with(catheter_towards_incision("[0, 0, -0.1]", "0.26")).ok());
+}
+
+TEST_F(ScenarioFixture, Bad41_CatheterLaidWithItsTipAtTheIncision) {
+  // A 2 mm target depth lets a catheter 8 mm longer than the way to the incision through the
+  // reach check; aimed straight at the incision it would start with its tip 8 mm past it.
+  expect_one(load_with(catheter_towards_incision("[0, 0, 0]", "0.2529", "0.002")),
+             "34: catheter.aim_m: lays the catheter's tip 8 mm from the incision: it must start "
+             "outside the duct, at least 10 mm away");
+}
+
 TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {
   const ScenarioLoadResult defaults = load_with(0, "");
   ASSERT_TRUE(defaults.ok()) << all(defaults);
