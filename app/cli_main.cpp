@@ -167,9 +167,12 @@ int cmd_mesh_info(int argc, char** argv) {
   {
     auto print = [](const lap::haptics::TriangleMesh& m, const char* label) {
       const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(m);
+      // Area and volume index every triangle: not taken while an index is out of range.
+      const bool indexable = d.invalid_index_triangles.empty();
       std::printf("%s: %d vertices, %d triangles, %d components, area %.6g m^2, volume %.6g m^3\n",
-                  label, m.vertex_count(), m.triangle_count(), d.component_count, m.surface_area(),
-                  m.signed_volume());
+                  label, m.vertex_count(), m.triangle_count(), d.component_count,
+                  indexable ? m.surface_area() : std::nan(""),
+                  indexable ? m.signed_volume() : std::nan(""));
       std::printf(
           "  boundary edges %zu, non-manifold edges %zu, non-manifold vertices %zu, "
           "degenerate %zu, duplicate %zu, orientation conflicts %zu, flipped %zu, "
