@@ -15,6 +15,7 @@
 #include "sim/setup/gltf_references.h"
 #include "sim/setup/load_error.h"
 #include "sim/setup/mesh_limits.h"
+#include "sim/setup/mesh_text_check.h"
 
 namespace lap::sim {
 namespace {
@@ -455,6 +456,42 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
 
 namespace {
 
+// What every reader's result must be, whatever the format: within the limits, finite, every
+// index in range (binary files, and anything the line checks could not see).
+void check_loaded(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const auto fail = [&](const std::string& field, const std::string& what) {
+    throw LoadError(Diagnostic{file.string(), 0, field, what});
+  };
+  if (mesh.positions.size() > static_cast<size_t>(kMaxMeshVertices)) {
+    fail("vertices", std::to_string(mesh.positions.size()) + " is more than the limit of " +
+                         std::to_string(kMaxMeshVertices) + " (sim/setup/mesh_limits.h)");
+  }
+  if (mesh.triangles.size() > static_cast<size_t>(kMaxMeshTriangles)) {
+    fail("triangles", std::to_string(mesh.triangles.size()) + " is more than the limit of " +
+                          std::to_string(kMaxMeshTriangles) + " (sim/setup/mesh_limits.h)");
+  }
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      const double x = mesh.positions[v][k];
+      if (!std::isfinite(x)) {
+        std::ostringstream text;
+        text << x;
+        fail("vertices[" + std::to_string(v) + "]",
+             "coordinate '" + text.str() + "' is not a finite number");
+      }
+    }
+  }
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int32_t v : mesh.triangles[t]) {
+      if (v < 0 || v >= mesh.vertex_count()) {
+        fail("triangles[" + std::to_string(t) + "]",
+             "vertex index " + std::to_string(v) + " is outside the " +
+                 std::to_string(mesh.vertex_count()) + " vertices");
+      }
+    }
+  }
+}
+
 TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings& settings) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) {
@@ -472,6 +509,9 @@ TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings
   const std::string ext = lower_extension(file);
   TriangleMesh mesh;
   if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off") {
+    if (Status text = check_mesh_text(file, ext); !text.ok()) {
+      throw LoadError(text.diagnostics().front());
+    }
     mesh = load_with_openmesh(file);
   } else if (ext == ".gltf" || ext == ".glb") {
     mesh = load_gltf(file);
@@ -479,6 +519,7 @@ TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings
     throw LoadError(file, "unsupported mesh format '" + ext +
                               "' (expected .obj, .stl, .ply, .off, .gltf or .glb)");
   }
+  check_loaded(file, mesh);
   if (mesh.triangles.empty()) throw LoadError(file, "the file contains no triangles");
   mesh.scale(settings.scale);
   haptics::weld_vertices(mesh, settings.weld_tolerance);
