@@ -1,7 +1,10 @@
 // laptrainer-cli: the headless command line (its contracts: README.md, docs/architecture.md).
 // No Qt or VTK here: it must run on machines without a display.
 
+#include <signal.h>
+
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +16,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "haptics/mesh_database.h"
@@ -37,6 +41,27 @@ namespace fs = std::filesystem;
 constexpr int kExitOk = 0;
 constexpr int kExitProblems = 2;  // the input has problems (validate contract)
 constexpr int kExitUsage = 64;
+// `run` ended early by SIGINT or SIGTERM, cleanly (the shell's 128 + signal number).
+constexpr int kExitInterrupted = 128 + SIGINT;  // 130
+constexpr int kExitTerminated = 128 + SIGTERM;  // 143
+
+// The signal that asked `run` to stop, 0 while none did. The handler only stores it (an atomic
+// store is async-signal-safe); the run's watcher thread acts on it.
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig, std::memory_order_relaxed); }
+
+// SIGINT and SIGTERM end `run` cleanly. SA_RESETHAND: a second signal ends the process at once,
+// for a user whose clean shutdown hangs.
+void install_stop_handlers() {
+  struct sigaction action = {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 const char* const kUsage =
     "usage: laptrainer-cli COMMAND [options]\n"
@@ -53,7 +78,8 @@ const char* const kUsage =
     "  run --scenario FILE --left DEV --right DEV [--duration S] [--fast] [--record DIR]\n"
     "      [--rate HZ] [--model-rate HZ]\n"
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
-    "      replay:FILE or phantom[:NAME]; prints the metrics as JSON\n"
+    "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
+    "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
     "  generate-assets --out DIR\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR\n";
 
@@ -379,6 +405,7 @@ int cmd_run(int argc, char** argv) {
   }
   if (!ok || !args.errors.empty()) return usage_error(args);
 
+  install_stop_handlers();
   const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
   if (!r.ok()) return print_problems(r.diagnostics());
   std::array<std::unique_ptr<lap::hardware::HapticDevice>, 2> devices;
@@ -397,7 +424,21 @@ int cmd_run(int argc, char** argv) {
     return kExitProblems;
   }
   const std::unique_ptr<lap::sim::Session> session = std::move(created).value();
+  // A signal stops the session as the window's End Session does: at the next tick, after which
+  // run() commands zero force to both devices; then the metrics and recording so far are written.
+  std::atomic<bool> ran{false};
+  std::thread watcher([&] {
+    while (!ran.load()) {
+      if (g_stop_signal.load(std::memory_order_relaxed) != 0) {
+        session->request_stop();
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
   const lap::sim::SessionMetrics m = session->run();
+  ran.store(true);
+  watcher.join();
   for (const std::string& w : m.warnings) std::cerr << "laptrainer-cli run: warning: " << w << "\n";
   if (m.paused) {
     std::cerr << "laptrainer-cli run: the watchdog paused the session (forces zeroed):";
@@ -416,6 +457,12 @@ int cmd_run(int argc, char** argv) {
       std::cerr << "laptrainer-cli run: " << saved.message() << "\n";
       return kExitProblems;
     }
+  }
+  if (const int sig = g_stop_signal.load(); sig != 0) {
+    std::cerr << "laptrainer-cli run: stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+              << " (forces zeroed; the metrics" << (args.has("--record") ? " and recording" : "")
+              << " so far are written)\n";
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
   }
   return kExitOk;
 }
