@@ -1,5 +1,8 @@
 #include "sim/setup/mesh_text_check.h"
 
+#include <locale.h>
+#include <stdlib.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -33,11 +36,14 @@ std::string shown(std::string_view token) {
 }
 
 // `what 'token' is not a finite number` or `... is not a number`, or nothing when the token
-// is a finite number. strtod reads what OpenMesh's stream extraction would (and more: nan, inf).
+// is a finite number. strtod reads what OpenMesh's stream extraction would (and more: nan, inf),
+// in the C locale whatever the process's: the window's Qt sets the user's, where the decimal
+// separator may be a comma.
 Problem number_problem(std::string_view token, const std::string& what) {
+  static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", nullptr);
   const std::string s(token);
   char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
+  const double v = strtod_l(s.c_str(), &end, c_locale);
   if (end == s.c_str() || end != s.c_str() + s.size()) {
     return what + " '" + shown(token) + "' is not a number";
   }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <clocale>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -232,6 +233,25 @@ TEST(MeshLoaderNonFinite, ObjCoordinatesAreNamedByLine) {
   expect_load_error(f, f.string() + ":2: vertex: coordinate 'x' is not a number");
   const auto n = dir.write("n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 nan\nf 1//1 2//1 3//1\n");
   expect_load_error(n, n.string() + ":4: normal: component 'nan' is not a finite number");
+}
+
+// The window (Qt) sets the user's locale, where the decimal separator may be a comma: the checks
+// must read numbers as the file format writes them, with a point.
+TEST(MeshLoaderNonFinite, NumbersAreReadWithAPointWhateverTheLocale) {
+  const char* const comma_locales[] = {"de_DE.UTF-8", "fr_FR.UTF-8", "ru_RU.UTF-8", "de_DE"};
+  std::string previous = std::setlocale(LC_NUMERIC, nullptr);
+  const char* set = nullptr;
+  for (const char* name : comma_locales) {
+    if ((set = std::setlocale(LC_NUMERIC, name)) != nullptr) break;
+  }
+  if (set == nullptr) GTEST_SKIP() << "no locale with a decimal comma is installed";
+  TempDir dir;
+  const Result<TriangleMesh> r = load_mesh(dir.write("t.obj",
+                                                     "v 0.0 0 0\nv 1.5 0 0\nv 0 0.5 0\nv 0 0 0.25\n"
+                                                     "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"));
+  std::setlocale(LC_NUMERIC, previous.c_str());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r.value().positions[1].x(), 1.5);
 }
 
 TEST(MeshLoaderNonFinite, OffCoordinateOf1e999IsNamedNotACrash) {
