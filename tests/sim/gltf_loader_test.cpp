@@ -6,6 +6,8 @@
 #include <cstring>
 
 #include "haptics/setup/mesh_validation.h"
+#include "sim/setup/gltf_references.h"
+#include "sim/setup/mesh_limits.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
@@ -314,6 +316,33 @@ TEST(GltfLoaderConfinement, ImageUriLeavingTheFolderIsRefused) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message(),
             f.string() + ": images[0].uri: '../../../../etc/passwd' leaves the scene's folder");
+}
+
+TEST(GltfLoaderLimits, ADataUriLongerThanTheLimitIsRefused) {
+  std::string uri = "data:application/octet-stream;base64,";
+  uri.resize(kMaxGltfDataUriChars + 1, 'A');
+  const std::string json = R"({"buffers": [{"byteLength": 4, "uri": ")" + uri + "\"}]}";
+  const Status s = check_gltf_references("scene.gltf", json);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.message(),
+            "scene.gltf: buffers[0].uri: data URI of 67108865 characters is longer than the limit "
+            "of 67108864 (sim/setup/mesh_limits.h); put the data in a .bin file beside the glTF");
+  uri.resize(kMaxGltfDataUriChars);
+  EXPECT_TRUE(check_gltf_references("scene.gltf",
+                                    R"({"buffers": [{"byteLength": 4, "uri": ")" + uri + "\"}]}")
+                  .ok());
+}
+
+TEST(GltfLoaderConfinement, InsideFolderResolvesDotsAndLinks) {
+  test::TempDir dir;
+  const auto inner = dir.write("scene/a.bin", "x");
+  const auto outer = dir.write("b.bin", "x");
+  const auto folder = dir.path() / "scene";
+  EXPECT_TRUE(inside_folder(folder, inner));
+  EXPECT_TRUE(inside_folder(folder, folder / "sub" / ".." / "a.bin"));
+  EXPECT_FALSE(inside_folder(folder, outer));
+  EXPECT_FALSE(inside_folder(folder, folder / ".." / "b.bin"));
+  EXPECT_FALSE(inside_folder(folder, dir.path() / "scene-other" / "a.bin"));  // not a prefix
 }
 
 TEST(GltfLoaderLimits, AHugeBufferLengthIsRefusedBeforeReading) {
