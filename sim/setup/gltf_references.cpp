@@ -57,8 +57,11 @@ std::optional<std::string> uri_problem(const std::string& uri) {
   if (path.find("://") != std::string::npos || path.rfind("file:", 0) == 0) {
     return shown(uri) + " is a URL; expected a file in the scene's folder";
   }
-  if (!path.empty() && (path[0] == '/' || path[0] == '\\' || path[0] == '~' ||
-                        (path.size() >= 2 && path[1] == ':'))) {
+  if (!path.empty() && path[0] == '~') {
+    return shown(uri) + " starts in the home folder; expected a file in the scene's folder";
+  }
+  if (!path.empty() &&
+      (path[0] == '/' || path[0] == '\\' || (path.size() >= 2 && path[1] == ':'))) {
     return shown(uri) + " is an absolute path; expected a file in the scene's folder";
   }
   size_t start = 0;
