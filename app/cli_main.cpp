@@ -1,7 +1,10 @@
 // laptrainer-cli: the headless command line (its contracts: README.md, docs/architecture.md).
 // No Qt or VTK here: it must run on machines without a display.
 
+#include <signal.h>
+
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +16,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "haptics/mesh_database.h"
@@ -38,6 +42,27 @@ namespace fs = std::filesystem;
 constexpr int kExitOk = 0;
 constexpr int kExitProblems = 2;  // the input has problems (validate contract)
 constexpr int kExitUsage = 64;
+// `run` ended early by SIGINT or SIGTERM, cleanly (the shell's 128 + signal number).
+constexpr int kExitInterrupted = 128 + SIGINT;  // 130
+constexpr int kExitTerminated = 128 + SIGTERM;  // 143
+
+// The signal that asked `run` to stop, 0 while none did. The handler only stores it (an atomic
+// store is async-signal-safe); the run's watcher thread acts on it.
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig, std::memory_order_relaxed); }
+
+// SIGINT and SIGTERM end `run` cleanly. SA_RESETHAND: a second signal ends the process at once,
+// for a user whose clean shutdown hangs.
+void install_stop_handlers() {
+  struct sigaction action = {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 const char* const kUsage =
     "usage: laptrainer-cli COMMAND [options]\n"
@@ -54,7 +79,8 @@ const char* const kUsage =
     "  run --scenario FILE --left DEV --right DEV [--duration S] [--fast] [--record DIR]\n"
     "      [--rate HZ] [--model-rate HZ]\n"
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
-    "      replay:FILE or phantom[:NAME]; prints the metrics as JSON\n"
+    "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
+    "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
     "  generate-assets --out DIR\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR\n"
     "  plan-expert --scenario FILE --out DIR [--mistake drop|overshoot|tear]\n"
@@ -173,9 +199,12 @@ int cmd_mesh_info(int argc, char** argv) {
   {
     auto print = [](const lap::haptics::TriangleMesh& m, const char* label) {
       const lap::haptics::MeshDiagnostics d = lap::haptics::validate_mesh(m);
+      // Area and volume index every triangle: not taken while an index is out of range.
+      const bool indexable = d.invalid_index_triangles.empty();
       std::printf("%s: %d vertices, %d triangles, %d components, area %.6g m^2, volume %.6g m^3\n",
-                  label, m.vertex_count(), m.triangle_count(), d.component_count, m.surface_area(),
-                  m.signed_volume());
+                  label, m.vertex_count(), m.triangle_count(), d.component_count,
+                  indexable ? m.surface_area() : std::nan(""),
+                  indexable ? m.signed_volume() : std::nan(""));
       std::printf(
           "  boundary edges %zu, non-manifold edges %zu, non-manifold vertices %zu, "
           "degenerate %zu, duplicate %zu, orientation conflicts %zu, flipped %zu, "
@@ -382,6 +411,7 @@ int cmd_run(int argc, char** argv) {
   }
   if (!ok || !args.errors.empty()) return usage_error(args);
 
+  install_stop_handlers();
   const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
   if (!r.ok()) return print_problems(r.diagnostics());
   std::array<std::unique_ptr<lap::hardware::HapticDevice>, 2> devices;
@@ -400,7 +430,21 @@ int cmd_run(int argc, char** argv) {
     return kExitProblems;
   }
   const std::unique_ptr<lap::sim::Session> session = std::move(created).value();
+  // A signal stops the session as the window's End Session does: at the next tick, after which
+  // run() commands zero force to both devices; then the metrics and recording so far are written.
+  std::atomic<bool> ran{false};
+  std::thread watcher([&] {
+    while (!ran.load()) {
+      if (g_stop_signal.load(std::memory_order_relaxed) != 0) {
+        session->request_stop();
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
   const lap::sim::SessionMetrics m = session->run();
+  ran.store(true);
+  watcher.join();
   for (const std::string& w : m.warnings) std::cerr << "laptrainer-cli run: warning: " << w << "\n";
   if (m.paused) {
     std::cerr << "laptrainer-cli run: the watchdog paused the session (forces zeroed):";
@@ -419,6 +463,12 @@ int cmd_run(int argc, char** argv) {
       std::cerr << "laptrainer-cli run: " << saved.message() << "\n";
       return kExitProblems;
     }
+  }
+  if (const int sig = g_stop_signal.load(); sig != 0) {
+    std::cerr << "laptrainer-cli run: stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+              << " (forces zeroed; the metrics" << (args.has("--record") ? " and recording" : "")
+              << " so far are written)\n";
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
   }
   return kExitOk;
 }

@@ -130,6 +130,10 @@ Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
                       " does not follow the previous keyframe",
                   "time_s");
     }
+    if (tr.keyframes.size() >= kMaxKeyframes) {
+      return fail("expected at most " + std::to_string(kMaxKeyframes) +
+                  " keyframes (the limit, hardware/scripted_trajectory.h)");
+    }
     tr.keyframes.push_back(kf);
   }
   if (tr.keyframes.empty()) {
@@ -140,6 +144,14 @@ Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
 }
 
 Result<ScriptedTrajectory> load_scripted_trajectory(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (const uintmax_t bytes = std::filesystem::file_size(file, ec);
+      !ec && bytes > kMaxScriptFileBytes) {
+    return file_diagnostic(
+        file.string(), 0, "",
+        "file of " + std::to_string(bytes) + " bytes is larger than the limit of " +
+            std::to_string(kMaxScriptFileBytes) + " (hardware/scripted_trajectory.h)");
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return file_diagnostic(file.string(), 0, "", "cannot open the trajectory file");
   std::ostringstream ss;

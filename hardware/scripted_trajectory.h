@@ -21,6 +21,12 @@
 
 namespace lap::hardware {
 
+/// Limits on a script, which may come from anywhere: most keyframes (a million is 1000 s at
+/// 1 kHz, beyond any hand-written or exported motion; longer runs are recordings), and the
+/// largest file [bytes] (a million keyframes of about 100 characters, twice over).
+inline constexpr size_t kMaxKeyframes = 1'000'000;
+inline constexpr uint64_t kMaxScriptFileBytes = 256ULL * 1024 * 1024;
+
 struct Keyframe {
   double time_s = 0.0;
   Eigen::Vector3d position_W = Eigen::Vector3d::Zero();

@@ -62,7 +62,16 @@ Components connected_components(const TriangleMesh& mesh, const std::vector<bool
   Components c;
   c.of_triangle.assign(mesh.triangles.size(), -1);
   std::unordered_map<int32_t, int32_t> root_to_id;
-  const Eigen::Vector3d o = mesh.bounds().center();
+  // The volumes' reference point: the bounds of the triangles whose indices are in range (as
+  // mesh.bounds(), which would read past the end for the others).
+  Eigen::AlignedBox3d box;
+  for (const Triangle& tri : mesh.triangles) {
+    if (std::all_of(tri.begin(), tri.end(),
+                    [&](int32_t v) { return v >= 0 && v < mesh.vertex_count(); })) {
+      for (int32_t v : tri) box.extend(mesh.positions[v]);
+    }
+  }
+  const Eigen::Vector3d o = box.center();
   for (int32_t t = 0; t < mesh.triangle_count(); ++t) {
     if (!usable[t]) continue;
     const int32_t root = sets.find(t);

@@ -108,8 +108,16 @@ MeshDiagnostics validate_mesh(const TriangleMesh& mesh, const MeshValidationSett
     if (!referenced[v]) d.unreferenced_vertices.push_back(v);
   }
 
-  // Vertex-connected parts, and which of them are debris.
-  const double total_area = mesh.surface_area();
+  // Vertex-connected parts, and which of them are debris. The area is summed here, not by
+  // mesh.surface_area(), which would index the out-of-range triangles (as every sum below skips
+  // them, being over usable triangles only).
+  double total_area = 0.0;
+  for (int32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const bool in_range =
+        std::none_of(mesh.triangles[t].begin(), mesh.triangles[t].end(),
+                     [&](int32_t v) { return v < 0 || v >= mesh.vertex_count(); });
+    if (in_range) total_area += 0.5 * mesh.triangle_cross(t).norm();
+  }
   {
     DisjointSets sets(mesh.triangles.size());
     std::vector<int32_t> first_use(mesh.positions.size(), -1);

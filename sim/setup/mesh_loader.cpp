@@ -8,10 +8,14 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "haptics/setup/mesh_repair.h"
+#include "sim/setup/gltf_references.h"
 #include "sim/setup/load_error.h"
+#include "sim/setup/mesh_limits.h"
+#include "sim/setup/mesh_text_check.h"
 
 namespace lap::sim {
 namespace {
@@ -185,8 +189,14 @@ class GltfReader {
     const int ncomp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type));
     const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
     if (ncomp < 1 || ncomp > 4 || csize < 1) fail(what + ": unsupported accessor type");
-    std::vector<std::array<double, 4>> out(acc.count, std::array<double, 4>{0, 0, 0, 0});
-    if (acc.bufferView < 0) return out;  // all zeros per the specification
+    // Three indices per triangle is the most any accessor of a mesh within the limits needs.
+    if (acc.count > static_cast<size_t>(3 * kMaxMeshTriangles)) {
+      fail(what + ": " + std::to_string(acc.count) + " elements is more than the limit of " +
+           std::to_string(3 * kMaxMeshTriangles) + " (sim/setup/mesh_limits.h)");
+    }
+    if (acc.bufferView < 0) {  // all zeros per the specification
+      return std::vector<std::array<double, 4>>(acc.count, std::array<double, 4>{0, 0, 0, 0});
+    }
     if (acc.bufferView >= static_cast<int>(model_.bufferViews.size())) {
       fail(what + ": buffer view " + std::to_string(acc.bufferView) + " does not exist");
     }
@@ -197,10 +207,17 @@ class GltfReader {
     const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
     const size_t element = static_cast<size_t>(ncomp) * static_cast<size_t>(csize);
     const size_t stride = view.byteStride > 0 ? view.byteStride : element;
+    const size_t size = buffer.data.size();
+    // In this order so that no sum or product can wrap around (count and offsets are the
+    // file's).
+    const bool fits =
+        view.byteOffset <= size && acc.byteOffset <= size - view.byteOffset &&
+        element <= size - view.byteOffset - acc.byteOffset &&
+        (acc.count == 0 ||
+         acc.count - 1 <= (size - view.byteOffset - acc.byteOffset - element) / stride);
+    if (acc.count > 0 && !fits) fail(what + ": accessor reads past the end of its buffer");
     const size_t begin = view.byteOffset + acc.byteOffset;
-    if (acc.count > 0 && begin + (acc.count - 1) * stride + element > buffer.data.size()) {
-      fail(what + ": accessor reads past the end of its buffer");
-    }
+    std::vector<std::array<double, 4>> out(acc.count, std::array<double, 4>{0, 0, 0, 0});
     for (size_t i = 0; i < acc.count; ++i) {
       const unsigned char* p = buffer.data.data() + begin + i * stride;
       for (int c = 0; c < ncomp; ++c)
@@ -348,14 +365,59 @@ void visit_node(const tinygltf::Model& model, const GltfReader& reader, int node
   for (int child : node.children) visit_node(model, reader, child, T, depth + 1, out);
 }
 
+// tinygltf's file access, its reading confined to the glTF's folder (user_data: the folder).
+// The checks on the JSON name the field first; these catch what they cannot see (symbolic
+// links; tinygltf also looks in the working folder).
+std::string unexpanded(const std::string& path, void*) { return path; }  // no ~ or $VAR
+bool confined_read(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                   void* folder) {
+  if (!inside_folder(*static_cast<const std::filesystem::path*>(folder), path)) {
+    *err = "'" + path + "' is outside the scene's folder";
+    return false;
+  }
+  std::error_code ec;
+  if (std::filesystem::file_size(path, ec) > kMaxGltfBufferBytes && !ec) {
+    *err = "'" + path + "' is larger than the limit of " + std::to_string(kMaxGltfBufferBytes) +
+           " bytes";
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, path, nullptr);
+}
+bool no_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  *err = "writing is not allowed";
+  return false;
+}
+// Textures are not used: images are not decoded (an untrusted image's header alone can ask for
+// gigabytes).
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                const unsigned char*, int, void*) {
+  return true;
+}
+
 TriangleMesh load_gltf(const std::filesystem::path& file) {
+  const bool binary = lower_extension(file) == ".glb";
+  std::vector<unsigned char> bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  if (Status refs = check_gltf_references(file, gltf_json_text(bytes, binary)); !refs.ok()) {
+    throw LoadError(refs.diagnostics().front());
+  }
+  std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
   tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&tinygltf::FileExists, &unexpanded, &confined_read, &no_write, &folder});
+  loader.SetImageLoader(&skip_image, nullptr);
   tinygltf::Model model;
   std::string err;
   std::string warn;
-  const bool binary = lower_extension(file) == ".glb";
-  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file.string())
-                         : loader.LoadASCIIFromFile(&model, &err, &warn, file.string());
+  // The bytes checked above are the ones parsed (the file may change in between).
+  const auto length = static_cast<unsigned int>(bytes.size());  // within kMaxMeshFileBytes
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length,
+                                                       folder.string())
+                         : loader.LoadASCIIFromString(&model, &err, &warn,
+                                                      reinterpret_cast<const char*>(bytes.data()),
+                                                      length, folder.string());
   if (!ok) {
     throw LoadError(file, "not a valid glTF 2.0 file: " + (err.empty() ? warn : err));
   }
@@ -394,6 +456,42 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
 
 namespace {
 
+// What every reader's result must be, whatever the format: within the limits, finite, every
+// index in range (binary files, and anything the line checks could not see).
+void check_loaded(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const auto fail = [&](const std::string& field, const std::string& what) {
+    throw LoadError(Diagnostic{file.string(), 0, field, what});
+  };
+  if (mesh.positions.size() > static_cast<size_t>(kMaxMeshVertices)) {
+    fail("vertices", std::to_string(mesh.positions.size()) + " is more than the limit of " +
+                         std::to_string(kMaxMeshVertices) + " (sim/setup/mesh_limits.h)");
+  }
+  if (mesh.triangles.size() > static_cast<size_t>(kMaxMeshTriangles)) {
+    fail("triangles", std::to_string(mesh.triangles.size()) + " is more than the limit of " +
+                          std::to_string(kMaxMeshTriangles) + " (sim/setup/mesh_limits.h)");
+  }
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      const double x = mesh.positions[v][k];
+      if (!std::isfinite(x)) {
+        std::ostringstream text;
+        text << x;
+        fail("vertices[" + std::to_string(v) + "]",
+             "coordinate '" + text.str() + "' is not a finite number");
+      }
+    }
+  }
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int32_t v : mesh.triangles[t]) {
+      if (v < 0 || v >= mesh.vertex_count()) {
+        fail("triangles[" + std::to_string(t) + "]",
+             "vertex index " + std::to_string(v) + " is outside the " +
+                 std::to_string(mesh.vertex_count()) + " vertices");
+      }
+    }
+  }
+}
+
 TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings& settings) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) {
@@ -402,9 +500,18 @@ TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings
   if (!(settings.scale > 0.0) || !std::isfinite(settings.scale)) {
     throw LoadError(file, "scale must be a positive finite number");
   }
+  if (const uintmax_t bytes = std::filesystem::file_size(file, ec);
+      !ec && bytes > kMaxMeshFileBytes) {
+    throw LoadError(file, "file of " + std::to_string(bytes) +
+                              " bytes is larger than the limit of " +
+                              std::to_string(kMaxMeshFileBytes) + " (sim/setup/mesh_limits.h)");
+  }
   const std::string ext = lower_extension(file);
   TriangleMesh mesh;
   if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off") {
+    if (Status text = check_mesh_text(file, ext); !text.ok()) {
+      throw LoadError(text.diagnostics().front());
+    }
     mesh = load_with_openmesh(file);
   } else if (ext == ".gltf" || ext == ".glb") {
     mesh = load_gltf(file);
@@ -412,6 +519,7 @@ TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings
     throw LoadError(file, "unsupported mesh format '" + ext +
                               "' (expected .obj, .stl, .ply, .off, .gltf or .glb)");
   }
+  check_loaded(file, mesh);
   if (mesh.triangles.empty()) throw LoadError(file, "the file contains no triangles");
   mesh.scale(settings.scale);
   haptics::weld_vertices(mesh, settings.weld_tolerance);

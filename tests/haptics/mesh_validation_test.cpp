@@ -43,6 +43,23 @@ TEST(MeshValidation, OutOfRangeIndex) {
   EXPECT_FALSE(d.clean());
 }
 
+// Issue 25: validation read the positions of out-of-range triangles (the total area for the
+// fragment test), a SIGSEGV when the index is far past the end. Indices this far out are never
+// read now: only counted.
+TEST(MeshValidation, FarOutOfRangeIndicesAreReportedWithoutBeingRead) {
+  TriangleMesh m = tetrahedron();
+  m.triangles.push_back({0, 1, 200'000'000});
+  m.triangles.push_back({-100'000'000, 1, 2});
+  // A second part, so that the fragment test (which needs the total area) runs.
+  TriangleMesh far = tetrahedron(Eigen::Vector3d(5, 0, 0));
+  m.append(far);
+  const MeshDiagnostics d = validate_mesh(m);
+  EXPECT_EQ(d.invalid_index_triangles, (std::vector<int32_t>{4, 5}));
+  EXPECT_TRUE(mentions(d, "2 triangles with an out-of-range vertex index (triangles 4, 5)"));
+  EXPECT_EQ(d.vertex_count, 8);
+  EXPECT_EQ(d.part_count, 2);
+}
+
 TEST(MeshValidation, DegenerateTrianglesRepeatedVertexAndZeroArea) {
   TriangleMesh m = tetrahedron();
   m.triangles.push_back({0, 0, 1});                   // repeated vertex

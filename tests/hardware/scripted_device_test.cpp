@@ -1,8 +1,11 @@
 #include "hardware/scripted_device.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <utility>
 
@@ -102,6 +105,29 @@ TEST(ScriptedTrajectory, BadFilesNameTheLineAndTheField) {
   const Result<ScriptedTrajectory> missing = load_scripted_trajectory("/nonexistent/path.csv");
   EXPECT_FALSE(missing.ok());
   EXPECT_EQ(missing.message(), "/nonexistent/path.csv: cannot open the trajectory file");
+}
+
+// Issue 25: limits on an untrusted script (hardware/scripted_trajectory.h).
+TEST(ScriptedTrajectory, MoreKeyframesThanTheLimitAreRefusedAtTheLineThatPassesIt) {
+  std::string text;
+  text.reserve((kMaxKeyframes + 1) * 24);
+  for (size_t i = 0; i <= kMaxKeyframes; ++i) text += std::to_string(i) + ",0,0,0,1,0,0,0,0\n";
+  EXPECT_EQ(parse_error(text), "bad.csv:" + std::to_string(kMaxKeyframes + 1) +
+                                   ": expected at most 1000000 keyframes (the limit, "
+                                   "hardware/scripted_trajectory.h)");
+}
+
+TEST(ScriptedTrajectory, AFileLargerThanTheLimitIsRefusedUnread) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("lap-big-script-" + std::to_string(getpid()) + ".csv");
+  { std::ofstream(file) << "0,0,0,0,1,0,0,0,0\n"; }
+  std::filesystem::resize_file(file, kMaxScriptFileBytes + 1);  // sparse
+  const Result<ScriptedTrajectory> t = load_scripted_trajectory(file);
+  std::filesystem::remove(file);
+  ASSERT_FALSE(t.ok());
+  EXPECT_EQ(t.message(), file.string() +
+                             ": file of 268435457 bytes is larger than the limit of "
+                             "268435456 (hardware/scripted_trajectory.h)");
 }
 
 }  // namespace

@@ -1,12 +1,19 @@
 // The command-line contracts in docs/architecture.md, exercised on the built binaries.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "tests/test_support.h"
@@ -448,6 +455,73 @@ TEST(CliRun, DeviceProblemsAreClearErrors) {
                         " --left simulated --right simulated --duration -1")
                 .exit_code,
             64);
+}
+
+// Starts `laptrainer-cli args...` with stdout and stderr into files; the child's pid.
+pid_t spawn_cli(const std::vector<std::string>& args, const std::filesystem::path& out,
+                const std::filesystem::path& err) {
+  std::vector<std::string> argv_text = {cli()};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_text) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  return rc == 0 ? pid : -1;
+}
+
+std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Issue 25: SIGTERM ended `run` at once (exit 143 from the default action, nothing written).
+// Now SIGINT and SIGTERM stop the session at the next tick, zero the forces, write the metrics
+// and the recording so far, and exit 130 / 143 (README.md).
+TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
+  for (const int sig : {SIGTERM, SIGINT}) {
+    TempDir dir;
+    const std::string rec = (dir.path() / "rec").string();
+    const pid_t pid = spawn_cli(
+        {"run", "--scenario", (source_dir() / "scenarios/default.yaml").string(), "--left",
+         "simulated", "--right", "simulated", "--duration", "120", "--record", rec},
+        dir.path() / "out.json", dir.path() / "err.txt");
+    ASSERT_GT(pid, 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ASSERT_EQ(kill(pid, sig), 0);
+    const auto sent = std::chrono::steady_clock::now();
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    const double shutdown_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    const std::string out = slurp(dir.path() / "out.json");
+    const std::string err = slurp(dir.path() / "err.txt");
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << err;
+    EXPECT_EQ(WEXITSTATUS(status), sig == SIGINT ? 130 : 143) << err;
+    EXPECT_LT(shutdown_s, 10.0);
+    EXPECT_NE(err.find(std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM")),
+              std::string::npos)
+        << err;
+    // Complete, valid JSON on stdout, kept beside the recording.
+    const auto j = nlohmann::ordered_json::parse(out, nullptr, /*allow_exceptions=*/false);
+    ASSERT_FALSE(j.is_discarded()) << out;
+    EXPECT_EQ(json_field(out, "mode"), "\"realtime\"");
+    expect_task_contract(j.at("task"));
+    const std::string ticks = json_field(out, "recorded_ticks");
+    ASSERT_FALSE(ticks.empty()) << out;
+    EXPECT_GT(std::stoll(ticks), 0) << out;
+    EXPECT_LT(std::stoll(ticks), 120'000) << out;  // stopped long before its duration
+    EXPECT_EQ(slurp(rec + "/metrics.json"), out);
+    EXPECT_GT(std::filesystem::file_size(rec + "/left.lapdev"), 0U);
+    EXPECT_GT(std::filesystem::file_size(rec + "/right.lapdev"), 0U);
+  }
 }
 
 TEST(AppHeadless, WithoutADisplayItSaysSoAndRunsTheDefaultScenario) {

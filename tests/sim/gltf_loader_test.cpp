@@ -6,6 +6,8 @@
 #include <cstring>
 
 #include "haptics/setup/mesh_validation.h"
+#include "sim/setup/gltf_references.h"
+#include "sim/setup/mesh_limits.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
@@ -251,6 +253,117 @@ TEST(GltfLoaderErrors, NodeNamesMissingMesh) {
   json.replace(json.find(R"("mesh": 1, "translation": [0, 0, -5])"), 9, R"("mesh": 7)");
   const auto f = dir.write("bad.gltf", json);
   EXPECT_FALSE(load_mesh(f).ok());
+}
+
+// Issue 25: files a glTF reaches stay in its folder. Each case below loaded (and read the file
+// outside) before the check: the buffer is a valid one, so only confinement can refuse it.
+TEST(GltfLoaderConfinement, BufferUriLeavingTheFolderIsRefusedWithoutReadingIt) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  dir.write("secret.bin", buffer);
+  const std::string entry =
+      R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": "../secret.bin"})";
+  const auto f = dir.write("scene/scene.gltf", make_json(entry));
+  const Result<TriangleMesh> r = load_mesh(f);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(),
+            f.string() + ": buffers[0].uri: '../secret.bin' leaves the scene's folder");
+}
+
+TEST(GltfLoaderConfinement, PercentEncodedDotsAndAbsolutePathsAreRefused) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  const auto secret = dir.write("secret.bin", buffer);
+  for (const std::string& uri :
+       {std::string("%2e%2e/secret.bin"), secret.string(), std::string("sub/../../secret.bin"),
+        std::string("..\\\\secret.bin")}) {
+    const std::string entry =
+        R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": ")" + uri + "\"}";
+    const Result<TriangleMesh> r = load_mesh(dir.write("scene/scene.gltf", make_json(entry)));
+    ASSERT_FALSE(r.ok()) << uri;
+    EXPECT_NE(r.message().find("buffers[0].uri: '"), std::string::npos) << r.message();
+  }
+}
+
+TEST(GltfLoaderConfinement, ASymbolicLinkOutOfTheFolderIsNotFollowed) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  const auto secret = dir.write("secret.bin", buffer);
+  std::filesystem::create_directories(dir.path() / "scene");
+  std::filesystem::create_symlink(secret, dir.path() / "scene" / "link.bin");
+  const std::string entry =
+      R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": "link.bin"})";
+  const Result<TriangleMesh> r = load_mesh(dir.write("scene/scene.gltf", make_json(entry)));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("outside the scene's folder"), std::string::npos) << r.message();
+}
+
+TEST(GltfLoaderConfinement, AFileInASubfolderIsFine) {
+  test::TempDir dir;
+  const std::string buffer = make_buffer();
+  dir.write("scene/data/scene.bin", buffer);
+  const std::string entry =
+      R"({"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": "data/scene.bin"})";
+  check_scene(load_mesh(dir.write("scene/scene.gltf", make_json(entry))).value());
+}
+
+TEST(GltfLoaderConfinement, ImageUriLeavingTheFolderIsRefused) {
+  test::TempDir dir;
+  std::string json = make_json(embedded_entry(make_buffer()));
+  json.insert(json.rfind('}'), R"(, "images": [{"uri": "../../../../etc/passwd"}])");
+  const auto f = dir.write("scene.gltf", json);
+  const Result<TriangleMesh> r = load_mesh(f);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(),
+            f.string() + ": images[0].uri: '../../../../etc/passwd' leaves the scene's folder");
+}
+
+TEST(GltfLoaderLimits, ADataUriLongerThanTheLimitIsRefused) {
+  std::string uri = "data:application/octet-stream;base64,";
+  uri.resize(kMaxGltfDataUriChars + 1, 'A');
+  const std::string json = R"({"buffers": [{"byteLength": 4, "uri": ")" + uri + "\"}]}";
+  const Status s = check_gltf_references("scene.gltf", json);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.message(),
+            "scene.gltf: buffers[0].uri: data URI of 67108865 characters is longer than the limit "
+            "of 67108864 (sim/setup/mesh_limits.h); put the data in a .bin file beside the glTF");
+  uri.resize(kMaxGltfDataUriChars);
+  EXPECT_TRUE(check_gltf_references("scene.gltf",
+                                    R"({"buffers": [{"byteLength": 4, "uri": ")" + uri + "\"}]}")
+                  .ok());
+}
+
+TEST(GltfLoaderConfinement, InsideFolderResolvesDotsAndLinks) {
+  test::TempDir dir;
+  const auto inner = dir.write("scene/a.bin", "x");
+  const auto outer = dir.write("b.bin", "x");
+  const auto folder = dir.path() / "scene";
+  EXPECT_TRUE(inside_folder(folder, inner));
+  EXPECT_TRUE(inside_folder(folder, folder / "sub" / ".." / "a.bin"));
+  EXPECT_FALSE(inside_folder(folder, outer));
+  EXPECT_FALSE(inside_folder(folder, folder / ".." / "b.bin"));
+  EXPECT_FALSE(inside_folder(folder, dir.path() / "scene-other" / "a.bin"));  // not a prefix
+}
+
+TEST(GltfLoaderLimits, AHugeBufferLengthIsRefusedBeforeReading) {
+  test::TempDir dir;
+  const auto f =
+      dir.write("scene.gltf", make_json(R"({"byteLength": 1000000000000, "uri": "scene.bin"})"));
+  const Result<TriangleMesh> r = load_mesh(f);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(), f.string() +
+                             ": buffers[0].byteLength: 1000000000000 bytes is more than the "
+                             "limit of 536870912 (sim/setup/mesh_limits.h)");
+}
+
+TEST(GltfLoaderLimits, AnAccessorCountThatWouldWrapTheBoundsCheckIsRefused) {
+  test::TempDir dir;
+  std::string json = make_json(embedded_entry(make_buffer()));
+  // 2^62 elements of 12 bytes: (count - 1) * stride wraps around in 64 bits.
+  const std::string from = R"("count": 12, "type": "SCALAR"})";
+  json.replace(json.find(from), from.size(), R"("count": 4611686018427387904, "type": "SCALAR"})");
+  const Result<TriangleMesh> r = load_mesh(dir.write("scene.gltf", json));
+  ASSERT_FALSE(r.ok());
 }
 
 }  // namespace

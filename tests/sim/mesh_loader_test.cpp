@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <clocale>
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 #include "haptics/setup/mesh_generators.h"
 #include "haptics/setup/mesh_validation.h"
+#include "sim/setup/mesh_limits.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -214,6 +217,147 @@ TEST(MeshLoaderErrors, BadScale) {
   const auto f = dir.write("t.obj", kTetraObj);
   EXPECT_FALSE(load_mesh(f, {0.0, 0.0}).ok());
   EXPECT_FALSE(load_mesh(f, {std::nan(""), 0.0}).ok());
+}
+
+// Issue 25: a number the readers cannot take was dropped without a word (the vertex vanished and
+// later indices pointed at the wrong vertex or past the end). Now each is named by its line.
+TEST(MeshLoaderNonFinite, ObjCoordinatesAreNamedByLine) {
+  TempDir dir;
+  for (const std::string bad : {"nan", "inf", "-inf", "1e999", "NaN"}) {
+    const auto f = dir.write("m.obj", "# t\nv 0 0 0\nv 1 0 0\nv 0 " + bad +
+                                          " 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    expect_load_error(f,
+                      f.string() + ":4: vertex: coordinate '" + bad + "' is not a finite number");
+  }
+  const auto f = dir.write("m.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n");
+  expect_load_error(f, f.string() + ":2: vertex: coordinate 'x' is not a number");
+  const auto n = dir.write("n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 nan\nf 1//1 2//1 3//1\n");
+  expect_load_error(n, n.string() + ":4: normal: component 'nan' is not a finite number");
+}
+
+// The window (Qt) sets the user's locale, where the decimal separator may be a comma: the checks
+// must read numbers as the file format writes them, with a point.
+TEST(MeshLoaderNonFinite, NumbersAreReadWithAPointWhateverTheLocale) {
+  const char* const comma_locales[] = {"de_DE.UTF-8", "fr_FR.UTF-8", "ru_RU.UTF-8", "de_DE"};
+  std::string previous = std::setlocale(LC_NUMERIC, nullptr);
+  const char* set = nullptr;
+  for (const char* name : comma_locales) {
+    if ((set = std::setlocale(LC_NUMERIC, name)) != nullptr) break;
+  }
+  if (set == nullptr) GTEST_SKIP() << "no locale with a decimal comma is installed";
+  TempDir dir;
+  const Result<TriangleMesh> r = load_mesh(dir.write("t.obj",
+                                                     "v 0.0 0 0\nv 1.5 0 0\nv 0 0.5 0\nv 0 0 0.25\n"
+                                                     "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"));
+  std::setlocale(LC_NUMERIC, previous.c_str());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r.value().positions[1].x(), 1.5);
+}
+
+TEST(MeshLoaderNonFinite, OffCoordinateOf1e999IsNamedNotACrash) {
+  TempDir dir;
+  const auto f = dir.write("m.off",
+                           "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1e999 0\n0 0 1\n"
+                           "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  expect_load_error(f, f.string() + ":5: vertex: coordinate '1e999' is not a finite number");
+}
+
+TEST(MeshLoaderNonFinite, StlAndPlyTextAreNamedByLine) {
+  TempDir dir;
+  std::string stl = stl_ascii(test::tetrahedron());
+  stl.replace(stl.find("vertex 1.000000"), 15, "vertex inf");
+  const auto s = dir.write("m.stl", stl);
+  expect_load_error(s, s.string() + ":6: vertex: coordinate 'inf' is not a finite number");
+  const auto p = dir.write("m.ply",
+                           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                           "property float y\nproperty float z\nelement face 1\n"
+                           "property list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 -nan 0\n0 1 0\n3 0 1 2\n");
+  expect_load_error(p, p.string() + ":11: vertex: coordinate '-nan' is not a finite number");
+}
+
+TEST(MeshLoaderNonFinite, BinaryStlIsNamedByVertex) {
+  TempDir dir;
+  TriangleMesh t = test::tetrahedron();
+  t.positions[2].y() = std::numeric_limits<double>::infinity();
+  const auto f = dir.write("m.stl", stl_binary(t));
+  const Result<TriangleMesh> r = load_mesh(f);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("coordinate 'inf' is not a finite number"), std::string::npos)
+      << r.message();
+}
+
+// Issue 25: a face with an out-of-range index changed the vertex count the report gave; now the
+// load names the face's line and nothing is counted.
+TEST(MeshLoaderIndices, OutOfRangeFacesAreNamedByLine) {
+  TempDir dir;
+  const auto obj = dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n");
+  expect_load_error(obj, obj.string() +
+                             ":5: face: vertex index 4 is outside the 3 vertices "
+                             "defined above");
+  const auto rel = dir.write("r.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");
+  expect_load_error(rel, rel.string() +
+                             ":4: face: vertex index -4 is outside the 3 vertices "
+                             "defined above");
+  const auto uv = dir.write("u.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n");
+  expect_load_error(uv, uv.string() +
+                            ":5: face: texture coordinate index 2 is outside the 1 "
+                            "texture coordinates defined above");
+  const auto off = dir.write("m.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+  expect_load_error(off, off.string() + ":6: face: vertex index 3 is outside the 3 vertices");
+  const auto ply = dir.write("m.ply",
+                             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 1\n"
+                             "property list uchar int vertex_indices\nend_header\n"
+                             "0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n");
+  expect_load_error(ply, ply.string() + ":13: face: vertex index -1 is outside the 3 vertices");
+}
+
+TEST(MeshLoaderIndices, BinaryPlyOutOfRangeIndexIsRefused) {
+  TempDir dir;
+  std::string s =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (float f : {0.F, 0.F, 0.F, 1.F, 0.F, 0.F, 0.F, 1.F, 0.F}) {
+    s.append(reinterpret_cast<const char*>(&f), 4);
+  }
+  s.push_back(3);
+  for (int32_t v : {0, 1, 50'000'000}) s.append(reinterpret_cast<const char*>(&v), 4);
+  const Result<TriangleMesh> r = load_mesh(dir.write("m.ply", s));
+  ASSERT_FALSE(r.ok());
+}
+
+// Issue 25: limits on untrusted input (sim/setup/mesh_limits.h), refused before reading.
+TEST(MeshLoaderLimits, HeaderCountsBeyondTheLimitsAreRefused) {
+  TempDir dir;
+  const auto off = dir.write("m.off", "OFF\n2000000000 1 0\n0 0 0\n");
+  expect_load_error(off, off.string() +
+                             ":2: counts: 2000000000 vertices is more than the limit of 10000000 "
+                             "(sim/setup/mesh_limits.h)");
+  const auto ply = dir.write("m.ply",
+                             "ply\nformat binary_little_endian 1.0\nelement vertex 3000000000\n"
+                             "property float x\nproperty float y\nproperty float z\nend_header\n");
+  expect_load_error(ply, ply.string() +
+                             ":3: element vertex: 3000000000 vertices is more than the limit of "
+                             "10000000 (sim/setup/mesh_limits.h)");
+  std::string stl(80, ' ');
+  const uint32_t n = 4'000'000'000U;
+  stl.append(reinterpret_cast<const char*>(&n), 4);
+  stl.append(50, '\0');
+  const auto s = dir.write("m.stl", stl);
+  expect_load_error(s, s.string() +
+                           ": triangle count: 4000000000 triangles is more than the limit of "
+                           "10000000 (sim/setup/mesh_limits.h)");
+}
+
+TEST(MeshLoaderLimits, AFileLargerThanTheLimitIsRefusedUnread) {
+  TempDir dir;
+  const auto f = dir.write("big.obj", "v 0 0 0\n");
+  std::filesystem::resize_file(f, kMaxMeshFileBytes + 1);  // sparse: nothing is written
+  expect_load_error(f, f.string() +
+                           ": file of 536870913 bytes is larger than the limit of "
+                           "536870912 (sim/setup/mesh_limits.h)");
 }
 
 }  // namespace

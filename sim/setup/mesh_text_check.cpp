@@ -1,0 +1,470 @@
+#include "sim/setup/mesh_text_check.h"
+
+#include <locale.h>
+#include <stdlib.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include "sim/setup/mesh_limits.h"
+
+namespace lap::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using Problem = std::optional<std::string>;
+
+// A token as it may be shown in a message: printable, and short (a mutated file may put a
+// megabyte of binary on one line).
+std::string shown(std::string_view token) {
+  std::string s;
+  for (char c : token.substr(0, 32)) {
+    const auto u = static_cast<unsigned char>(c);
+    s += (u >= 0x20 && u < 0x7F) ? c : '?';
+  }
+  if (token.size() > 32) s += "...";
+  return s;
+}
+
+// `what 'token' is not a finite number` or `... is not a number`, or nothing when the token
+// is a finite number. strtod reads what OpenMesh's stream extraction would (and more: nan, inf),
+// in the C locale whatever the process's: the window's Qt sets the user's, where the decimal
+// separator may be a comma.
+Problem number_problem(std::string_view token, const std::string& what) {
+  static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", nullptr);
+  const std::string s(token);
+  char* end = nullptr;
+  const double v = strtod_l(s.c_str(), &end, c_locale);
+  if (end == s.c_str() || end != s.c_str() + s.size()) {
+    return what + " '" + shown(token) + "' is not a number";
+  }
+  if (!std::isfinite(v)) return what + " '" + shown(token) + "' is not a finite number";
+  return std::nullopt;
+}
+
+std::optional<int64_t> whole_number(std::string_view token) {
+  int64_t v = 0;
+  const char* end = token.data() + token.size();
+  const auto r = std::from_chars(token.data(), end, v);
+  if (r.ec != std::errc() || r.ptr != end) return std::nullopt;
+  return v;
+}
+
+// The file's lines, split into whitespace-separated tokens, with comments removed; blank lines
+// are skipped. Tokens view `text`, valid until the next call.
+class LineReader {
+ public:
+  LineReader(const fs::path& file, char comment)
+      : in_(file, std::ios::binary), file_(file.string()), comment_(comment) {}
+
+  bool next() {
+    while (std::getline(in_, text_)) {
+      ++number_;
+      std::string_view v(text_);
+      if (comment_ != '\0') v = v.substr(0, v.find(comment_));
+      tokens_.clear();
+      size_t i = 0;
+      while (i < v.size()) {
+        while (i < v.size() && is_space(v[i])) ++i;
+        const size_t start = i;
+        while (i < v.size() && !is_space(v[i])) ++i;
+        if (i > start) tokens_.push_back(v.substr(start, i - start));
+      }
+      if (!tokens_.empty()) return true;
+    }
+    return false;
+  }
+  [[nodiscard]] const std::vector<std::string_view>& tokens() const { return tokens_; }
+  [[nodiscard]] std::string_view operator[](size_t i) const { return tokens_[i]; }
+  [[nodiscard]] size_t size() const { return tokens_.size(); }
+  /// The problem at the current line.
+  [[nodiscard]] Status fail(const std::string& field, const std::string& what) const {
+    return file_diagnostic(file_, number_, field, what);
+  }
+
+ private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v'; }
+  std::ifstream in_;
+  std::string file_;
+  char comment_;
+  std::string text_;
+  int number_ = 0;
+  std::vector<std::string_view> tokens_;
+};
+
+std::string over_limit(int64_t count, const char* what, int64_t limit) {
+  return std::to_string(count) + " " + what + " is more than the limit of " +
+         std::to_string(limit) + " (sim/setup/mesh_limits.h)";
+}
+
+// An OBJ index (1-based; negative counts back from the last one defined above) against the
+// `defined` items read so far.
+Problem obj_index_problem(std::string_view token, int64_t defined, const std::string& what,
+                          const char* plural) {
+  const std::optional<int64_t> i = whole_number(token);
+  if (!i) return what + " '" + shown(token) + "' is not a whole number";
+  const int64_t resolved = *i < 0 ? defined + *i + 1 : *i;
+  if (*i == 0 || resolved < 1 || resolved > defined) {
+    return what + " " + std::to_string(*i) + " is outside the " + std::to_string(defined) + " " +
+           plural + " defined above";
+  }
+  return std::nullopt;
+}
+
+Status check_obj(const fs::path& file) {
+  LineReader r(file, '#');
+  int64_t vertices = 0;
+  int64_t uvs = 0;
+  int64_t normals = 0;
+  int64_t triangles = 0;
+  while (r.next()) {
+    const std::string_view key = r[0];
+    if (key == "v" || key == "vn" || key == "vt") {
+      const std::string field = key == "v"    ? "vertex"
+                                : key == "vn" ? "normal"
+                                              : "texture coordinate";
+      const size_t needed = key == "vt" ? 1 : 3;
+      if (r.size() < needed + 1) {
+        return r.fail(field, "expected " + std::to_string(needed) + " numbers, got " +
+                                 std::to_string(r.size() - 1));
+      }
+      for (size_t k = 1; k < r.size(); ++k) {
+        if (Problem p = number_problem(r[k], key == "v" ? "coordinate" : "component")) {
+          return r.fail(field, *p);
+        }
+      }
+      int64_t& count = key == "v" ? vertices : key == "vn" ? normals : uvs;
+      if (++count > kMaxMeshVertices) {
+        return r.fail(field, over_limit(count, "entries", kMaxMeshVertices));
+      }
+    } else if (key == "f") {
+      if (r.size() < 4) {
+        return r.fail("face", "expected at least 3 vertices, got " + std::to_string(r.size() - 1));
+      }
+      for (size_t k = 1; k < r.size(); ++k) {
+        // v, v/vt, v//vn or v/vt/vn
+        const std::string_view corner = r[k];
+        const size_t s1 = corner.find('/');
+        const size_t s2 = s1 == std::string_view::npos ? s1 : corner.find('/', s1 + 1);
+        const std::string_view v = corner.substr(0, s1);
+        if (Problem p = obj_index_problem(v, vertices, "vertex index", "vertices")) {
+          return r.fail("face", *p);
+        }
+        if (s1 != std::string_view::npos) {
+          const std::string_view t = corner.substr(
+              s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
+          if (!t.empty()) {
+            if (Problem p =
+                    obj_index_problem(t, uvs, "texture coordinate index", "texture coordinates")) {
+              return r.fail("face", *p);
+            }
+          }
+        }
+        if (s2 != std::string_view::npos) {
+          const std::string_view n = corner.substr(s2 + 1);
+          if (!n.empty()) {
+            if (Problem p = obj_index_problem(n, normals, "normal index", "normals")) {
+              return r.fail("face", *p);
+            }
+          }
+        }
+      }
+      triangles += static_cast<int64_t>(r.size()) - 3;
+      if (triangles > kMaxMeshTriangles) {
+        return r.fail("face", over_limit(triangles, "triangles", kMaxMeshTriangles));
+      }
+    }
+  }
+  return {};
+}
+
+// OFF: [C|N|ST...]OFF header, `nv nf ne`, nv vertex lines, nf faces `n i0 .. in-1 [colour]`.
+Status check_off(const fs::path& file) {
+  LineReader r(file, '#');
+  if (!r.next()) return {};
+  size_t at = 0;
+  const std::string_view head = r[0];
+  bool other_dimension = false;
+  if (head.find("OFF") != std::string_view::npos) {
+    // [ST][C][N][4][n]OFF [BINARY], as OpenMesh reads it; anything else it half-reads.
+    std::string_view rest = head;
+    for (std::string_view prefix : {"ST", "C", "N", "4", "n"}) {
+      if (rest.substr(0, prefix.size()) == prefix) rest.remove_prefix(prefix.size());
+    }
+    if (rest != "OFF") {
+      return r.fail("header",
+                    "expected OFF (or COFF, NOFF, STOFF, 4OFF, nOFF), got '" + shown(head) + "'");
+    }
+    // 4D and n-dimensional variants: their counts are checked, their vertices left to OpenMesh.
+    other_dimension =
+        head.find('4') != std::string_view::npos || head.find('n') != std::string_view::npos;
+    for (std::string_view t : r.tokens()) {
+      if (t == "BINARY") return {};  // checked after loading
+    }
+    at = 1;
+    if (r.size() == 1) {
+      if (!r.next()) return {};
+      at = 0;
+    }
+  } else if (!whole_number(head)) {
+    return {};  // not OFF at all: OpenMesh refuses it
+  }
+  const std::optional<int64_t> nv = r.size() > at ? whole_number(r[at]) : std::nullopt;
+  const std::optional<int64_t> nf = r.size() > at + 1 ? whole_number(r[at + 1]) : std::nullopt;
+  if (!nv || !nf || *nv < 0 || *nf < 0) {
+    return r.fail("counts", "expected the vertex and face counts as whole numbers >= 0");
+  }
+  if (*nv > kMaxMeshVertices)
+    return r.fail("counts", over_limit(*nv, "vertices", kMaxMeshVertices));
+  if (*nf > kMaxMeshTriangles) return r.fail("counts", over_limit(*nf, "faces", kMaxMeshTriangles));
+  if (other_dimension) return {};
+  for (int64_t i = 0; i < *nv; ++i) {
+    if (!r.next()) return {};  // truncated: OpenMesh says so
+    if (r.size() < 3) {
+      return r.fail("vertex", "expected 3 coordinates, got " + std::to_string(r.size()));
+    }
+    for (size_t k = 0; k < r.size(); ++k) {
+      if (Problem p = number_problem(r[k], k < 3 ? "coordinate" : "value")) {
+        return r.fail("vertex", *p);
+      }
+    }
+  }
+  int64_t triangles = 0;
+  for (int64_t j = 0; j < *nf; ++j) {
+    if (!r.next()) return {};
+    const std::optional<int64_t> n = whole_number(r[0]);
+    if (!n) return r.fail("face", "corner count '" + shown(r[0]) + "' is not a whole number");
+    if (*n < 3) return r.fail("face", "expected at least 3 vertices, got " + std::to_string(*n));
+    if (static_cast<int64_t>(r.size()) - 1 < *n) {
+      return r.fail("face", "expected " + std::to_string(*n) + " vertex indices, got " +
+                                std::to_string(r.size() - 1));
+    }
+    for (int64_t k = 1; k <= *n; ++k) {
+      const std::optional<int64_t> v = whole_number(r[static_cast<size_t>(k)]);
+      if (!v) {
+        return r.fail("face", "vertex index '" + shown(r[static_cast<size_t>(k)]) +
+                                  "' is not a whole number");
+      }
+      if (*v < 0 || *v >= *nv) {
+        return r.fail("face", "vertex index " + std::to_string(*v) + " is outside the " +
+                                  std::to_string(*nv) + " vertices");
+      }
+    }
+    triangles += *n - 2;
+    if (triangles > kMaxMeshTriangles) {
+      return r.fail("face", over_limit(triangles, "triangles", kMaxMeshTriangles));
+    }
+  }
+  return {};
+}
+
+// PLY: the header's element counts against the limits (any format); the values of an ascii body
+// line by line (one element per line, as every writer does).
+Status check_ply(const fs::path& file) {
+  struct Property {
+    std::string name;
+    bool list = false;
+  };
+  struct Element {
+    std::string name;
+    int64_t count = 0;
+    std::vector<Property> properties;
+  };
+  LineReader r(file, '\0');
+  if (!r.next() || r[0] != "ply") return {};
+  // The header is held to the PLY grammar: OpenMesh's reader crashes on some headers it does not
+  // understand (a property before any element).
+  static const std::vector<std::string_view> kTypes = {
+      "char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
+      "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  static const std::vector<std::string_view> kIntegerTypes = {"char",  "uchar",  "short", "ushort",
+                                                              "int",   "uint",   "int8",  "uint8",
+                                                              "int16", "uint16", "int32", "uint32"};
+  const auto is_one_of = [](std::string_view t, const std::vector<std::string_view>& set) {
+    return std::find(set.begin(), set.end(), t) != set.end();
+  };
+  std::vector<Element> elements;
+  bool ascii = false;
+  bool ended = false;
+  while (!ended && r.next()) {
+    const std::string_view key = r[0];
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "format") {
+      if (r.size() != 3 ||
+          (r[1] != "ascii" && r[1] != "binary_little_endian" && r[1] != "binary_big_endian") ||
+          r[2] != "1.0") {  // OpenMesh's reader loops forever on another version
+        return r.fail("header",
+                      "expected 'format ascii|binary_little_endian|binary_big_endian "
+                      "1.0'");
+      }
+      ascii = r[1] == "ascii";
+    } else if (key == "element") {
+      const std::optional<int64_t> n = r.size() == 3 ? whole_number(r[2]) : std::nullopt;
+      if (!n || *n < 0) return r.fail("header", "expected 'element NAME COUNT'");
+      const std::string name(r[1]);
+      if (name == "vertex" && *n > kMaxMeshVertices) {
+        return r.fail("element vertex", over_limit(*n, "vertices", kMaxMeshVertices));
+      }
+      if (name == "face" && *n > kMaxMeshTriangles) {
+        return r.fail("element face", over_limit(*n, "faces", kMaxMeshTriangles));
+      }
+      elements.push_back({name, *n, {}});
+    } else if (key == "property") {
+      if (elements.empty()) return r.fail("header", "a property before any element");
+      const bool list = r.size() >= 2 && r[1] == "list";
+      const bool ok =
+          list ? r.size() == 5 && is_one_of(r[2], kIntegerTypes) && is_one_of(r[3], kTypes)
+               : r.size() == 3 && is_one_of(r[1], kTypes);
+      if (!ok) {
+        return r.fail("header",
+                      "expected 'property TYPE NAME' or 'property list COUNT_TYPE "
+                      "TYPE NAME' (with PLY's types)");
+      }
+      elements.back().properties.push_back({std::string(r[r.size() - 1]), list});
+    } else if (key == "end_header") {
+      ended = true;
+    } else {
+      return r.fail("header", "unknown keyword '" + shown(key) + "'");
+    }
+  }
+  if (!ended || !ascii) return {};
+  int64_t vertex_count = -1;
+  for (const Element& e : elements) {
+    const bool face = e.name == "face";
+    for (int64_t i = 0; i < e.count; ++i) {
+      if (!r.next()) return {};  // truncated: OpenMesh says so
+      size_t at = 0;
+      for (const Property& p : e.properties) {
+        if (at >= r.size()) {
+          return r.fail(e.name, "expected a value for property '" + p.name + "', the line ends");
+        }
+        if (!p.list) {
+          const bool xyz = e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z");
+          if (Problem pr = number_problem(r[at], xyz ? "coordinate" : p.name + " value")) {
+            return r.fail(e.name, *pr);
+          }
+          ++at;
+          continue;
+        }
+        const std::optional<int64_t> n = whole_number(r[at]);
+        if (!n || *n < 0) {
+          return r.fail(e.name, p.name + " length '" + shown(r[at]) + "' is not a whole number");
+        }
+        ++at;
+        if (static_cast<int64_t>(r.size() - at) < *n) {
+          return r.fail(e.name, "expected " + std::to_string(*n) + " entries in " + p.name +
+                                    ", got " + std::to_string(r.size() - at));
+        }
+        const bool indices = face && (p.name == "vertex_indices" || p.name == "vertex_index");
+        for (int64_t k = 0; k < *n; ++k, ++at) {
+          if (!indices) {
+            if (Problem pr = number_problem(r[at], p.name + " value")) return r.fail(e.name, *pr);
+            continue;
+          }
+          const std::optional<int64_t> v = whole_number(r[at]);
+          if (!v) {
+            return r.fail(e.name, "vertex index '" + shown(r[at]) + "' is not a whole number");
+          }
+          if (vertex_count >= 0 && (*v < 0 || *v >= vertex_count)) {
+            return r.fail(e.name, "vertex index " + std::to_string(*v) + " is outside the " +
+                                      std::to_string(vertex_count) + " vertices");
+          }
+        }
+      }
+    }
+    if (e.name == "vertex") vertex_count = e.count;
+  }
+  return {};
+}
+
+// Binary STL: 50 bytes per triangle, a normal and three corners as little-endian floats (and
+// OpenMesh drops a triangle with a NaN corner without a word).
+Status check_binary_stl_values(const fs::path& file, uint64_t triangles) {
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(84);
+  char record[50];
+  for (uint64_t t = 0; t < triangles && in.read(record, 50); ++t) {
+    for (int k = 0; k < 12; ++k) {
+      float v = 0.0F;
+      std::memcpy(&v, record + 4 * k, 4);  // x86 and ARM Linux are little-endian, as STL
+      if (!std::isfinite(v)) {
+        std::ostringstream text;
+        text << v;
+        return file_diagnostic(file.string(), 0, "triangles[" + std::to_string(t) + "]",
+                               std::string(k < 3 ? "normal component" : "coordinate") + " '" +
+                                   text.str() + "' is not a finite number");
+      }
+    }
+  }
+  return {};
+}
+
+// STL: binary when its size is what its triangle count says (as OpenMesh decides); then only
+// the count is checked here. Text: each `vertex` and `facet normal` line.
+Status check_stl(const fs::path& file) {
+  std::error_code ec;
+  const uintmax_t size = fs::file_size(file, ec);
+  if (ec) return {};
+  std::string head(84, '\0');
+  {
+    std::ifstream in(file, std::ios::binary);
+    in.read(head.data(), 84);
+    head.resize(static_cast<size_t>(in.gcount()));
+  }
+  if (head.size() == 84) {
+    const auto b = [&](size_t i) { return static_cast<uint64_t>(static_cast<uint8_t>(head[i])); };
+    const uint64_t n = b(80) | (b(81) << 8U) | (b(82) << 16U) | (b(83) << 24U);
+    const bool binary = 84 + 50 * n == size || head.rfind("solid", 0) != 0;
+    if (binary) {
+      if (n > static_cast<uint64_t>(kMaxMeshTriangles)) {
+        return file_diagnostic(file.string(), 0, "triangle count",
+                               over_limit(static_cast<int64_t>(n), "triangles", kMaxMeshTriangles));
+      }
+      return check_binary_stl_values(file, n);
+    }
+  } else if (head.rfind("solid", 0) != 0) {
+    return {};  // too short for binary, not text: OpenMesh refuses it
+  }
+  LineReader r(file, '\0');
+  int64_t triangles = 0;
+  while (r.next()) {
+    const bool vertex = r[0] == "vertex";
+    const bool normal = r[0] == "facet" && r.size() >= 2 && r[1] == "normal";
+    if (!vertex && !normal) continue;
+    const size_t first = vertex ? 1 : 2;
+    const std::string field = vertex ? "vertex" : "facet normal";
+    if (r.size() != first + 3) {
+      return r.fail(field, "expected 3 numbers, got " + std::to_string(r.size() - first));
+    }
+    for (size_t k = first; k < r.size(); ++k) {
+      if (Problem p = number_problem(r[k], vertex ? "coordinate" : "component")) {
+        return r.fail(field, *p);
+      }
+    }
+    if (normal && ++triangles > kMaxMeshTriangles) {
+      return r.fail(field, over_limit(triangles, "triangles", kMaxMeshTriangles));
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+Status check_mesh_text(const fs::path& file, const std::string& ext) {
+  if (ext == ".obj") return check_obj(file);
+  if (ext == ".off") return check_off(file);
+  if (ext == ".ply") return check_ply(file);
+  if (ext == ".stl") return check_stl(file);
+  return {};
+}
+
+}  // namespace lap::sim
