@@ -336,6 +336,28 @@ std::vector<V3> resample(const std::vector<V3>& c, double spacing) {
   return out;
 }
 
+// Does the segment from a to b cross a triangle of m (Moller-Trumbore)?
+bool segment_crosses(const TriangleMesh& m, const V3& a, const V3& b) {
+  const V3 d = b - a;
+  for (const Triangle& t : m.triangles) {
+    const V3& p0 = m.positions[t[0]];
+    const V3 e1 = m.positions[t[1]] - p0;
+    const V3 e2 = m.positions[t[2]] - p0;
+    const V3 q = d.cross(e2);
+    const double det = e1.dot(q);
+    if (std::abs(det) < 1e-18) continue;
+    const V3 r = a - p0;
+    const double u = r.dot(q) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const V3 w = r.cross(e1);
+    const double v = d.dot(w) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double s = e2.dot(w) / det;
+    if (s > 0.0 && s < 1.0) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 const GeneratedOrgan* GeneratedAnatomy::organ(const std::string& name) const {
@@ -435,7 +457,8 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
   const V3 lateral = perpendicular(up_cbd, -V3::UnitX());  // from the duct towards the gallbladder
   const double alpha = p.cystic_duct_angle_deg * kPi / 180.0;
   const V3 t_end = -(std::cos(alpha) * up_cbd + std::sin(alpha) * lateral);
-  const V3 t_start = -gb.g;
+  // Leaving the neck along the gallbladder's axis, turned down clear of the liver.
+  const V3 t_start = (-gb.g - 0.9 * V3::UnitY()).normalized();
   const V3& n0 = gb.neck;
   // The porta hepatis, where the common hepatic duct leaves the liver: about 1 cm above the
   // gallbladder's neck (estimate); the duct itself runs on into the liver from there.
@@ -483,14 +506,6 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
   rep.junction_m = duct.back();
   rep.angle_to_common_hepatic_duct_deg =
       std::acos(std::clamp((-arrive).dot(up_cbd), -1.0, 1.0)) * 180.0 / kPi;
-  rep.incision_arc_m = 0.35 * rep.length_m;
-  {
-    V3 t;
-    const V3 c = point_at_arc(duct, rep.incision_arc_m, &t);
-    rep.incision_along = t;
-    rep.incision_normal = perpendicular(t, camera - c);
-    rep.incision_center_m = c + r_duct * rep.incision_normal;
-  }
   // The duct's mesh runs 3 mm into the neck and on into the common bile duct's lumen.
   std::vector<V3> duct_mesh_line;
   duct_mesh_line.push_back(n0 + 0.003 * gb.g);
@@ -560,6 +575,38 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
                    }),
       0.004);
 
+  // The ductotomy: on the anterior wall facing the laparoscope, at the first site from 35 % of
+  // the duct's length (past the clip at the neck) whose line of sight is clear of the
+  // gallbladder, the liver, the artery, the clips and the duodenum (a short duct under a big
+  // gallbladder is partly hidden behind it, as through the real laparoscope).
+  TriangleMesh liver_mesh = make_liver(liver, p.liver_scale, anchor, gb);
+  TriangleMesh gb_mesh = make_gallbladder(gb);
+  TriangleMesh artery_mesh = make_tube(artery, std::vector<double>(artery.size(), r_artery), 12);
+  TriangleMesh duodenum_mesh =
+      make_tube(duodenum_line, std::vector<double>(duodenum_line.size(), duodenum_radius), 32);
+  auto site = [&](double arc, V3* centre, V3* normal, V3* along) {
+    const V3 c = point_at_arc(duct, arc, along);
+    *normal = perpendicular(*along, camera - c);
+    *centre = c + r_duct * *normal;
+  };
+  auto in_view = [&](const V3& point, const V3& normal) {
+    const V3 from = point + 0.0005 * normal;
+    for (const TriangleMesh* m : {&gb_mesh, &liver_mesh, &artery_mesh, &clips, &duodenum_mesh}) {
+      if (segment_crosses(*m, from, camera)) return false;
+    }
+    return true;
+  };
+  rep.incision_arc_m = 0.35 * rep.length_m;
+  for (double f = 0.35; f <= 0.8; f += 0.01) {
+    V3 c, n, t;
+    site(f * rep.length_m, &c, &n, &t);
+    if (in_view(c, n)) {
+      rep.incision_arc_m = f * rep.length_m;
+      break;
+    }
+  }
+  site(rep.incision_arc_m, &rep.incision_center_m, &rep.incision_normal, &rep.incision_along);
+
   // Fat over the hepatoduodenal ligament: a lobulated body around the common bile duct below
   // the junction, bigger and reaching up round the junction in a fatty hilum; it never covers
   // the incision site.
@@ -582,32 +629,34 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
     finish(mesh, tile);
     out.organs.push_back({std::move(name), std::move(mesh), tissue, tile});
   };
-  add("liver", make_liver(liver, p.liver_scale, anchor, gb), Tissue::liver, 0.06);
-  add("gallbladder", make_gallbladder(gb), Tissue::gallbladder, 0.05);
+  add("liver", std::move(liver_mesh), Tissue::liver, 0.06);
+  add("gallbladder", std::move(gb_mesh), Tissue::gallbladder, 0.05);
   add("cystic_duct",
       make_tube(duct_mesh_line, std::vector<double>(duct_mesh_line.size(), r_duct), 24),
       Tissue::bile_duct, 0.02);
   add("common_bile_duct", make_tube(cbd_line, std::vector<double>(cbd_line.size(), r_cbd), 24),
       Tissue::bile_duct, 0.02);
-  add("cystic_artery", make_tube(artery, std::vector<double>(artery.size(), r_artery), 12),
-      Tissue::artery, 0.02);
+  add("cystic_artery", std::move(artery_mesh), Tissue::artery, 0.02);
   add("clips", clips, Tissue::clip, 0.01);
-  add("duodenum",
-      make_tube(duodenum_line, std::vector<double>(duodenum_line.size(), duodenum_radius), 32),
-      Tissue::duodenum, 0.06);
-  add("hepatoduodenal_fat",
-      make_mapped_sphere(20, 40,
-                         [&](const V3& u) {
-                           // Lobulated: the radius varies by up to 8 % with smooth bumps
-                           // (star-shaped, so embedded).
-                           const double bump = 1.0 + 0.08 * std::sin(7.0 * u.x() + 2.0) *
-                                                         std::sin(5.0 * u.y() + 1.0) *
-                                                         std::cos(6.0 * u.z());
-                           return V3(fat_centre + bump * (fat_radii.x() * u.x() * fat_x +
-                                                          fat_radii.y() * u.y() * up_cbd +
-                                                          fat_radii.z() * u.z() * fat_z));
-                         }),
-      Tissue::fat, 0.04);
+  add("duodenum", std::move(duodenum_mesh), Tissue::duodenum, 0.06);
+  auto make_fat = [&]() {
+    return make_mapped_sphere(20, 40, [&](const V3& u) {
+      // Lobulated: the radius varies by up to 8 % with smooth bumps (star-shaped, so embedded).
+      const double bump = 1.0 + 0.08 * std::sin(7.0 * u.x() + 2.0) * std::sin(5.0 * u.y() + 1.0) *
+                                    std::cos(6.0 * u.z());
+      return V3(fat_centre +
+                bump * (fat_radii.x() * u.x() * fat_x + fat_radii.y() * u.y() * up_cbd +
+                        fat_radii.z() * u.z() * fat_z));
+    });
+  };
+  TriangleMesh fat = make_fat();
+  for (int i = 0;
+       i < 20 && segment_crosses(fat, rep.incision_center_m + 0.0005 * rep.incision_normal, camera);
+       ++i) {
+    fat_radii *= 0.95;  // the fat must not hide the incision either
+    fat = make_fat();
+  }
+  add("hepatoduodenal_fat", std::move(fat), Tissue::fat, 0.04);
 
   // Abdominal wall: an insufflated dome (radius 22 cm, 2.5 cm thick: estimates) whose inner
   // surface passes 1.2 cm beyond the laparoscope, with the four ports of the standard
