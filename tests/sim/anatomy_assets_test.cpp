@@ -9,6 +9,7 @@
 #include <set>
 
 #include "haptics/setup/mesh_validation.h"
+#include "sim/setup/duct_fit.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
@@ -92,6 +93,27 @@ TEST(AnatomyAssets, SameBytesTwice) {
   EXPECT_EQ(files.size(), 4U * (9U * 2U + 1U) + 8U);  // 9 organs (.gltf, .bin) + json; textures
   for (const fs::path& f : files) {
     EXPECT_TRUE(read_bytes(one.path() / f) == read_bytes(two.path() / f)) << f;
+  }
+}
+
+TEST(AnatomyAssets, TheSessionFitsItsDuctToTheGeneratedCysticDuct) {
+  // The generated duct follows the stand-in's convention (a closed tube, outer wall), so the
+  // session's modal-shell duct (a straight tube, sim/setup/duct_fit.h) can be placed on it. The
+  // straight fit measures a curved duct's bend as extra radius: how much is printed, and it
+  // must stay within 1 mm of the true outer diameter.
+  for (const std::string& name : haptics::anatomy_preset_names()) {
+    const haptics::GeneratedAnatomy a = generated(name);
+    const Result<DuctFit> fit = fit_duct(a.organ("cystic_duct")->mesh, a.cystic_duct.wall_m);
+    ASSERT_TRUE(fit.ok()) << name << ": " << fit.message();
+    EXPECT_NEAR(fit->duct.outer_diameter_m, a.cystic_duct.outer_diameter_m, 0.001) << name;
+    EXPECT_GT(
+        fit->duct.length_m,
+        0.8 * (a.cystic_duct.centre_line_m.back() - a.cystic_duct.centre_line_m.front()).norm())
+        << name;
+    std::printf("%-9s duct fit: %.2f mm across (generated %.2f), %.1f mm long (centre line %.1f)\n",
+                name.c_str(), 1e3 * fit->duct.outer_diameter_m,
+                1e3 * a.cystic_duct.outer_diameter_m, 1e3 * fit->duct.length_m,
+                1e3 * a.cystic_duct.length_m);
   }
 }
 
