@@ -40,7 +40,7 @@ double smoothstep(double e0, double e1, double x) {
 // Thin bright lines where fbm crosses 0.5: ridged noise, for the fine serosal vessels.
 double vessels(double x, double y, int32_t period, uint32_t seed) {
   const double n = tileable_fbm(x, y, period, 3, seed);
-  return 1.0 - smoothstep(0.0, 0.025, std::abs(n - 0.5));
+  return 1.0 - smoothstep(0.0, 0.012, std::abs(n - 0.5));
 }
 
 Rgb albedo(Tissue t, double x, double y, uint32_t seed) {
@@ -49,8 +49,10 @@ Rgb albedo(Tissue t, double x, double y, uint32_t seed) {
       // Reddish-brown parenchyma seen through the capsule, mottled by the lobules (about 1 mm
       // across, Gray's Anatomy ch. 70): paler cell centres, darker septa between them.
       const double cells = tileable_cells(x, y, 40, seed);
+      const double septa = tileable_cell_edge(x, y, 40, seed);
       const double blotch = tileable_fbm(x, y, 4, 4, seed + 11U);
-      Rgb c = mix(Rgb(0.50, 0.15, 0.10), Rgb(0.36, 0.10, 0.08), smoothstep(0.2, 0.65, cells));
+      Rgb c = mix(Rgb(0.52, 0.16, 0.11), Rgb(0.42, 0.12, 0.09), smoothstep(0.1, 0.6, cells));
+      c = mix(Rgb(0.33, 0.09, 0.07), c, smoothstep(0.0, 0.15, septa));
       c = mix(c, Rgb(0.58, 0.24, 0.16), 0.5 * smoothstep(0.45, 0.8, blotch));
       return c;
     }
@@ -84,11 +86,14 @@ Rgb albedo(Tissue t, double x, double y, uint32_t seed) {
       return c;
     }
     case Tissue::fat: {
-      // Lobulated yellow fat: bright globules, darker thin septa.
-      const double cells = tileable_cells(x, y, 14, seed);
+      // Lobulated yellow fat: packed lobules, each a little different, with thin darker septa
+      // between them (the cells' borders: where the nearest two feature points are equally
+      // near).
+      const double edge = tileable_cell_edge(x, y, 14, seed);
       const double n = tileable_fbm(x, y, 4, 3, seed + 7U);
-      Rgb c = mix(Rgb(0.96, 0.84, 0.42), Rgb(0.80, 0.62, 0.25), smoothstep(0.35, 0.7, cells));
-      c = mix(c, Rgb(0.98, 0.90, 0.60), 0.4 * n);
+      const double lobule = tileable_value_noise(x, y, 14, seed + 13U);
+      Rgb c = mix(Rgb(0.95, 0.82, 0.40), Rgb(0.99, 0.90, 0.55), 0.5 * lobule + 0.5 * n);
+      c = mix(Rgb(0.78, 0.58, 0.26), c, smoothstep(0.02, 0.12, edge));
       return c;
     }
     case Tissue::abdominal_wall: {
@@ -154,11 +159,21 @@ double tileable_fbm(double x, double y, int32_t period, int32_t octaves, uint32_
 }
 
 double tileable_cells(double x, double y, int32_t period, uint32_t seed) {
+  return tileable_cell_distances(x, y, period, seed).x();
+}
+
+double tileable_cell_edge(double x, double y, int32_t period, uint32_t seed) {
+  const Eigen::Vector2d d = tileable_cell_distances(x, y, period, seed);
+  return d.y() - d.x();
+}
+
+Eigen::Vector2d tileable_cell_distances(double x, double y, int32_t period, uint32_t seed) {
   const double fx = x * period;
   const double fy = y * period;
   const auto i0 = static_cast<int32_t>(std::floor(fx));
   const auto j0 = static_cast<int32_t>(std::floor(fy));
   double best = 1e9;
+  double second = 1e9;
   for (int32_t dj = -1; dj <= 1; ++dj) {
     for (int32_t di = -1; di <= 1; ++di) {
       const int32_t i = i0 + di;
@@ -166,10 +181,16 @@ double tileable_cells(double x, double y, int32_t period, uint32_t seed) {
       const uint32_t h = hash_cell(wrap(i, period), wrap(j, period), seed);
       const double px = i + 0.15 + 0.7 * unit_hash(h);
       const double py = j + 0.15 + 0.7 * unit_hash(hash32(h));
-      best = std::min(best, std::hypot(fx - px, fy - py));
+      const double d = std::hypot(fx - px, fy - py);
+      if (d < best) {
+        second = best;
+        best = d;
+      } else {
+        second = std::min(second, d);
+      }
     }
   }
-  return best;
+  return {best, second};
 }
 
 RgbImage make_albedo(Tissue t, int32_t size_px, uint32_t seed) {

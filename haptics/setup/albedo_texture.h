@@ -6,6 +6,7 @@
 /// yellow). Tileable because the organs' texture coordinates repeat the image (sampler REPEAT)
 /// instead of cutting seams into the closed meshes.
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -46,5 +47,10 @@ enum class Tissue : uint8_t {
 /// Tileable cellular noise: distance from (x, y) to the nearest of one jittered feature point per
 /// cell, in cells (0 on a point, about 0.7 at most), `period` cells across.
 [[nodiscard]] double tileable_cells(double x, double y, int32_t period, uint32_t seed);
+/// The cells' borders: second-nearest minus nearest feature-point distance (0 on a border).
+[[nodiscard]] double tileable_cell_edge(double x, double y, int32_t period, uint32_t seed);
+/// Nearest and second-nearest feature-point distances, in cells.
+[[nodiscard]] Eigen::Vector2d tileable_cell_distances(double x, double y, int32_t period,
+                                                      uint32_t seed);
 
 }  // namespace lap::haptics
