@@ -208,8 +208,14 @@ TriangleMesh make_abdominal_wall(const Dome& dome, const V3& apex, double extent
     for (int i = 0; i < n; ++i) {
       bool k = std::hypot(cx(i) - apex.x(), cy(j) - apex.y()) < extent_m;
       for (size_t p = 0; p < ports.size(); ++p) {
+        // The cells near the port, and always every cell it touches (a 5 mm port is smaller
+        // than a cell; on a grid point all four go, so no hole vertex sits on the port).
         const double r = 0.5 * ports[p].diameter_m + 0.35 * cell;
-        if (std::hypot(cx(i) - ports[p].position_m.x(), cy(j) - ports[p].position_m.y()) < r) {
+        const double touch = 0.5 * cell + 1e-7;
+        const bool own = std::abs(cx(i) - ports[p].position_m.x()) <= touch &&
+                         std::abs(cy(j) - ports[p].position_m.y()) <= touch;
+        if (own ||
+            std::hypot(cx(i) - ports[p].position_m.x(), cy(j) - ports[p].position_m.y()) < r) {
           k = false;
           hole_of[static_cast<size_t>(j) * n + i] = static_cast<int>(p);
         }
@@ -259,14 +265,19 @@ TriangleMesh make_abdominal_wall(const Dome& dome, const V3& apex, double extent
         if (on_hole) {
           const Eigen::Vector2d c(ports[p].position_m.x(), ports[p].position_m.y());
           const Eigen::Vector2d d = Eigen::Vector2d(x, y) - c;
+          if (d.norm() < 1e-9) continue;
           const Eigen::Vector2d q = c + 0.5 * ports[p].diameter_m * d.normalized();
           x = q.x();
           y = q.y();
         }
       }
-      const double z = dome.inner_z(x, y) + (out ? dome.thickness : 0.0);
+      // The outer sheet is the inner one pushed out along the dome's radius: the wall's
+      // thickness and the ports' holes run along its normal.
+      const V3 in(x, y, dome.inner_z(x, y));
       id = m.vertex_count();
-      m.positions.emplace_back(x, y, z);
+      m.positions.push_back(
+          out ? V3(dome.centre + (dome.radius + dome.thickness) / dome.radius * (in - dome.centre))
+              : in);
     }
     return id;
   };
