@@ -535,7 +535,7 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
       (liver_under(axis_point.x(), axis_point.z()) - axis_point.y()) / up_cbd.y();
   const double above = std::max(out.common_hepatic_duct_length_m, to_liver) + 0.012;
   const double duodenum_radius = 0.014;  // about 3 cm across (estimate; Gray's ch. 66)
-  const V3 duodenum_entry = axis_point - 0.035 * up_cbd + V3(0.0, 0.0, -0.004);
+  const V3 duodenum_entry = axis_point - 0.035 * up_cbd;
   const std::vector<V3> cbd_line = resample({duodenum_entry, axis_point + above * up_cbd}, 0.002);
 
   // Cystic artery: from behind the common hepatic duct (the right hepatic artery's side, not

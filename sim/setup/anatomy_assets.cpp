@@ -84,7 +84,7 @@ Status save_anatomy(const haptics::GeneratedAnatomy& anatomy, const std::filesys
   j["parameters"] = parameters_json(anatomy.parameters);
   j["cystic_duct"] = {{"length_m", um(d.length_m)},
                       {"inner_diameter_m", d.inner_diameter_m},
-                      {"outer_diameter_m", d.outer_diameter_m},
+                      {"outer_diameter_m", um(d.outer_diameter_m)},
                       {"wall_m", d.wall_m},
                       {"axis", vec_um(d.axis)},
                       {"angle_to_common_hepatic_duct_deg",

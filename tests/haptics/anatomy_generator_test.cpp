@@ -223,6 +223,7 @@ TEST(AnatomyGenerator, CommonBileDuctDiameterIsWithinTheCitedRange) {
     const double diameter = 2.0 * sum / n;
     EXPECT_GE(diameter, 0.006) << a.parameters.name;  // Gray's: about 6 mm; up to 8 mm normal
     EXPECT_LE(diameter, 0.008) << a.parameters.name;
+    EXPECT_NEAR(diameter, a.parameters.common_bile_duct_diameter_m, 1e-4) << a.parameters.name;
     // The junction is where the parameters put it (a low insertion is a long common hepatic
     // duct), and the duct arrives at the set angle.
     EXPECT_NEAR(a.common_hepatic_duct_length_m, a.parameters.common_hepatic_duct_length_m, 1e-3)
