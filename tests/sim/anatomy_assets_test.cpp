@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "haptics/setup/mesh_validation.h"
+#include "models/shell_mesh.h"
 #include "sim/setup/duct_fit.h"
+#include "sim/setup/duct_incision.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
 
@@ -110,6 +113,17 @@ TEST(AnatomyAssets, TheSessionFitsItsDuctToTheGeneratedCysticDuct) {
         fit->duct.length_m,
         0.8 * (a.cystic_duct.centre_line_m.back() - a.cystic_duct.centre_line_m.front()).norm())
         << name;
+    // The reported incision site opens the fitted shell's wall where the session puts it
+    // (sim/setup/tissue_model.cpp): a default-sized ductotomy (3 x 2 mm) on it is accepted.
+    haptics::TriangleMesh wall = models::triangulate(models::make_duct_shell(fit->duct).mesh);
+    wall.transform(Eigen::Affine3d(fit->pose_WD.matrix()));
+    IncisionSpec incision;
+    incision.present = true;
+    incision.center_m = a.cystic_duct.incision_center_m;
+    const Result<std::vector<uint8_t>> open =
+        incision_faces(wall, fit->duct, fit->pose_WD, incision);
+    ASSERT_TRUE(open.ok()) << name << ": " << open.message();
+    EXPECT_GT(std::count(open->begin(), open->end(), 1), 0) << name;
     std::printf("%-9s duct fit: %.2f mm across (generated %.2f), %.1f mm long (centre line %.1f)\n",
                 name.c_str(), 1e3 * fit->duct.outer_diameter_m,
                 1e3 * a.cystic_duct.outer_diameter_m, 1e3 * fit->duct.length_m,
