@@ -22,6 +22,7 @@
 #include "haptics/mesh_database.h"
 #include "haptics/point_proxy.h"
 #include "haptics/segment_proxy.h"
+#include "haptics/setup/anatomy_parameters.h"
 #include "haptics/setup/mesh_generators.h"
 #include "haptics/setup/mesh_repair.h"
 #include "haptics/setup/mesh_validation.h"
@@ -29,6 +30,7 @@
 #include "sim/authoring/expert_run.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
+#include "sim/setup/anatomy_assets.h"
 #include "sim/setup/device_factory.h"
 #include "sim/setup/mesh_loader.h"
 #include "sim/setup/probe_path.h"
@@ -81,8 +83,10 @@ const char* const kUsage =
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
     "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
     "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
-    "  generate-assets --out DIR\n"
-    "      write the project's generated stand-in organ meshes (OBJ) into DIR\n"
+    "  generate-assets --out DIR [--anatomy PRESET|all]\n"
+    "      write the project's generated stand-in organ meshes (OBJ) into DIR; with --anatomy,\n"
+    "      the generated anatomy instead (glTF 2.0): DIR/PRESET/ per preset (default, easy,\n"
+    "      moderate, hard), each with its textures\n"
     "  plan-expert --scenario FILE --out DIR [--mistake drop|overshoot|tear]\n"
     "      plan the expert's catheter insertion for the scenario and write it as keyframe\n"
     "      scripts DIR/expert_left.csv and DIR/expert_right.csv (run them with scripted:FILE);\n"
@@ -475,11 +479,23 @@ int cmd_run(int argc, char** argv) {
 
 int cmd_generate_assets(int argc, char** argv) {
   Args args(argc, argv, {});
-  if (!args.only({"--out"}) || !args.has("--out")) {
+  if (!args.only({"--out", "--anatomy"}) || !args.has("--out")) {
     if (!args.has("--out")) args.errors.push_back("generate-assets needs --out DIR");
     return usage_error(args);
   }
   const fs::path dir = args.get("--out");
+  if (args.has("--anatomy")) {
+    const std::string preset = args.get("--anatomy");
+    const std::vector<std::string> presets =
+        preset == "all" ? lap::haptics::anatomy_preset_names() : std::vector<std::string>{preset};
+    if (lap::Status saved = lap::sim::save_anatomy_presets(dir, presets); !saved.ok()) {
+      return print_problems(saved.diagnostics());
+    }
+    std::cout << "wrote the anatomy ("
+              << (preset == "all" ? "default, easy, moderate, hard" : preset)
+              << ") and its textures to " << dir.string() << "\n";
+    return kExitOk;
+  }
   std::error_code ec;
   fs::create_directories(dir, ec);
   for (const auto& [mesh, name] :

@@ -395,7 +395,8 @@ Status check_binary_stl_values(const fs::path& file, uint64_t triangles) {
   for (uint64_t t = 0; t < triangles && in.read(record, 50); ++t) {
     for (int k = 0; k < 12; ++k) {
       float v = 0.0F;
-      std::memcpy(&v, record + 4 * k, 4);  // x86 and ARM Linux are little-endian, as STL
+      std::memcpy(&v, record + static_cast<ptrdiff_t>(4) * k,
+                  4);  // x86 and ARM Linux are little-endian, as STL
       if (!std::isfinite(v)) {
         std::ostringstream text;
         text << v;

@@ -174,9 +174,9 @@ TEST(Screenshot, ASavedSessionPlaysBackInTheWindow) {
   const auto first = dir.path() / "first";
   const auto second = dir.path() / "second";
   CommandResult r =
-      run_command(app + " --left scripted:" + (scripts / "sweep_left_60s.csv").string() +
-                  " --right scripted:" + (scripts / "sweep_right_60s.csv").string() + " --record " +
-                  first.string() + " --quit-after 1.5");
+      run_command(app + " --left scripted:" + (scripts / "default/expert_left.csv").string() +
+                  " --right scripted:" + (scripts / "default/expert_right.csv").string() +
+                  " --record " + first.string() + " --quit-after 1.5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_command(app + " --left replay:" + (first / "left.lapdev").string() +
                   " --right replay:" + (first / "right.lapdev").string() + " --record " +
