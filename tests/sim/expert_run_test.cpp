@@ -145,5 +145,19 @@ TEST(ExpertRun, TheExpertsPaceRunsOutOfAShorterTimeLimit) {
   EXPECT_DOUBLE_EQ(m.task.end_s, 10.0);
 }
 
+TEST(ExpertRun, TheTipInsideTheCommonBileDuctFails) {
+  // The default scene has no common bile duct: the cystic duct's own closed mesh stands in for
+  // one (as the scene holds it, not through the loader, which refuses the target): the tip that
+  // enters the lumen is inside "it" too — the session's inside test on a real surface.
+  Scene scene = default_scene();
+  scene.scenario.task->common_bile_duct = "cystic_duct";
+  const SessionMetrics m = run_scripts(scene, "expert");
+  EXPECT_EQ(kinds(m.task),
+            "catheter_grasped, tip_at_incision, tip_in_lumen, tip_in_common_bile_duct, failure");
+  ASSERT_EQ(m.task.reason_count, 1U);
+  EXPECT_EQ(m.task.reasons[0], TaskReason::kCommonBileDuct);
+  EXPECT_EQ(m.task.events[3].organ, 2);
+}
+
 }  // namespace
 }  // namespace lap::sim
