@@ -5,6 +5,7 @@
 
 #include <array>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -28,6 +30,7 @@
 #include "haptics/setup/mesh_validation.h"
 #include "hardware/device_spec.h"
 #include "sim/authoring/expert_run.h"
+#include "sim/report/session_replay.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/anatomy_assets.h"
@@ -79,10 +82,14 @@ const char* const kUsage =
     "tick,\n"
     "      the proxy position, force, contact primitive and step time\n"
     "  run --scenario FILE --left DEV --right DEV [--duration S] [--fast] [--record DIR]\n"
-    "      [--rate HZ] [--model-rate HZ]\n"
+    "      [--rate HZ] [--model-rate HZ] [--dominant-hand left|right]\n"
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
     "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
     "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
+    "  report --session DIR [--format json|csv] [--out FILE]\n"
+    "      replay a session recorded by run --record and print its task and training metrics,\n"
+    "      recomputed from the recorded inputs (json: as run prints them, with the series;\n"
+    "      csv: one metric,value row per metric)\n"
     "  generate-assets --out DIR [--anatomy PRESET|all]\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR; with --anatomy,\n"
     "      the generated anatomy instead (glTF 2.0): DIR/PRESET/ per preset (default, easy,\n"
@@ -385,7 +392,7 @@ int cmd_probe(int argc, char** argv) {
 int cmd_run(int argc, char** argv) {
   Args args(argc, argv, {"--fast"});
   const bool ok = args.only({"--scenario", "--left", "--right", "--duration", "--fast", "--record",
-                             "--rate", "--model-rate"});
+                             "--rate", "--model-rate", "--dominant-hand"});
   for (const char* k : {"--scenario", "--left", "--right"}) {
     if (!args.has(k)) args.errors.push_back(std::string("run needs ") + k);
   }
@@ -401,6 +408,13 @@ int cmd_run(int argc, char** argv) {
       args.errors.push_back(std::string(key) + " expects a positive number, got '" + args.get(key) +
                             "'");
     }
+  }
+  if (args.has("--dominant-hand")) {
+    const std::string hand = args.get("--dominant-hand");
+    if (hand != "left" && hand != "right") {
+      args.errors.push_back("--dominant-hand expects left or right, got '" + hand + "'");
+    }
+    rs.dominant_tool = hand == "left" ? 0 : 1;
   }
   std::array<lap::hardware::DeviceSpec, 2> specs;
   for (int side = 0; side < 2; ++side) {
@@ -473,6 +487,51 @@ int cmd_run(int argc, char** argv) {
               << " (forces zeroed; the metrics" << (args.has("--record") ? " and recording" : "")
               << " so far are written)\n";
     return sig == SIGINT ? kExitInterrupted : kExitTerminated;
+  }
+  return kExitOk;
+}
+
+int cmd_report(int argc, char** argv) {
+  Args args(argc, argv, {});
+  const bool ok = args.only({"--session", "--format", "--out"});
+  if (!args.has("--session")) args.errors.push_back("report needs --session");
+  const std::string format = args.get("--format", "json");
+  if (format != "json" && format != "csv") {
+    args.errors.push_back("--format expects json or csv, got '" + format + "'");
+  }
+  if (!ok || !args.errors.empty()) return usage_error(args);
+  const auto replayed = lap::sim::replay_session(args.get("--session"));
+  if (!replayed.ok()) return print_problems(replayed.diagnostics());
+  const lap::sim::ReplayedSession& r = replayed.value();
+  for (const std::string& n : r.notes) std::cerr << "laptrainer-cli report: note: " << n << "\n";
+  std::string text;
+  if (format == "csv") {
+    text = "metric,value\n";
+    for (const lap::sim::Metric& x : r.metrics.training) {
+      // The shortest text that reads back to the same double; empty where undefined (null).
+      char value[64];
+      const auto end =
+          std::isfinite(x.value) ? std::to_chars(value, value + 63, x.value).ptr : value;
+      text += x.name + "," + std::string(value, end) + "\n";
+    }
+  } else {
+    nlohmann::ordered_json j =
+        lap::sim::metrics_to_json(r.metrics, r.record.scenario.string(), r.record.settings.fast);
+    j["session"] = args.get("--session");
+    j["notes"] = r.notes;
+    j["series"] = lap::sim::series_to_json(r.metrics.series);
+    text = j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+  }
+  if (!args.has("--out")) {
+    std::cout << text;
+    return kExitOk;
+  }
+  std::ofstream out(args.get("--out"));
+  out << text;
+  out.flush();
+  if (!out) {
+    std::cerr << "laptrainer-cli report: " << args.get("--out") << ": cannot write the report\n";
+    return kExitProblems;
   }
   return kExitOk;
 }
@@ -577,6 +636,7 @@ int main(int argc, char** argv) {
     if (cmd == "plan-expert") return cmd_plan_expert(argc, argv);
     if (cmd == "probe") return cmd_probe(argc, argv);
     if (cmd == "run") return cmd_run(argc, argv);
+    if (cmd == "report") return cmd_report(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "laptrainer-cli " << cmd << ": " << e.what() << "\n";
     return 1;

@@ -1,9 +1,12 @@
 #include "sim/report/session_report.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "sim/report/session_replay.h"
 
 namespace lap::sim {
 
@@ -108,6 +111,26 @@ nlohmann::ordered_json task_to_json(TaskKind kind, const TaskState& t,
   return j;
 }
 
+nlohmann::ordered_json training_to_json(const std::vector<Metric>& metrics) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const Metric& x : metrics) {
+    j[x.name] = std::isfinite(x.value) ? nlohmann::ordered_json(x.value) : nullptr;
+  }
+  return j;
+}
+
+nlohmann::ordered_json series_to_json(const MetricsSeries& s) {
+  nlohmann::ordered_json j;
+  j["t_s"] = s.t_s;
+  j["insertion_depth_m"] = s.depth_m;
+  j["force_duct_n"] = s.duct_force_n;
+  j["squeeze_duct_n"] = s.squeeze_n;
+  j["speed_left_m_per_s"] = s.speed_m_per_s[0];
+  j["speed_right_m_per_s"] = s.speed_m_per_s[1];
+  j["dropped"] = s.dropped;
+  return j;
+}
+
 nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::string& scenario,
                                        bool fast) {
   char hash[32];
@@ -116,6 +139,7 @@ nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::strin
   j["scenario"] = scenario;
   j["mode"] = fast ? "fast" : "realtime";
   j["task"] = task_to_json(m.task_kind, m.task, m.organ_names);
+  j["metrics"] = training_to_json(m.training);
   j["haptic"] = loop_json(m.haptic);
   // Ticks the watchdog zeroed for starting late, the forces ramping back (no pause, no event).
   j["haptic"]["late_ticks"] = m.late_ticks;
@@ -149,10 +173,13 @@ Status save_session(const Session& session, const SessionMetrics& m, const std::
   if (Status written = session.write_recording(dir); !written.ok()) return written;
   const std::filesystem::path metrics = std::filesystem::path(dir) / "metrics.json";
   std::ofstream f(metrics);
-  f << metrics_json(m, scenario, fast);
+  nlohmann::ordered_json j = metrics_to_json(m, scenario, fast);
+  j["series"] = series_to_json(m.series);
+  f << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
   f.flush();
   if (!f) return Diagnostic{metrics.string(), 0, "", "cannot write the metrics"};
-  return {};
+  // What it was run with, for `report` to replay it (session_replay.h).
+  return write_session_record(dir, scenario, session.model().settings());
 }
 
 }  // namespace lap::sim

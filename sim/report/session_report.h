@@ -25,6 +25,13 @@ namespace lap::sim {
 [[nodiscard]] nlohmann::ordered_json task_to_json(TaskKind kind, const TaskState& task,
                                                   const std::vector<std::string>& organ_names);
 
+/// The training metrics as the JSON's top-level "metrics" object: numbers in the order given,
+/// null where undefined (docs/metrics.md).
+[[nodiscard]] nlohmann::ordered_json training_to_json(const std::vector<Metric>& metrics);
+/// The metrics' series (plots: insertion depth, force and squeeze on the duct, tool speeds), one
+/// array per series with the times in "t_s".
+[[nodiscard]] nlohmann::ordered_json series_to_json(const MetricsSeries& series);
+
 /// The session's metrics as a JSON object (what `laptrainer-cli run` prints), keys in the order
 /// written.
 [[nodiscard]] nlohmann::ordered_json metrics_to_json(const SessionMetrics& m,

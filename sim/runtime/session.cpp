@@ -173,6 +173,11 @@ Result<std::unique_ptr<Session>> Session::create(
   s->organ_force_n_.assign(organs, 0.0);
   s->organ_touched_.assign(organs, 0);
   s->tool_push_W_.assign(organs, Eigen::Vector3d::Zero());
+  // The training metrics beside it (training_metrics.h), on the same input.
+  const models::GraspSettings& grasp = m.tissue().settings().catheter_grasp;
+  s->metrics_model_ = MetricsModel::build(m.task(), grasp.grasp_below_rad, grasp.release_above_rad,
+                                          m.timing().model_dt_s, rs.duration_s, rs.dominant_tool);
+  s->metrics_ = MetricsState::create(s->metrics_model_);
 
   ModelSnapshot m0;
   m0.catheter = s->world_->catheter().positions;
@@ -570,7 +575,7 @@ void Session::model_tick(int64_t tick) noexcept {
 // the catheter's push), the squeeze on the duct. Ends the session with the task when asked.
 void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
   const TaskModel& tm = model_->task();
-  if (tm.kind == TaskKind::kNone || task_.done()) return;
+  if (metrics_.done) return;
   std::fill(organ_force_n_.begin(), organ_force_n_.end(), 0.0);
   std::fill(organ_touched_.begin(), organ_touched_.end(), uint8_t{0});
   TaskInput in;
@@ -606,6 +611,8 @@ void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
   in.organ_force_n = organ_force_n_;
   in.organ_touched = organ_touched_;
   step_task(tm, in, &task_);
+  const std::array<double, 2> opening = {h.tools[0].pose.opening_rad, h.tools[1].pose.opening_rad};
+  step_metrics(metrics_model_, tm, in, opening, task_, &metrics_);
   if (task_.done() && model_->settings().end_with_task) request_stop();
 }
 
@@ -756,6 +763,8 @@ SessionMetrics Session::run() {
   m.organ_names = model_->organ_names();
   m.task_kind = model_->task().kind;
   m.task = task_;
+  m.training = training_metrics(metrics_model_, metrics_, task_, m.organ_names);
+  m.series = metrics_.series;
   return m;
 }
 

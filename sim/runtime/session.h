@@ -55,6 +55,7 @@
 #include "sim/runtime/loop_stats.h"
 #include "sim/runtime/task_engine.h"
 #include "sim/runtime/tissue_world.h"
+#include "sim/runtime/training_metrics.h"
 #include "sim/runtime/trocar_tool.h"
 #include "sim/setup/runtime_settings.h"
 #include "sim/setup/scene.h"
@@ -138,6 +139,9 @@ struct SessionMetrics {
   /// The task engine's outcome: result, reasons, events, phase times (task_engine.h).
   TaskKind task_kind = TaskKind::kNone;
   TaskState task;
+  /// The training metrics (training_metrics.h; the JSON's top-level "metrics") and their series.
+  std::vector<Metric> training;
+  MetricsSeries series;
 };
 
 /// What a watchdog event's reason says to a user: its reason, and for a model fault which model
@@ -279,6 +283,8 @@ class Session {
   int64_t injected_fault_steps_ = 0;
   // The task engine's state and its inputs' storage, sized at set-up (modelling thread).
   TaskState task_;
+  MetricsModel metrics_model_;
+  MetricsState metrics_;
   std::vector<double> organ_force_n_;         ///< per organ [N]
   std::vector<uint8_t> organ_touched_;        ///< per organ
   std::vector<Eigen::Vector3d> tool_push_W_;  ///< per organ, one tool's contacts' sum [N]

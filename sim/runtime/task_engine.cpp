@@ -217,8 +217,7 @@ class Stepper {
       const auto k = static_cast<size_t>(i);
       OverTimer& timer = s_.out_of_view[k];
       if (!in_.tool_valid[k]) continue;
-      const Eigen::Vector3d v = in_.tool_tip_W[k] - m_.camera_W;
-      const bool seen = v.dot(m_.view_dir_W) >= m_.cos_half_view * v.norm();
+      const bool seen = m_.in_view(in_.tool_tip_W[k]);
       if (over(timer, seen ? 0.0 : 1.0, 0.5, m_.spec.out_of_view_grace_s)) {
         fail(TaskReason::kOutOfView, TaskEventKind::kOutOfView, i, -1, 0.0,
              in_.t_s - timer.since_s);

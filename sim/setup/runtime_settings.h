@@ -17,6 +17,8 @@ struct RuntimeSettings {
   /// The session ends when the scenario's task ends (success or failure; sim/runtime/
   /// task_engine.h), as `laptrainer-cli run` wants; the app keeps the trainee's session going.
   bool end_with_task = true;
+  /// The trainee's dominant hand (0 left, 1 right), for the handedness metrics.
+  int32_t dominant_tool = 1;
   /// The watchdog's timing (docs/architecture.md, "The watchdog"). A desktop kernel starts a
   /// tick more than 2 ms late now and then (an idle real-time sleep loop shows the same), and
   /// pausing the session for each would interrupt a trainee several times a minute. So:

@@ -62,6 +62,11 @@ struct TaskModel {
   Eigen::Vector3d camera_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d view_dir_W = -Eigen::Vector3d::UnitZ();
   double cos_half_view = 0.0;
+  /// `tip_W` within the laparoscope's view cone.
+  [[nodiscard]] bool in_view(const Eigen::Vector3d& tip_W) const {
+    const Eigen::Vector3d v = tip_W - camera_W;
+    return v.dot(view_dir_W) >= cos_half_view * v.norm();
+  }
 
   /// From the scenario and the tissue's model (the duct's shell and incision faces).
   /// Diagnostics name the scenario's file and line (task) and the field.

@@ -387,6 +387,80 @@ TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
   EXPECT_LT(done, 20.0);
   EXPECT_EQ(task["events"].back()["kind"], "success");
   EXPECT_LE(out["haptic"]["ticks"].get<int64_t>(), static_cast<int64_t>(done * 1000.0) + 1);
+  // The "metrics" object: numbers (null where undefined), snake_case names, the contract's keys.
+  const auto& metrics = out["metrics"];
+  ASSERT_TRUE(metrics.is_object()) << out.dump();
+  for (const auto& [name, value] : metrics.items()) {
+    EXPECT_TRUE(value.is_number() || value.is_null()) << name;
+    EXPECT_EQ(name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_"), std::string::npos)
+        << name;
+  }
+  for (const char* key : {"completion_time_s", "path_length_left_m", "path_length_right_m",
+                          "max_force_duct_n", "time_over_threshold_s", "catheter_drops"}) {
+    EXPECT_TRUE(metrics.contains(key) && metrics[key].is_number()) << key;
+  }
+  EXPECT_EQ(metrics["completion_time_s"].get<double>(), done);
+  EXPECT_EQ(metrics["catheter_drops"], 0.0);
+}
+
+TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
+  TempDir dir;
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const std::filesystem::path session = dir.path() / "session";
+  const CommandResult run =
+      run_command(cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+                  " --left scripted:" + (scripts / "clumsy_tear_left.csv").string() +
+                  " --right scripted:" + (scripts / "clumsy_tear_right.csv").string() +
+                  " --fast --duration 60 --dominant-hand left --record " + session.string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto live = nlohmann::ordered_json::parse(run.out, nullptr, false);
+  ASSERT_FALSE(live.is_discarded());
+  const CommandResult report = run_command(cli() + " report --session " + session.string());
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const auto replayed = nlohmann::ordered_json::parse(report.out, nullptr, false);
+  ASSERT_FALSE(replayed.is_discarded()) << report.out;
+  EXPECT_EQ(replayed["task"], live["task"]);
+  EXPECT_EQ(replayed["metrics"], live["metrics"]);
+  EXPECT_EQ(replayed["state_hash"], live["state_hash"]);
+  EXPECT_EQ(live["metrics"]["path_length_dominant_m"], live["metrics"]["path_length_left_m"]);
+  EXPECT_EQ(replayed["series"]["t_s"].size(), replayed["series"]["insertion_depth_m"].size());
+  // The saved metrics.json holds the same, with the series.
+  std::ifstream saved_file(session / "metrics.json");
+  const auto saved = nlohmann::ordered_json::parse(saved_file, nullptr, false);
+  ASSERT_FALSE(saved.is_discarded());
+  EXPECT_EQ(saved["metrics"], live["metrics"]);
+  EXPECT_EQ(saved["series"], replayed["series"]);
+
+  // CSV: a header, then one metric,value row per metric, in the JSON's order; empty for null.
+  const auto csv = dir.path() / "metrics.csv";
+  const CommandResult as_csv = run_command(cli() + " report --session " + session.string() +
+                                           " --format csv --out " + csv.string());
+  ASSERT_EQ(as_csv.exit_code, 0) << as_csv.err;
+  std::ifstream rows(csv);
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "metric,value");
+  for (const auto& [name, value] : live["metrics"].items()) {
+    ASSERT_TRUE(std::getline(rows, line)) << name;
+    const auto cells = csv_cells(line);
+    ASSERT_GE(cells.size(), 1U);
+    EXPECT_EQ(cells[0], name);
+    if (value.is_null()) {
+      EXPECT_EQ(cells.size(), 1U) << line;
+    } else {
+      ASSERT_EQ(cells.size(), 2U) << line;
+      EXPECT_EQ(std::stod(cells[1]), value.get<double>()) << line;
+    }
+  }
+
+  // Problems: a folder without a session's record (exit 2, naming the file), a bad format (64).
+  const CommandResult missing = run_command(cli() + " report --session " + dir.path().string());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("session.json"), std::string::npos) << missing.err;
+  const CommandResult bad =
+      run_command(cli() + " report --session " + session.string() + " --format pdf");
+  EXPECT_EQ(bad.exit_code, 64);
+  EXPECT_NE(bad.err.find("--format expects json or csv"), std::string::npos) << bad.err;
 }
 
 TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {

@@ -1,0 +1,187 @@
+#include "sim/report/session_replay.h"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "hardware/device_spec.h"
+#include "sim/setup/device_factory.h"
+#include "sim/setup/scene.h"
+
+namespace lap::sim {
+
+namespace {
+
+constexpr const char* kFormat = "laptrainer-session";
+constexpr int kVersion = 1;
+/// A session.json is a few hundred bytes: anything far larger is not one.
+constexpr std::uintmax_t kMaxRecordBytes = 64 * 1024;
+
+std::string hex64(uint64_t v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%016" PRIx64, v);
+  return text;
+}
+
+/// A number field, finite and positive.
+Result<double> positive_field(const nlohmann::json& j, const std::string& file, const char* field) {
+  const auto it = j.find(field);
+  if (it == j.end() || !it->is_number()) {
+    return file_diagnostic(file, 0, field, "expected a number");
+  }
+  const double v = it->get<double>();
+  if (!std::isfinite(v) || v <= 0.0) {
+    return file_diagnostic(file, 0, field, "expected a positive finite number");
+  }
+  return v;
+}
+
+Result<std::string> string_field(const nlohmann::json& j, const std::string& file,
+                                 const char* field) {
+  const auto it = j.find(field);
+  if (it == j.end() || !it->is_string()) {
+    return file_diagnostic(file, 0, field, "expected a string");
+  }
+  return it->get<std::string>();
+}
+
+}  // namespace
+
+Result<uint64_t> file_digest(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return file_diagnostic(file.string(), 0, "", "cannot read the file");
+  uint64_t h = 1469598103934665603ULL;
+  char buf[65536];
+  while (in.read(buf, sizeof(buf)) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h = (h ^ static_cast<unsigned char>(buf[i])) * 1099511628211ULL;
+    }
+  }
+  return h;
+}
+
+Status write_session_record(const std::filesystem::path& dir, const std::filesystem::path& scenario,
+                            const RuntimeSettings& settings) {
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(scenario, ec);
+  const Result<uint64_t> digest = file_digest(scenario);
+  if (!digest.ok()) return digest.diagnostics();
+  nlohmann::ordered_json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["scenario"] = (ec ? scenario : absolute).lexically_normal().string();
+  j["scenario_digest"] = hex64(digest.value());
+  j["mode"] = settings.fast ? "fast" : "realtime";
+  j["duration_s"] = settings.duration_s;
+  j["haptic_rate_hz"] = settings.haptic_rate_hz;
+  j["model_rate_hz"] = settings.model_rate_hz;
+  j["dominant_hand"] = settings.dominant_tool == 0 ? "left" : "right";
+  const std::filesystem::path file = dir / "session.json";
+  std::ofstream f(file);
+  f << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+  f.flush();
+  if (!f) return file_diagnostic(file.string(), 0, "", "cannot write the session's record");
+  return {};
+}
+
+Result<SessionRecord> read_session_record(const std::filesystem::path& dir) {
+  const std::filesystem::path path = dir / "session.json";
+  const std::string file = path.string();
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec)
+    return file_diagnostic(file, 0, "", "cannot read the session's record (" + ec.message() + ")");
+  if (size > kMaxRecordBytes) {
+    return file_diagnostic(file, 0, "",
+                           "is " + std::to_string(size) + " bytes; a session's record is at most " +
+                               std::to_string(kMaxRecordBytes));
+  }
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) {
+    return file_diagnostic(file, 0, "", "expected a JSON object (a session's record)");
+  }
+  if (j.value("format", std::string()) != kFormat) {
+    return file_diagnostic(file, 0, "format", std::string("expected \"") + kFormat + "\"");
+  }
+  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"] != kVersion) {
+    return file_diagnostic(file, 0, "version", "expected " + std::to_string(kVersion));
+  }
+  SessionRecord r;
+  std::vector<Diagnostic> problems;
+  auto take = [&](auto result, auto* out) {
+    if (result.ok()) {
+      *out = result.value();
+    } else {
+      for (const Diagnostic& d : result.diagnostics()) problems.push_back(d);
+    }
+  };
+  std::string scenario, digest, mode, hand;
+  take(string_field(j, file, "scenario"), &scenario);
+  take(string_field(j, file, "scenario_digest"), &digest);
+  take(string_field(j, file, "mode"), &mode);
+  take(string_field(j, file, "dominant_hand"), &hand);
+  take(positive_field(j, file, "duration_s"), &r.settings.duration_s);
+  take(positive_field(j, file, "haptic_rate_hz"), &r.settings.haptic_rate_hz);
+  take(positive_field(j, file, "model_rate_hz"), &r.settings.model_rate_hz);
+  if (!problems.empty()) return problems;
+  if (mode != "fast" && mode != "realtime") {
+    return file_diagnostic(file, 0, "mode",
+                           "expected \"fast\" or \"realtime\", got \"" + mode + "\"");
+  }
+  if (hand != "left" && hand != "right") {
+    return file_diagnostic(file, 0, "dominant_hand",
+                           "expected \"left\" or \"right\", got \"" + hand + "\"");
+  }
+  char* end = nullptr;
+  r.scenario_digest = std::strtoull(digest.c_str(), &end, 16);
+  if (digest.size() != 16 || end != digest.c_str() + digest.size()) {
+    return file_diagnostic(file, 0, "scenario_digest", "expected 16 hexadecimal digits");
+  }
+  r.scenario = scenario;
+  r.settings.fast = mode == "fast";
+  r.settings.dominant_tool = hand == "left" ? 0 : 1;
+  return r;
+}
+
+Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
+  Result<SessionRecord> record = read_session_record(dir);
+  if (!record.ok()) return record.diagnostics();
+  ReplayedSession out;
+  out.record = std::move(record).value();
+  const Result<uint64_t> digest = file_digest(out.record.scenario);
+  if (!digest.ok()) return digest.diagnostics();
+  if (digest.value() != out.record.scenario_digest) {
+    out.notes.push_back(out.record.scenario.string() +
+                        " has changed since the session was recorded: the replay runs the "
+                        "scenario as it is now, and its figures may differ from the session's");
+  }
+  if (!out.record.settings.fast) {
+    out.notes.push_back(
+        "recorded in real time: the replay steps the loops in lockstep, so the watchdog's "
+        "late-tick pauses of the live session are not in it and its figures may differ");
+  }
+  const SceneLoadResult scene = load_scene_file(out.record.scenario);
+  if (!scene.ok()) return scene.diagnostics();
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
+  for (int side = 0; side < 2; ++side) {
+    hardware::DeviceSpec spec;
+    spec.kind = hardware::DeviceKind::kReplay;
+    spec.argument = (dir / (side == 0 ? "left.lapdev" : "right.lapdev")).string();
+    auto device = make_device(spec, scene.value(), side);
+    if (!device.ok()) return device.diagnostics();
+    devices[static_cast<size_t>(side)] = std::move(device).value();
+  }
+  RuntimeSettings rs = out.record.settings;
+  rs.fast = true;
+  auto session = Session::create(scene.value(), std::move(devices), rs);
+  if (!session.ok()) return session.diagnostics();
+  out.metrics = session.value()->run();
+  return out;
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,167 @@
+// The training metrics of whole sessions (sim/runtime/training_metrics.h through the session),
+// and a recorded session replayed for review (sim/report/session_replay.h): the expert's and the
+// clumsy runs of the default scenario score what their events say; recomputed from the
+// recording, the metrics equal the live ones bit for bit; a session's record read back names
+// the field it cannot use.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "hardware/scripted_device.h"
+#include "sim/report/session_replay.h"
+#include "sim/report/session_report.h"
+#include "sim/runtime/session.h"
+#include "tests/sim/session_test_support.h"
+
+namespace lap::sim {
+namespace {
+
+using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
+
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+
+double metric(const SessionMetrics& m, const std::string& name) {
+  for (const Metric& x : m.training) {
+    if (x.name == name) return x.value;
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return NAN;
+}
+
+// The scripts `stem` on the default scene, recorded into `dir` as `run --record` does.
+SessionMetrics run_and_record(const std::string& stem, const fs::path& dir, int32_t dominant) {
+  const Scene& scene = default_scene();
+  Devices d;
+  for (int side = 0; side < 2; ++side) {
+    auto t = hardware::load_scripted_trajectory(kScripts /
+                                                (stem + (side == 0 ? "_left.csv" : "_right.csv")));
+    EXPECT_TRUE(t.ok()) << t.message();
+    d[static_cast<size_t>(side)] = std::make_unique<hardware::ScriptedDevice>(
+        std::move(t).value(), side == 0 ? "left" : "right");
+  }
+  RuntimeSettings rs = fast(60.0);
+  rs.dominant_tool = dominant;
+  auto created = Session::create(scene, std::move(d), rs);
+  EXPECT_TRUE(created.ok()) << created.message();
+  const SessionMetrics m = created.value()->run();
+  const Status saved =
+      save_session(*created.value(), m, (test::source_dir() / "scenarios/default.yaml").string(),
+                   true, dir.string());
+  EXPECT_TRUE(saved.ok()) << saved.message();
+  return m;
+}
+
+// Equal to the last bit, NaN for NaN.
+void expect_same_metrics(const std::vector<Metric>& a, const std::vector<Metric>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].name, b[i].name);
+    EXPECT_EQ(std::memcmp(&a[i].value, &b[i].value, sizeof(double)), 0)
+        << a[i].name << ": " << a[i].value << " vs " << b[i].value;
+  }
+}
+
+// The expert: one closure of the right jaws, which takes the catheter and keeps it; no drop,
+// no injury, nothing over a threshold; the depth past the target; the right hand (dominant)
+// travels farther than the left, which only steadies the duct.
+TEST(SessionMetrics, TheExpertScoresWhatItsEventsSay) {
+  const test::TempDir dir;
+  const SessionMetrics m = run_and_record("expert", dir.path(), 1);
+  ASSERT_EQ(m.task.result, TaskResult::kSuccess);
+  EXPECT_EQ(metric(m, "completion_time_s"), m.task.end_s);
+  EXPECT_EQ(metric(m, "phase_catheter_grasped_s"), m.task.phase_s[0]);
+  EXPECT_EQ(metric(m, "grasp_attempts_right"), 1.0);
+  EXPECT_EQ(metric(m, "catheter_drops"), 0.0);
+  EXPECT_EQ(metric(m, "injury_events"), 0.0);
+  EXPECT_EQ(metric(m, "time_over_threshold_s"), 0.0);
+  const TaskSpec& spec = *default_scene().scenario.task;
+  EXPECT_LE(metric(m, "max_force_duct_n"), spec.duct_injury_force_n);
+  EXPECT_GT(metric(m, "max_force_duct_n"), 0.0);
+  EXPECT_GE(metric(m, "max_insertion_depth_m"), spec.insertion_depth_m);
+  EXPECT_GT(metric(m, "path_length_right_m"), metric(m, "path_length_left_m"));
+  EXPECT_EQ(metric(m, "path_length_dominant_m"), metric(m, "path_length_right_m"));
+  EXPECT_GE(metric(m, "economy_of_motion_right"), 1.0);
+  EXPECT_FALSE(m.series.t_s.empty());
+  EXPECT_EQ(m.series.dropped, 0);
+}
+
+// Let go on the way: one drop; pulling on the grasped duct: an injury, over its threshold.
+TEST(SessionMetrics, TheClumsyRunsScoreTheirMistakes) {
+  const SessionMetrics drop = run_scripts(default_scene(), kScripts, "clumsy_drop");
+  EXPECT_EQ(metric(drop, "catheter_drops"), 1.0);
+  EXPECT_EQ(drop.task.result, TaskResult::kFailure);
+  EXPECT_EQ(metric(drop, "completion_time_s"), drop.task.end_s);  // ended, if not completed
+  const SessionMetrics tear = run_scripts(default_scene(), kScripts, "clumsy_tear");
+  const TaskSpec& spec = *default_scene().scenario.task;
+  EXPECT_EQ(metric(tear, "injury_events"), 1.0);
+  EXPECT_GT(metric(tear, "max_force_duct_n"), spec.duct_injury_force_n);
+  EXPECT_GE(metric(tear, "time_over_threshold_duct_s"), spec.duct_injury_time_s);
+  EXPECT_GT(metric(tear, "time_over_threshold_s"), 0.0);
+}
+
+// Recomputed from the recording (the report's replay), the metrics equal the live ones exactly,
+// and so do the task, the series and the state hash; the dominant hand is kept.
+TEST(SessionMetrics, ReplayedFromItsRecordingASessionScoresTheSame) {
+  const test::TempDir dir;
+  const SessionMetrics live = run_and_record("expert", dir.path(), 0);
+  EXPECT_EQ(metric(live, "path_length_dominant_m"), metric(live, "path_length_left_m"));
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r.value().notes.empty());
+  EXPECT_EQ(r.value().record.settings.dominant_tool, 0);
+  const SessionMetrics& again = r.value().metrics;
+  expect_same_metrics(live.training, again.training);
+  EXPECT_EQ(event_kinds(live.task), event_kinds(again.task));
+  EXPECT_EQ(live.task.end_s, again.task.end_s);
+  EXPECT_EQ(live.state_hash, again.state_hash);
+  EXPECT_EQ(live.series.depth_m, again.series.depth_m);
+  EXPECT_EQ(live.series.duct_force_n, again.series.duct_force_n);
+}
+
+// The record's fields, each checked: the message names session.json and the field.
+TEST(SessionMetrics, ABadSessionRecordNamesItsField) {
+  const test::TempDir dir;
+  run_and_record("clumsy_drop", dir.path(), 1);
+  const std::string good = file_text(dir.path() / "session.json");
+  struct Case {
+    std::string from, to, field;
+  };
+  const Case cases[] = {
+      {"\"mode\": \"fast\"", "\"mode\": \"slow\"", "mode"},
+      {"\"dominant_hand\": \"right\"", "\"dominant_hand\": 1", "dominant_hand"},
+      {"\"duration_s\": 60.0", "\"duration_s\": -1", "duration_s"},
+      {"\"haptic_rate_hz\": 1000.0", "\"haptic_rate_hz\": \"fast\"", "haptic_rate_hz"},
+      {"\"version\": 1", "\"version\": 7", "version"},
+      {"\"format\": \"laptrainer-session\"", "\"format\": \"other\"", "format"},
+  };
+  for (const Case& c : cases) {
+    std::string text = good;
+    const size_t at = text.find(c.from);
+    ASSERT_NE(at, std::string::npos) << c.from;
+    text.replace(at, c.from.size(), c.to);
+    dir.write("session.json", text);
+    const Result<SessionRecord> r = read_session_record(dir.path());
+    ASSERT_FALSE(r.ok()) << c.to;
+    EXPECT_NE(r.message().find("session.json"), std::string::npos) << r.message();
+    EXPECT_EQ(r.diagnostics().front().field, c.field) << r.message();
+  }
+  dir.write("session.json", "{\"format\": ");
+  EXPECT_NE(read_session_record(dir.path()).message().find("expected a JSON object"),
+            std::string::npos);
+  // Another scenario's digest: the replay runs, and says the scenario has changed.
+  std::string other = good;
+  const size_t at = other.find("\"scenario_digest\": \"") + std::strlen("\"scenario_digest\": \"");
+  other.replace(at, 16, "0123456789abcdef");
+  dir.write("session.json", other);
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.value().notes.size(), 1u);
+  EXPECT_NE(r.value().notes[0].find("has changed since the session was recorded"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace lap::sim
