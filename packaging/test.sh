@@ -35,12 +35,13 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   # Leak checking is off: Mesa, X11 and fontconfig keep process-lifetime allocations that
   # LeakSanitizer reports in the GUI test; memory errors and undefined behaviour still abort.
   # The simulated-hand runs (PortPassivity, 60 s each, a minute apiece here) are left to the
-  # release stage: their holds are sensitive to rounding, and this build's -O1 code follows a
-  # different trajectory on which the two tools holding the catheter taut keep a 35-40 Hz
+  # release stage (the sanitizer presets set LAP_SANITIZER, which leaves passivity_tests out):
+  # their holds are sensitive to rounding, and this build's -O1 code follows a different
+  # trajectory on which the two tools holding the catheter taut keep a 35-40 Hz
   # oscillation of 0.14-0.16 N RMS (an open defect of the catheter's model-rate coupling,
   # docs/architecture.md "Open"). The session code they run is checked here by the other tests.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --preset asan --parallel "$jobs" -E 'PortPassivity\.'
+    ctest --preset asan --parallel "$jobs"
 fi
 
 if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "sim/report/proficiency.h"
 #include "sim/report/session_replay.h"
 
 namespace lap::sim {
@@ -140,6 +141,7 @@ nlohmann::ordered_json metrics_to_json(const SessionMetrics& m, const std::strin
   j["mode"] = fast ? "fast" : "realtime";
   j["task"] = task_to_json(m.task_kind, m.task, m.organ_names);
   j["metrics"] = training_to_json(m.training);
+  if (m.proficiency) j["proficiency"] = proficiency_to_json(*m.proficiency, m.training);
   j["haptic"] = loop_json(m.haptic);
   // Ticks the watchdog zeroed for starting late, the forces ramping back (no pause, no event).
   j["haptic"]["late_ticks"] = m.late_ticks;

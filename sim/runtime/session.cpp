@@ -765,6 +765,7 @@ SessionMetrics Session::run() {
   m.task = task_;
   m.training = training_metrics(metrics_model_, metrics_, task_, m.organ_names);
   m.series = metrics_.series;
+  m.proficiency = model_->proficiency();
   return m;
 }
 

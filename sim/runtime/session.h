@@ -36,6 +36,7 @@
 #include <array>
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -142,6 +143,7 @@ struct SessionMetrics {
   /// The training metrics (training_metrics.h; the JSON's top-level "metrics") and their series.
   std::vector<Metric> training;
   MetricsSeries series;
+  std::optional<ProficiencySpec> proficiency;  ///< the scenario's benchmarks for them, if any
 };
 
 /// What a watchdog event's reason says to a user: its reason, and for a model fault which model

@@ -1,7 +1,6 @@
 #include "sim/runtime/training_metrics.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <limits>
 
@@ -217,10 +216,11 @@ std::vector<Metric> training_metrics(const MetricsModel& model, const MetricsSta
     const bool duct = static_cast<int32_t>(o) == model.duct_organ;
     std::string name = duct ? "duct" : snake_case(o < organ_names.size() ? organ_names[o] : "");
     if (!duct && (name.empty() || name == "duct")) name = "organ_" + std::to_string(o);
-    put("max_force_" + name + "_n", load.max_n);
-    put("mean_force_" + name + "_n", mean_or_nan(load.impulse_n_s, load.contact_s));
-    put("contact_time_" + name + "_s", load.contact_s);
-    put("time_over_threshold_" + name + "_s", load.over_s);
+    const std::vector<std::string> names = organ_metric_names(name);
+    put(names[0], load.max_n);
+    put(names[1], mean_or_nan(load.impulse_n_s, load.contact_s));
+    put(names[2], load.contact_s);
+    put(names[3], load.over_s);
   }
   put("time_over_threshold_s", s.over_threshold_s);
   put("injury_events", static_cast<double>(s.injury_events));
@@ -230,22 +230,6 @@ std::vector<Metric> training_metrics(const MetricsModel& model, const MetricsSta
   put("max_insertion_depth_m", s.max_depth_m);
   put("final_insertion_depth_m", s.depth_m);
   put("time_out_of_view_s", s.tools[0].out_of_view_s + s.tools[1].out_of_view_s);
-  return out;
-}
-
-std::string snake_case(const std::string& name) {
-  std::string out;
-  bool gap = false;
-  for (const char c : name) {
-    const auto u = static_cast<unsigned char>(c);
-    if (std::isalnum(u) != 0 && u < 128) {
-      if (gap && !out.empty()) out.push_back('_');
-      gap = false;
-      out.push_back(static_cast<char>(std::tolower(u)));
-    } else {
-      gap = true;
-    }
-  }
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "sim/runtime/task_engine.h"
+#include "sim/setup/metric_names.h"
 #include "sim/setup/task_model.h"
 
 namespace lap::sim {
@@ -141,9 +142,5 @@ struct Metric {
 [[nodiscard]] std::vector<Metric> training_metrics(const MetricsModel& model,
                                                    const MetricsState& state, const TaskState& task,
                                                    const std::vector<std::string>& organ_names);
-
-/// `name` lower-cased with every run of other characters than [a-z0-9] one '_'
-/// ("Common Bile-Duct" → "common_bile_duct").
-[[nodiscard]] std::string snake_case(const std::string& name);
 
 }  // namespace lap::sim

@@ -184,6 +184,24 @@ struct TaskSpec {
   int line = 0;  ///< where it is in the file, for later messages
 };
 
+/// An expert benchmark for one training metric (docs/metrics.md): the experts' mean and standard
+/// deviation; a trainee meets it within two SDs of the mean on the side that counts (at most
+/// mean + 2 SD where lower is better, at least mean − 2 SD where higher is).
+struct MetricBenchmark {
+  std::string metric;  ///< a training metric's name
+  double mean = 0.0;
+  double sd = 0.0;
+  bool higher_is_better = false;
+  int line = 0;
+};
+
+/// The scenario's proficiency benchmarks (`proficiency:`).
+struct ProficiencySpec {
+  std::string source;  ///< where the experts' figures come from
+  std::vector<MetricBenchmark> metrics;
+  int line = 0;
+};
+
 /// A whole scenario file.
 struct Scenario {
   std::filesystem::path file;  ///< the scenario file itself
@@ -197,6 +215,7 @@ struct Scenario {
   std::vector<ToolSpec> tools;
   std::optional<CatheterSpec> catheter;
   std::optional<TaskSpec> task;
+  std::optional<ProficiencySpec> proficiency;
 
   /// The tool held in that hand, or nullptr.
   [[nodiscard]] const ToolSpec* tool(ToolSpec::Side side) const;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "sim/setup/metric_names.h"
 #include "sim/setup/scenario_files.h"
 #include "sim/setup/scenario_material.h"
 #include "sim/setup/yaml_fields.h"
@@ -34,7 +35,7 @@ class ScenarioParser {
     }
     fields_.expect_map(root, "",
                        {"version", "name", "description", "allowed_paths", "camera", "organs",
-                        "trocars", "tools", "catheter", "task"});
+                        "trocars", "tools", "catheter", "task", "proficiency"});
     parse_header(root);
     // allowed_paths first: the file references below are checked against it.
     if (root["allowed_paths"]) files_.read_allowed_paths(root["allowed_paths"]);
@@ -46,6 +47,7 @@ class ScenarioParser {
     if (root["catheter"]) parse_catheter(root["catheter"]);
     if (root["task"]) parse_task(root["task"]);
     if (root["catheter"] && root["task"]) check_catheter_reach(root["catheter"]);
+    if (root["proficiency"]) parse_proficiency(root["proficiency"]);
   }
 
  private:
@@ -384,6 +386,68 @@ class ScenarioParser {
                             "from 0 to 60 (s)");
     fields_.optional_number(n, "out_of_view_grace_s", "task", t.out_of_view_grace_s, 0.0, 600.0,
                             "from 0 to 600 (s)");
+  }
+
+  // The experts' benchmarks: a source, and per training metric (named as the reports name them,
+  // the scene's organs included) its mean, SD and which side is better.
+  void parse_proficiency(const YAML::Node& n) {
+    if (!fields_.expect_map(n, "proficiency", {"source", "metrics"})) return;
+    ProficiencySpec p;
+    p.line = yaml_line(n);
+    if (fields_.require(n, "source", "proficiency")) {
+      if (auto v = fields_.string(n["source"], "proficiency.source")) p.source = *v;
+    }
+    if (fields_.require(n, "metrics", "proficiency")) {
+      const YAML::Node& ms = n["metrics"];
+      if (!ms.IsMap() || ms.size() == 0) {
+        fields_.problem(
+            ms, "proficiency.metrics",
+            "expected a mapping of metric names to {mean, sd}, got " + describe_yaml(ms));
+      } else {
+        for (const auto& kv : ms) parse_benchmark(kv.first, kv.second, p);
+      }
+    }
+    s_.proficiency = p;
+  }
+
+  void parse_benchmark(const YAML::Node& key, const YAML::Node& n, ProficiencySpec& p) {
+    const std::optional<std::string> name = fields_.string(key, "proficiency.metrics");
+    if (!name) return;
+    const std::string f = "proficiency.metrics." + *name;
+    std::vector<std::string> organs;
+    for (const OrganSpec& o : s_.organs) organs.push_back(o.name);
+    if (!is_metric_name(*name, organs)) {
+      fields_.problem(key, f,
+                      "not a training metric of this scenario (docs/metrics.md lists them; "
+                      "per-organ ones are named max_force_<organ>_n, with <organ> duct or an "
+                      "organ's name in snake_case)");
+      return;
+    }
+    if (std::any_of(p.metrics.begin(), p.metrics.end(),
+                    [&](const MetricBenchmark& b) { return b.metric == *name; })) {
+      fields_.problem(key, f, "is given twice");
+      return;
+    }
+    if (!fields_.expect_map(n, f, {"mean", "sd", "better"})) return;
+    MetricBenchmark b;
+    b.metric = *name;
+    b.line = yaml_line(key);
+    bool ok = fields_.require(n, "mean", f) && fields_.require(n, "sd", f);
+    if (ok) {
+      const auto mean = fields_.number(n["mean"], f + ".mean", -1e12, 1e12, "in the metric's unit");
+      const auto sd = fields_.number(n["sd"], f + ".sd", 0.0, 1e12, "of 0 or more");
+      ok = mean && sd;
+      if (ok) {
+        b.mean = *mean;
+        b.sd = *sd;
+      }
+    }
+    if (n["better"]) {
+      const auto better = fields_.word(n["better"], f + ".better", {"lower", "higher"});
+      ok = ok && better;
+      if (better) b.higher_is_better = *better == "higher";
+    }
+    if (ok) p.metrics.push_back(b);
   }
 
   void parse_forbidden_organs(const YAML::Node& n, TaskSpec& t) {

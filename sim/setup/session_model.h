@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,8 @@ class SessionModel {
   /// without a duct.
   [[nodiscard]] double duct_wall_stiffness_n_per_m() const { return duct_wall_stiffness_n_per_m_; }
   [[nodiscard]] const std::string& scenario_file() const { return scenario_file_; }
+  /// The scenario's expert benchmarks for the training metrics, if it has them.
+  [[nodiscard]] const std::optional<ProficiencySpec>& proficiency() const { return proficiency_; }
   /// Each organ's name, as the scenario gives it.
   [[nodiscard]] const std::vector<std::string>& organ_names() const { return organ_names_; }
 
@@ -94,6 +97,7 @@ class SessionModel {
   RuntimeSettings settings_;
   SessionTiming timing_;
   std::string scenario_file_;
+  std::optional<ProficiencySpec> proficiency_;
   std::array<ToolModel, 2> tools_;
   std::shared_ptr<const TissueModel> tissue_;
   TaskModel task_;

@@ -126,7 +126,7 @@ TEST_F(ScenarioFixture, Bad02_UnsupportedVersion) {
 TEST_F(ScenarioFixture, Bad03_UnknownTopLevelField) {
   expect_one(load_with(2, "name: test scene\ncolour: red"),
              "3: colour: unknown field (expected one of: version, name, description, "
-             "allowed_paths, camera, organs, trocars, tools, catheter, task)");
+             "allowed_paths, camera, organs, trocars, tools, catheter, task, proficiency)");
 }
 
 TEST_F(ScenarioFixture, Bad04_MissingMesh) {
@@ -380,6 +380,63 @@ TEST_F(ScenarioFixture, Bad42_CommonBileDuctIsNoOrgan) {
 TEST_F(ScenarioFixture, Bad43_CommonBileDuctIsTheTarget) {
   expect_one(load_with(33, "  target: duct\n  common_bile_duct: duct"),
              "34: task.common_bile_duct: 'duct' is the task's target (the catheter goes into it)");
+}
+
+// kBase's camera (line 35), then a proficiency section from line 36: source on 37, the
+// metrics' first on 39.
+std::map<int, std::string> with_proficiency(const std::string& metrics) {
+  return {{35, "  view_angle_deg: 30\nproficiency:\n  source: planned expert runs\n  metrics:\n" +
+                   metrics}};
+}
+
+TEST_F(ScenarioFixture, TheProficiencyBenchmarksAreRead) {
+  const ScenarioLoadResult r = load_with(
+      with_proficiency("    completion_time_s: {mean: 16, sd: 1.5}\n"
+                       "    max_force_liver_n: {mean: 0.3, sd: 0.1}\n"
+                       "    mean_force_duct_n: {mean: 0.2, sd: 0.05, better: lower}\n"
+                       "    max_insertion_depth_m: {mean: 0.013, sd: 0.001, better: higher}"));
+  ASSERT_TRUE(r.ok()) << all(r);
+  ASSERT_TRUE(r.value().proficiency.has_value());
+  const ProficiencySpec& p = *r.value().proficiency;
+  EXPECT_EQ(p.source, "planned expert runs");
+  ASSERT_EQ(p.metrics.size(), 4U);
+  EXPECT_EQ(p.metrics[0].metric, "completion_time_s");
+  EXPECT_DOUBLE_EQ(p.metrics[0].mean, 16.0);
+  EXPECT_DOUBLE_EQ(p.metrics[0].sd, 1.5);
+  EXPECT_FALSE(p.metrics[0].higher_is_better);
+  EXPECT_EQ(p.metrics[1].metric, "max_force_liver_n");  // an organ of the scene, by its name
+  EXPECT_EQ(p.metrics[1].line, 40);
+  EXPECT_TRUE(p.metrics[3].higher_is_better);
+  EXPECT_FALSE(load_with(0, "").value().proficiency.has_value());
+}
+
+TEST_F(ScenarioFixture, Bad44_ProficiencyNamesNoMetricOfTheScene) {
+  expect_one(load_with(with_proficiency("    max_force_spleen_n: {mean: 1, sd: 0.1}")),
+             "39: proficiency.metrics.max_force_spleen_n: not a training metric of this scenario "
+             "(docs/metrics.md lists them; per-organ ones are named max_force_<organ>_n, with "
+             "<organ> duct or an organ's name in snake_case)");
+}
+
+TEST_F(ScenarioFixture, Bad45_ProficiencyBenchmarkOutOfRange) {
+  expect_one(load_with(with_proficiency("    catheter_drops: {mean: 0, sd: -1}")),
+             "39: proficiency.metrics.catheter_drops.sd: expected a number of 0 or more, got -1");
+  expect_one(load_with(with_proficiency("    catheter_drops: {mean: .nan, sd: 1}")),
+             "39: proficiency.metrics.catheter_drops.mean: expected a number in the metric's unit, "
+             "got '.nan'");
+  expect_one(load_with(with_proficiency("    catheter_drops: {mean: 0, sd: 1, better: more}")),
+             "39: proficiency.metrics.catheter_drops.better: expected lower or higher, got 'more'");
+  expect_one(load_with(with_proficiency("    catheter_drops: {mean: 0}")),
+             "39: proficiency.metrics.catheter_drops.sd: required field is missing");
+}
+
+TEST_F(ScenarioFixture, Bad46_ProficiencyWithoutASourceOrTwice) {
+  expect_one(load_with({{35,
+                         "  view_angle_deg: 30\nproficiency:\n  metrics:\n"
+                         "    catheter_drops: {mean: 0, sd: 1}"}}),
+             "37: proficiency.source: required field is missing");
+  expect_one(load_with(with_proficiency("    catheter_drops: {mean: 0, sd: 1}\n"
+                                        "    catheter_drops: {mean: 1, sd: 1}")),
+             "40: proficiency.metrics.catheter_drops: is given twice");
 }
 
 TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {

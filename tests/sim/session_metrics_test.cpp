@@ -8,9 +8,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "hardware/scripted_device.h"
+#include "sim/report/proficiency.h"
 #include "sim/report/session_replay.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
@@ -161,6 +163,41 @@ TEST(SessionMetrics, ABadSessionRecordNamesItsField) {
   ASSERT_EQ(r.value().notes.size(), 1u);
   EXPECT_NE(r.value().notes[0].find("has changed since the session was recorded"),
             std::string::npos);
+}
+
+// Within two SDs of the experts' mean on the side that counts: lower is better for the time
+// (limit 16 + 2·1.5 = 19 s), higher for the depth (limit 13 − 2·1 = 11 mm); an undefined value
+// and a metric the session does not have are not met.
+TEST(Proficiency, AMetricIsMetWithinTwoSDsOnTheSideThatCounts) {
+  ProficiencySpec spec;
+  spec.source = "test";
+  spec.metrics = {{"completion_time_s", 16.0, 1.5, false, 1},
+                  {"max_insertion_depth_m", 0.013, 0.001, true, 2},
+                  {"mean_force_liver_n", 0.1, 0.1, false, 3},
+                  {"max_force_spleen_n", 1.0, 0.1, false, 4}};
+  const auto assess = [&](double time_s, double depth_m) {
+    return assess_proficiency(spec, {{"completion_time_s", time_s},
+                                     {"max_insertion_depth_m", depth_m},
+                                     {"mean_force_liver_n", NAN}});
+  };
+  auto r = assess(18.9, 0.0111);
+  ASSERT_EQ(r.size(), 4U);
+  EXPECT_TRUE(r[0].met);
+  EXPECT_DOUBLE_EQ(r[0].limit, 19.0);
+  EXPECT_TRUE(r[1].met);
+  EXPECT_DOUBLE_EQ(r[1].limit, 0.011);
+  EXPECT_FALSE(r[2].met);  // undefined in the session
+  EXPECT_FALSE(r[3].met);  // not in it
+  r = assess(19.1, 0.0109);
+  EXPECT_FALSE(r[0].met);
+  EXPECT_FALSE(r[1].met);
+  const nlohmann::ordered_json j =
+      proficiency_to_json(spec, {{"completion_time_s", 12.0}, {"max_insertion_depth_m", 0.02}});
+  EXPECT_EQ(j["met"], 2);
+  EXPECT_EQ(j["of"], 4);
+  EXPECT_EQ(j["all_met"], false);
+  EXPECT_EQ(j["metrics"]["max_insertion_depth_m"]["better"], "higher");
+  EXPECT_TRUE(j["metrics"]["mean_force_liver_n"]["value"].is_null());
 }
 
 }  // namespace

@@ -248,6 +248,25 @@ TEST(TrainingMetrics, StopAtTheTasksEndAndAllocateNothing) {
   EXPECT_EQ(d.metric("path_length_right_m"), last);
 }
 
+// Every name the metrics write is one a scenario's proficiency benchmarks may name
+// (sim/setup/metric_names.h checks them at load), in the same order for the fixed ones.
+TEST(TrainingMetrics, TheirNamesAreTheOnesTheScenarioLoaderKnows) {
+  Drive d;
+  d.tick(kStill, kStill);
+  const std::vector<std::string> organs = {"liver", "duct", "Gall Bladder"};
+  std::vector<std::string> fixed;
+  for (const Metric& m : training_metrics(d.model, d.state, d.task_state, organs)) {
+    EXPECT_TRUE(is_metric_name(m.name, organs)) << m.name;
+    if (m.name.find("force_") == std::string::npos && m.name.find("contact_time_") != 0 &&
+        (m.name.find("time_over_threshold_") != 0 || m.name == "time_over_threshold_s")) {
+      fixed.push_back(m.name);
+    }
+  }
+  EXPECT_EQ(fixed, fixed_metric_names());
+  EXPECT_FALSE(is_metric_name("max_force_spleen_n", organs));
+  EXPECT_TRUE(is_metric_name("max_force_gall_bladder_n", organs));
+}
+
 TEST(TrainingMetrics, OrganNamesAreSnakeCase) {
   EXPECT_EQ(snake_case("Common Bile-Duct"), "common_bile_duct");
   EXPECT_EQ(snake_case("  liver  "), "liver");
