@@ -29,6 +29,7 @@
 #include "haptics/setup/mesh_repair.h"
 #include "haptics/setup/mesh_validation.h"
 #include "hardware/device_spec.h"
+#include "sim/authoring/expert_benchmarks.h"
 #include "sim/authoring/expert_run.h"
 #include "sim/report/session_replay.h"
 #include "sim/report/session_report.h"
@@ -98,7 +99,11 @@ const char* const kUsage =
     "      plan the expert's catheter insertion for the scenario and write it as keyframe\n"
     "      scripts DIR/expert_left.csv and DIR/expert_right.csv (run them with scripted:FILE);\n"
     "      with --mistake, a clumsy run instead (the catheter dropped, pushed through the wall,\n"
-    "      the duct torn), written as DIR/clumsy_MISTAKE_left.csv and _right.csv\n";
+    "      the duct torn), written as DIR/clumsy_MISTAKE_left.csv and _right.csv\n"
+    "  expert-benchmarks --scenario FILE [--runs N]\n"
+    "      plan N expert runs with their approach varied, run each --fast, and print the mean\n"
+    "      and SD of the training metrics over those that succeed as the scenario's\n"
+    "      proficiency: section (YAML; a stand-in for measured experts)\n";
 
 // Parses --key value pairs and bare --flags after the command.
 struct Args {
@@ -569,6 +574,38 @@ int cmd_generate_assets(int argc, char** argv) {
   return kExitOk;
 }
 
+int cmd_expert_benchmarks(int argc, char** argv) {
+  Args args(argc, argv, {});
+  lap::sim::ExpertBenchmarkSettings settings;
+  if (args.has("--runs")) {
+    const std::optional<double> n = parse_positive(args.get("--runs"));
+    if (!n || *n < 2 || *n > 1000 || std::floor(*n) != *n) {
+      args.errors.push_back("--runs expects a whole number from 2 to 1000, got '" +
+                            args.get("--runs") + "'");
+    } else {
+      settings.runs = static_cast<int>(*n);
+    }
+  }
+  if (!args.only({"--scenario", "--runs"}) || !args.has("--scenario") || !args.errors.empty()) {
+    if (!args.has("--scenario")) args.errors.push_back("expert-benchmarks needs --scenario FILE");
+    return usage_error(args);
+  }
+  const lap::sim::SceneLoadResult r = lap::sim::load_scene_file(args.get("--scenario"));
+  if (!r.ok()) return print_problems(r.diagnostics());
+  auto found = lap::sim::plan_expert_benchmarks(r.value(), settings);
+  if (!found.ok()) return print_problems(found.diagnostics());
+  const lap::sim::ExpertBenchmarks& b = found.value();
+  std::cout << lap::sim::proficiency_yaml(b.spec);
+  for (const std::string& f : b.failures) {
+    std::cerr << "laptrainer-cli expert-benchmarks: a run did not succeed (left out): " << f
+              << "\n";
+  }
+  for (const std::string& m : b.left_out) {
+    std::cerr << "laptrainer-cli expert-benchmarks: no benchmark for " << m << "\n";
+  }
+  return kExitOk;
+}
+
 int cmd_plan_expert(int argc, char** argv) {
   Args args(argc, argv, {});
   lap::sim::ExpertRunSettings settings;
@@ -634,6 +671,7 @@ int main(int argc, char** argv) {
     if (cmd == "mesh-info") return cmd_mesh_info(argc, argv);
     if (cmd == "generate-assets") return cmd_generate_assets(argc, argv);
     if (cmd == "plan-expert") return cmd_plan_expert(argc, argv);
+    if (cmd == "expert-benchmarks") return cmd_expert_benchmarks(argc, argv);
     if (cmd == "probe") return cmd_probe(argc, argv);
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "report") return cmd_report(argc, argv);
