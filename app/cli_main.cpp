@@ -31,6 +31,7 @@
 #include "hardware/device_spec.h"
 #include "sim/authoring/expert_benchmarks.h"
 #include "sim/authoring/expert_run.h"
+#include "sim/report/session_pdf.h"
 #include "sim/report/session_replay.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
@@ -87,10 +88,10 @@ const char* const kUsage =
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
     "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
     "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
-    "  report --session DIR [--format json|csv] [--out FILE]\n"
+    "  report --session DIR [--format json|csv|pdf] [--out FILE]\n"
     "      replay a session recorded by run --record and print its task and training metrics,\n"
     "      recomputed from the recorded inputs (json: as run prints them, with the series;\n"
-    "      csv: one metric,value row per metric)\n"
+    "      csv: one metric,value row per metric; pdf: the plots and the metrics, needs --out)\n"
     "  generate-assets --out DIR [--anatomy PRESET|all]\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR; with --anatomy,\n"
     "      the generated anatomy instead (glTF 2.0): DIR/PRESET/ per preset (default, easy,\n"
@@ -501,16 +502,29 @@ int cmd_report(int argc, char** argv) {
   const bool ok = args.only({"--session", "--format", "--out"});
   if (!args.has("--session")) args.errors.push_back("report needs --session");
   const std::string format = args.get("--format", "json");
-  if (format != "json" && format != "csv") {
-    args.errors.push_back("--format expects json or csv, got '" + format + "'");
+  if (format != "json" && format != "csv" && format != "pdf") {
+    args.errors.push_back("--format expects json, csv or pdf, got '" + format + "'");
   }
+  if (format == "pdf" && !args.has("--out")) args.errors.push_back("--format pdf needs --out FILE");
   if (!ok || !args.errors.empty()) return usage_error(args);
   const auto replayed = lap::sim::replay_session(args.get("--session"));
   if (!replayed.ok()) return print_problems(replayed.diagnostics());
   const lap::sim::ReplayedSession& r = replayed.value();
   for (const std::string& n : r.notes) std::cerr << "laptrainer-cli report: note: " << n << "\n";
   std::string text;
-  if (format == "csv") {
+  if (format == "pdf") {
+    lap::sim::SessionPdfContext c;
+    c.scenario_name = r.scenario_name;
+    c.scenario_file = r.record.scenario.string();
+    c.session = args.get("--session");
+    c.mode = r.record.settings.fast ? "fast" : "realtime";
+    if (r.task) {
+      c.duct_injury_force_n = r.task->duct_injury_force_n;
+      c.insertion_depth_m = r.task->insertion_depth_m;
+    }
+    c.notes = r.notes;
+    text = lap::sim::session_pdf(r.metrics, c).bytes();
+  } else if (format == "csv") {
     text = "metric,value\n";
     for (const lap::sim::Metric& x : r.metrics.training) {
       // The shortest text that reads back to the same double; empty where undefined (null).
@@ -531,7 +545,7 @@ int cmd_report(int argc, char** argv) {
     std::cout << text;
     return kExitOk;
   }
-  std::ofstream out(args.get("--out"));
+  std::ofstream out(args.get("--out"), std::ios::binary);
   out << text;
   out.flush();
   if (!out) {

@@ -15,6 +15,8 @@ PACKAGES=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # headless display for GUI tests and screenshots
   xvfb xauth libgl1-mesa-dri mesa-utils
+  # the PDF reports are checked by rendering them (pdftoppm) and reading their text (pdftotext)
+  poppler-utils
 )
 
 missing=()

@@ -167,6 +167,8 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
   }
   const SceneLoadResult scene = load_scene_file(out.record.scenario);
   if (!scene.ok()) return scene.diagnostics();
+  out.scenario_name = scene.value().scenario.name;
+  out.task = scene.value().scenario.task;
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
   for (int side = 0; side < 2; ++side) {
     hardware::DeviceSpec spec;

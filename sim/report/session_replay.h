@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/result.h"
@@ -42,6 +43,8 @@ struct SessionRecord {
 /// the report should know (the scenario changed since, a real-time session's replay).
 struct ReplayedSession {
   SessionRecord record;
+  std::string scenario_name;     ///< the scenario's `name`
+  std::optional<TaskSpec> task;  ///< its task as it is now (thresholds for the plots)
   SessionMetrics metrics;
   std::vector<std::string> notes;
 };

@@ -185,7 +185,8 @@ std::vector<Metric> training_metrics(const MetricsModel& model, const MetricsSta
                                      const std::vector<std::string>& organ_names) {
   std::vector<Metric> out;
   const auto put = [&](std::string name, double value) { out.push_back({std::move(name), value}); };
-  put("completion_time_s", task.end_s >= 0.0 ? task.end_s : kNaN);
+  // Completed: succeeded (a failure ends the task without completing it).
+  put("completion_time_s", task.result == TaskResult::kSuccess ? task.end_s : kNaN);
   put("session_time_s", s.first_t_s >= 0.0 ? s.t_s - s.first_t_s + model.dt_s : 0.0);
   const char* const phases[] = {"catheter_grasped", "tip_at_incision", "tip_in_lumen",
                                 "target_depth_reached", "held"};

@@ -453,14 +453,54 @@ TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
     }
   }
 
+  // PDF: two pages that render (pdftoppm), with the result, the plots' titles and the metrics'
+  // names as text (pdftotext), and ink on the plots: the red of the force and its threshold.
+  const auto pdf = dir.path() / "report.pdf";
+  const CommandResult as_pdf = run_command(cli() + " report --session " + session.string() +
+                                           " --format pdf --out " + pdf.string());
+  ASSERT_EQ(as_pdf.exit_code, 0) << as_pdf.err;
+  const CommandResult text = run_command("pdftotext " + pdf.string() + " -");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  for (const char* expected : {"failure: duct_injury", "Force on the duct [N]",
+                               "Insertion depth [mm]", "Tool speed [mm/s]", "Training metrics",
+                               "max_force_duct_n", "NOT MET", "injury threshold 2.00 N"}) {
+    EXPECT_NE(text.out.find(expected), std::string::npos) << expected << " in\n" << text.out;
+  }
+  const auto page = dir.path() / "page";
+  const CommandResult render =
+      run_command("pdftoppm -r 50 " + pdf.string() + " " + page.string());  // PPM (P6)
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  for (const char* n : {"-1.ppm", "-2.ppm"}) {
+    ASSERT_TRUE(std::filesystem::exists(page.string() + n)) << n;
+  }
+  std::ifstream ppm(page.string() + "-1.ppm", std::ios::binary);
+  std::string magic;
+  int width = 0, height = 0, maxval = 0;
+  ppm >> magic >> width >> height >> maxval;
+  ppm.get();
+  ASSERT_EQ(magic, "P6");
+  std::vector<unsigned char> rgb(static_cast<size_t>(width * height * 3));
+  ppm.read(reinterpret_cast<char*>(rgb.data()), static_cast<std::streamsize>(rgb.size()));
+  int red = 0, ink = 0;
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    if (rgb[i] > 150 && rgb[i + 1] < 90 && rgb[i + 2] < 90) ++red;
+    if (rgb[i] < 128 && rgb[i + 1] < 128 && rgb[i + 2] < 128) ++ink;
+  }
+  EXPECT_GT(red, 200) << "the force's curve and its threshold";
+  EXPECT_GT(ink, 2000) << "text and axes";
+
   // Problems: a folder without a session's record (exit 2, naming the file), a bad format (64).
   const CommandResult missing = run_command(cli() + " report --session " + dir.path().string());
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("session.json"), std::string::npos) << missing.err;
   const CommandResult bad =
-      run_command(cli() + " report --session " + session.string() + " --format pdf");
+      run_command(cli() + " report --session " + session.string() + " --format html");
   EXPECT_EQ(bad.exit_code, 64);
-  EXPECT_NE(bad.err.find("--format expects json or csv"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--format expects json, csv or pdf"), std::string::npos) << bad.err;
+  const CommandResult no_out =
+      run_command(cli() + " report --session " + session.string() + " --format pdf");
+  EXPECT_EQ(no_out.exit_code, 64);
+  EXPECT_NE(no_out.err.find("--format pdf needs --out FILE"), std::string::npos) << no_out.err;
 }
 
 TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {
