@@ -454,6 +454,21 @@ int cmd_run(int argc, char** argv) {
     return kExitProblems;
   }
   const std::unique_ptr<lap::sim::Session> session = std::move(created).value();
+  if (args.has("--record")) {
+    // Streamed as it runs (a crash loses at most the last 100 ms), with what it was run with.
+    const fs::path dir = args.get("--record");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    const auto header = lap::sim::session_record_json(args.get("--scenario"), rs);
+    lap::Status ready = header.ok()
+                            ? lap::sim::write_session_record(dir, args.get("--scenario"), rs)
+                            : lap::Status(header.diagnostics());
+    if (ready.ok()) ready = session->record_to(dir / "session.lrec", header.value());
+    if (!ready.ok()) {
+      std::cerr << "laptrainer-cli run: " << ready.message() << "\n";
+      return kExitProblems;
+    }
+  }
   // A signal stops the session as the window's End Session does: at the next tick, after which
   // run() commands zero force to both devices; then the metrics and recording so far are written.
   std::atomic<bool> ran{false};
@@ -511,6 +526,13 @@ int cmd_report(int argc, char** argv) {
   if (!replayed.ok()) return print_problems(replayed.diagnostics());
   const lap::sim::ReplayedSession& r = replayed.value();
   for (const std::string& n : r.notes) std::cerr << "laptrainer-cli report: note: " << n << "\n";
+  for (const std::string& p : r.recording_problems) {
+    std::cerr << "laptrainer-cli report: recording: " << p << "\n";
+  }
+  if (r.interrupted) {
+    std::cerr << "laptrainer-cli report: the session was interrupted (its recording has no end); "
+                 "replayed up to its last recorded tick\n";
+  }
   std::string text;
   if (format == "pdf") {
     lap::sim::SessionPdfContext c;
@@ -537,6 +559,11 @@ int cmd_report(int argc, char** argv) {
     nlohmann::ordered_json j =
         lap::sim::metrics_to_json(r.metrics, r.record.scenario.string(), r.record.settings.fast);
     j["session"] = args.get("--session");
+    // A session whose recording has no end: the process was killed (at most 100 ms lost).
+    j["interrupted"] = r.interrupted;
+    j["recording"] = {{"file", r.streamed ? "session.lrec" : "left.lapdev, right.lapdev"},
+                      {"ticks", r.streamed ? r.recorded_ticks : r.metrics.recorded_ticks},
+                      {"problems", r.recording_problems}};
     j["notes"] = r.notes;
     j["series"] = lap::sim::series_to_json(r.metrics.series);
     text = j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";

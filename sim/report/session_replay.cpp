@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "hardware/device_spec.h"
+#include "hardware/replay_device.h"
+#include "sim/report/recording_reader.h"
 #include "sim/setup/device_factory.h"
 #include "sim/setup/scene.h"
 
@@ -63,8 +65,8 @@ Result<uint64_t> file_digest(const std::filesystem::path& file) {
   return h;
 }
 
-Status write_session_record(const std::filesystem::path& dir, const std::filesystem::path& scenario,
-                            const RuntimeSettings& settings) {
+Result<std::string> session_record_json(const std::filesystem::path& scenario,
+                                        const RuntimeSettings& settings) {
   std::error_code ec;
   const std::filesystem::path absolute = std::filesystem::absolute(scenario, ec);
   const Result<uint64_t> digest = file_digest(scenario);
@@ -79,9 +81,16 @@ Status write_session_record(const std::filesystem::path& dir, const std::filesys
   j["haptic_rate_hz"] = settings.haptic_rate_hz;
   j["model_rate_hz"] = settings.model_rate_hz;
   j["dominant_hand"] = settings.dominant_tool == 0 ? "left" : "right";
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+Status write_session_record(const std::filesystem::path& dir, const std::filesystem::path& scenario,
+                            const RuntimeSettings& settings) {
+  const Result<std::string> text = session_record_json(scenario, settings);
+  if (!text.ok()) return text.diagnostics();
   const std::filesystem::path file = dir / "session.json";
   std::ofstream f(file);
-  f << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+  f << text.value();
   f.flush();
   if (!f) return file_diagnostic(file.string(), 0, "", "cannot write the session's record");
   return {};
@@ -170,13 +179,29 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
   out.scenario_name = scene.value().scenario.name;
   out.task = scene.value().scenario.task;
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
-  for (int side = 0; side < 2; ++side) {
-    hardware::DeviceSpec spec;
-    spec.kind = hardware::DeviceKind::kReplay;
-    spec.argument = (dir / (side == 0 ? "left.lapdev" : "right.lapdev")).string();
-    auto device = make_device(spec, scene.value(), side);
-    if (!device.ok()) return device.diagnostics();
-    devices[static_cast<size_t>(side)] = std::move(device).value();
+  if (std::filesystem::exists(dir / "session.lrec")) {
+    // The streamed recording: what a crash left, too.
+    Result<RecordedSession> rec = read_session_recording(dir / "session.lrec");
+    if (!rec.ok()) return rec.diagnostics();
+    out.streamed = true;
+    out.interrupted = rec.value().interrupted;
+    out.recorded_ticks = static_cast<int64_t>(rec.value().ticks.size());
+    out.recording_problems = rec.value().problems;
+    for (size_t side = 0; side < 2; ++side) {
+      hardware::DeviceRecording r = std::move(rec.value().devices[side]);
+      r.period_s = 1.0 / out.record.settings.haptic_rate_hz;
+      devices[side] = std::make_unique<hardware::ReplayDevice>(
+          std::move(r), side == 0 ? "left replay" : "right replay");
+    }
+  } else {
+    for (int side = 0; side < 2; ++side) {
+      hardware::DeviceSpec spec;
+      spec.kind = hardware::DeviceKind::kReplay;
+      spec.argument = (dir / (side == 0 ? "left.lapdev" : "right.lapdev")).string();
+      auto device = make_device(spec, scene.value(), side);
+      if (!device.ok()) return device.diagnostics();
+      devices[static_cast<size_t>(side)] = std::move(device).value();
+    }
   }
   RuntimeSettings rs = out.record.settings;
   rs.fast = true;

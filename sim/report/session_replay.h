@@ -31,6 +31,11 @@ struct SessionRecord {
 /// FNV-1a 64 of a file's bytes; diagnostics name the file when it cannot be read.
 [[nodiscard]] Result<uint64_t> file_digest(const std::filesystem::path& file);
 
+/// session.json's text for a session on `scenario` run with `settings` (it also heads the
+/// streamed recording, session.lrec).
+[[nodiscard]] Result<std::string> session_record_json(const std::filesystem::path& scenario,
+                                                      const RuntimeSettings& settings);
+
 /// Writes DIR/session.json for a session on `scenario` run with `settings`.
 [[nodiscard]] Status write_session_record(const std::filesystem::path& dir,
                                           const std::filesystem::path& scenario,
@@ -47,10 +52,17 @@ struct ReplayedSession {
   std::optional<TaskSpec> task;  ///< its task as it is now (thresholds for the plots)
   SessionMetrics metrics;
   std::vector<std::string> notes;
+  /// From the streamed recording (session.lrec) when the folder has one, else the .lapdev
+  /// files: interrupted when it has no end (the process was killed), with what was damaged.
+  bool streamed = false;
+  bool interrupted = false;
+  int64_t recorded_ticks = 0;
+  std::vector<std::string> recording_problems;
 };
 
-/// Replays DIR's recorded inputs through the recorded scenario, in lockstep (RuntimeSettings::
-/// fast), with the recorded rates, duration and dominant hand.
+/// Replays DIR's recorded inputs (session.lrec, else left.lapdev and right.lapdev) through the
+/// recorded scenario, in lockstep (RuntimeSettings::fast), with the recorded rates, duration
+/// and dominant hand.
 [[nodiscard]] Result<ReplayedSession> replay_session(const std::filesystem::path& dir);
 
 }  // namespace lap::sim

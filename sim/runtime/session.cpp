@@ -1,10 +1,13 @@
 #include "sim/runtime/session.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "haptics/point_proxy.h"
@@ -191,6 +194,7 @@ Result<std::unique_ptr<Session>> Session::create(
     r.period_s = timing.dt_s;
     r.samples.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
   }
+  s->tick_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
   s->events_.reserve(1024);
 
   for (Tool& tool : s->tools_) {
@@ -511,6 +515,31 @@ void Session::send_commands(int64_t tick, const std::array<hardware::DeviceComma
     hash_bytes(&hash_, &sent[i].squeeze_n, sizeof(double));
     hash_vector(&hash_, snap.tools[i].pose.hinge_W);
   }
+  log_tick(tick, sent, late, paused);
+}
+
+// What was sent, beside the devices' samples, for the recording (capacity reserved at set-up);
+// the ticks complete in all three are published to the recorder's thread.
+void Session::log_tick(int64_t tick, const std::array<hardware::DeviceCommand, 2>& sent, bool late,
+                       bool paused) noexcept {
+  if (tick_log_.size() < tick_log_.capacity()) {
+    TickLog log;
+    log.tick = tick;
+    timespec now{};
+    clock_gettime(CLOCK_REALTIME, &now);  // vDSO: no system call
+    log.wall_ns = static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
+    for (size_t i = 0; i < 2; ++i) {
+      log.force_W[i] = sent[i].force_W;
+      log.squeeze_n[i] = sent[i].squeeze_n;
+    }
+    log.gain = gain_;
+    log.late = late;
+    log.paused = paused;
+    tick_log_.push_back(log);
+  }
+  const size_t complete =
+      std::min({recordings_[0].samples.size(), recordings_[1].samples.size(), tick_log_.size()});
+  published_ticks_.store(static_cast<int64_t>(complete), std::memory_order_release);
 }
 
 void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
@@ -728,7 +757,18 @@ std::vector<std::string> Session::scheduling_warnings() const {
   return w;
 }
 
+Status Session::record_to(const std::filesystem::path& file, const std::string& header_json) {
+  auto opened = SessionRecorder::open(file, header_json);
+  if (!opened.ok()) return opened.diagnostics();
+  recorder_ = std::move(opened).value();
+  return {};
+}
+
 SessionMetrics Session::run() {
+  if (recorder_) {
+    recorder_->start(recordings_[0].samples.data(), recordings_[1].samples.data(), tick_log_.data(),
+                     &published_ticks_);
+  }
   if (model_->settings().fast) {
     run_fast();
   } else {
@@ -766,7 +806,28 @@ SessionMetrics Session::run() {
   m.training = training_metrics(metrics_model_, metrics_, task_, m.organ_names);
   m.series = metrics_.series;
   m.proficiency = model_->proficiency();
+  if (recorder_) finish_recording(&m);
   return m;
+}
+
+// The streamed recording's end: the rest of the ticks, the events, the end chunk (a file
+// without it was interrupted). A recording stopped early (a full disk) is a warning: the session
+// itself went on.
+void Session::finish_recording(SessionMetrics* m) {
+  nlohmann::ordered_json events = nlohmann::ordered_json::array();
+  for (const TaskEvent& e : m->task.events) {
+    events.push_back({{"t_s", e.t_s}, {"kind", std::string(to_string(e.kind))}});
+  }
+  const nlohmann::ordered_json body = {{"task_events", events},
+                                       {"watchdog_events", m->events.size()}};
+  char hash[32];
+  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(m->state_hash));
+  const nlohmann::ordered_json end = {{"ticks", published_ticks_.load()},
+                                      {"result", std::string(to_string(m->task.result))},
+                                      {"state_hash", hash}};
+  const Status done = recorder_->finish(body.dump(), end.dump());
+  if (!done.ok()) m->warnings.push_back(done.message());
+  recorder_.reset();
 }
 
 Status Session::write_recording(const std::string& dir) const {

@@ -35,6 +35,7 @@
 
 #include <array>
 #include <atomic>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,6 +55,7 @@
 #include "sim/runtime/deformed_surface.h"
 #include "sim/runtime/haptic_surfaces.h"
 #include "sim/runtime/loop_stats.h"
+#include "sim/runtime/session_recorder.h"
 #include "sim/runtime/task_engine.h"
 #include "sim/runtime/tissue_world.h"
 #include "sim/runtime/training_metrics.h"
@@ -210,6 +212,10 @@ class Session {
   }
   /// Writes DIR/left.lapdev, DIR/right.lapdev; diagnostics name the file on failure.
   [[nodiscard]] Status write_recording(const std::string& dir) const;
+  /// Before run(): the session is also recorded as it runs into `file` (session_recorder.h),
+  /// so that a crash loses at most the last 100 ms; `header_json` heads it (session.json's
+  /// fields). run() closes it, after the devices are sent zero.
+  [[nodiscard]] Status record_to(const std::filesystem::path& file, const std::string& header_json);
 
   [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
     return model_->tool(static_cast<size_t>(tool)).gripper;
@@ -240,6 +246,9 @@ class Session {
   void send_commands(int64_t tick, const std::array<hardware::DeviceCommand, 2>& wanted,
                      const HapticSnapshot& snap) noexcept;
   void publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept;
+  void log_tick(int64_t tick, const std::array<hardware::DeviceCommand, 2>& sent, bool late,
+                bool paused) noexcept;
+  void finish_recording(SessionMetrics* m);
   void model_tick(int64_t tick) noexcept;
   void step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept;
   void trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault = {}) noexcept;
@@ -335,6 +344,9 @@ class Session {
 
   // Recording (haptic thread writes, capacity reserved at set-up).
   std::array<hardware::DeviceRecording, 2> recordings_{};
+  std::vector<TickLog> tick_log_;
+  std::atomic<int64_t> published_ticks_{0};    ///< complete in recordings_ and tick_log_
+  std::unique_ptr<SessionRecorder> recorder_;  ///< streams them to disk (record_to)
   int64_t dropped_samples_ = 0;
   uint64_t hash_ = 1469598103934665603ULL;        ///< haptic thread: commands, tool poses
   uint64_t model_hash_ = 1469598103934665603ULL;  ///< modelling thread: catheter

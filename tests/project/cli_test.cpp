@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "sim/report/recording_reader.h"
 #include "tests/test_support.h"
 
 namespace lap::test {
@@ -632,9 +633,62 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
     ASSERT_FALSE(ticks.empty()) << out;
     EXPECT_GT(std::stoll(ticks), 0) << out;
     EXPECT_LT(std::stoll(ticks), 120'000) << out;  // stopped long before its duration
-    EXPECT_EQ(slurp(rec + "/metrics.json"), out);
+    // metrics.json: the same, with the series for plots beside it.
+    auto saved = nlohmann::ordered_json::parse(slurp(rec + "/metrics.json"), nullptr, false);
+    ASSERT_TRUE(saved.contains("series"));
+    saved.erase("series");
+    EXPECT_EQ(saved, j);
     EXPECT_GT(std::filesystem::file_size(rec + "/left.lapdev"), 0U);
     EXPECT_GT(std::filesystem::file_size(rec + "/right.lapdev"), 0U);
+    // The streamed recording closed cleanly (its end written after the forces were zeroed).
+    const auto streamed = lap::sim::read_session_recording(rec + "/session.lrec");
+    ASSERT_TRUE(streamed.ok()) << streamed.message();
+    EXPECT_FALSE(streamed.value().interrupted);
+    EXPECT_TRUE(streamed.value().problems.empty());
+    EXPECT_EQ(static_cast<int64_t>(streamed.value().ticks.size()), std::stoll(ticks));
+  }
+}
+
+// kill -9 in the middle of a recorded real-time session: the recording keeps everything up to
+// at most 100 ms before the kill, `report` reads it, says the session was interrupted, and
+// replays it.
+TEST(CliRun, KilledMidSessionTheRecordingLosesAtMost100Ms) {
+  TempDir dir;
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const std::string rec = (dir.path() / "rec").string();
+  const pid_t pid = spawn_cli(
+      {"run", "--scenario", (source_dir() / "scenarios/default.yaml").string(), "--left",
+       "scripted:" + (scripts / "expert_left.csv").string(), "--right",
+       "scripted:" + (scripts / "expert_right.csv").string(), "--duration", "60", "--record", rec},
+      dir.path() / "out.json", dir.path() / "err.txt");
+  ASSERT_GT(pid, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3500));
+  timespec now{};
+  clock_gettime(CLOCK_REALTIME, &now);
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  const int64_t killed_ns = static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  const auto streamed = lap::sim::read_session_recording(rec + "/session.lrec");
+  ASSERT_TRUE(streamed.ok()) << streamed.message();
+  const lap::sim::RecordedSession& r = streamed.value();
+  EXPECT_TRUE(r.interrupted);
+  ASSERT_GT(r.ticks.size(), 500U) << slurp(dir.path() / "err.txt");
+  const double lost_s = static_cast<double>(killed_ns - r.ticks.back().wall_ns) * 1e-9;
+  EXPECT_LE(lost_s, 0.100) << r.ticks.size() << " ticks recorded";
+  EXPECT_GE(lost_s, 0.0);
+
+  const CommandResult report = run_command(cli() + " report --session " + rec);
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_NE(report.err.find("the session was interrupted"), std::string::npos) << report.err;
+  const auto j = nlohmann::ordered_json::parse(report.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << report.out;
+  EXPECT_EQ(j["interrupted"], true);
+  EXPECT_EQ(j["recording"]["ticks"], static_cast<int64_t>(r.ticks.size()));
+  EXPECT_GE(j["haptic"]["ticks"].get<int64_t>(), static_cast<int64_t>(r.ticks.size()));
+  if (r.ticks.size() > 2900) {  // the expert takes the catheter at 2.825 s
+    EXPECT_EQ(j["task"]["events"][0]["kind"], "catheter_grasped") << j["task"].dump();
   }
 }
 

@@ -16,6 +16,7 @@
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
 #include "hardware/usb_gripper.h"
+#include "sim/report/recording_reader.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/trocar_tool.h"
 #include "sim/setup/device_factory.h"
@@ -213,6 +214,30 @@ TEST(Session, TheFastLoopAllocatesNothingPerTick) {
   test::AllocationCounter probe;
   kept = std::make_unique<int>(1);
   EXPECT_EQ(probe.count(), 1);
+}
+
+// Recorded as it runs in real time (the writer thread reading what the haptic thread publishes;
+// the ThreadSanitizer stage runs this): every tick the session recorded is in the file, whole.
+TEST(Session, ARealTimeSessionIsStreamedToItsRecordingAsItRuns) {
+  const test::TempDir dir;
+  auto s = scripted_session(device_fault_run(1.0));
+  ASSERT_TRUE(s->record_to(dir.path() / "session.lrec", "{}").ok());
+  const SessionMetrics m = s->run();
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_FALSE(r.value().interrupted);
+  EXPECT_TRUE(r.value().problems.empty());
+  EXPECT_EQ(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
+  EXPECT_GT(m.recorded_ticks, 500);
+  for (size_t k = 0; k < r.value().ticks.size(); ++k) {
+    ASSERT_EQ(r.value().ticks[k].tick, static_cast<int64_t>(k));
+    ASSERT_EQ(r.value().devices[0].samples[k].sample.position_W,
+              s->recording(0).samples[k].sample.position_W);
+  }
+  // Ticks a millisecond apart on the wall clock, give or take the scheduler.
+  const auto& t = r.value().ticks;
+  const double span_s = static_cast<double>(t.back().wall_ns - t.front().wall_ns) * 1e-9;
+  EXPECT_NEAR(span_s, static_cast<double>(t.size() - 1) * 1e-3, 0.05);
 }
 
 TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {

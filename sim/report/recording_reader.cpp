@@ -1,0 +1,198 @@
+#include "sim/report/recording_reader.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+namespace lap::sim {
+
+namespace {
+
+/// A recording's header JSON is a few hundred bytes, a chunk of ticks 40 ms of them.
+constexpr uint32_t kMaxHeaderBytes = 1U << 20;
+constexpr uint32_t kMaxPayloadBytes = 64U << 20;
+
+template <typename T>
+T get(const std::string& bytes, size_t at) {
+  T v;
+  std::memcpy(&v, bytes.data() + at, sizeof(T));
+  return v;
+}
+
+/// Reads one tick record at `at`; false when a value is not finite or the status unknown.
+bool decode_tick(const std::string& b, size_t at, hardware::RecordedSample* left,
+                 hardware::RecordedSample* right, TickLog* log) {
+  log->tick = get<int64_t>(b, at);
+  log->wall_ns = get<int64_t>(b, at + 8);
+  size_t p = at + 16;
+  const auto d = [&] {
+    const double v = get<double>(b, p);
+    p += 8;
+    return v;
+  };
+  bool finite = true;
+  for (size_t i = 0; i < 2; ++i) {
+    hardware::RecordedSample& r = i == 0 ? *left : *right;
+    r.tick = log->tick;
+    hardware::DeviceSample& s = r.sample;
+    s.time_s = d();
+    s.position_W = {d(), d(), d()};
+    const double w = d(), x = d(), y = d(), z = d();
+    s.orientation_W = Eigen::Quaterniond(w, x, y, z);
+    s.velocity_W = {d(), d(), d()};
+    s.gripper_angle_rad = d();
+    s.buttons = get<uint32_t>(b, p);
+    const auto status = get<uint32_t>(b, p + 4);
+    p += 8;
+    if (status > static_cast<uint32_t>(hardware::DeviceStatus::kError)) return false;
+    r.status = static_cast<hardware::DeviceStatus>(status);
+    log->force_W[i] = {d(), d(), d()};
+    log->squeeze_n[i] = d();
+    finite = finite && s.position_W.allFinite() && s.orientation_W.coeffs().allFinite() &&
+             s.velocity_W.allFinite() && std::isfinite(s.gripper_angle_rad) &&
+             std::isfinite(s.time_s) && log->force_W[i].allFinite();
+  }
+  log->gain = d();
+  log->late = b[p] != 0;
+  log->paused = b[p + 1] != 0;
+  return finite && std::isfinite(log->gain);
+}
+
+class Reader {
+ public:
+  Reader(const std::filesystem::path& file, std::string bytes)
+      : file_(file.string()), b_(std::move(bytes)) {}
+
+  Result<RecordedSession> read() {
+    const size_t head = header();
+    if (head == 0) return file_diagnostic(file_, 0, "", header_problem_);
+    for (size_t at = head; at < b_.size();) at = chunk(at);
+    return std::move(s_);
+  }
+
+ private:
+  size_t header() {
+    if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
+      header_problem_ = "not a laptrainer session recording (expected it to start with LAPREC01)";
+      return 0;
+    }
+    const auto n = get<uint32_t>(b_, 8);
+    if (n > kMaxHeaderBytes || 12 + static_cast<size_t>(n) + 4 > b_.size()) {
+      header_problem_ = "its header's length (" + std::to_string(n) + " bytes) runs past the file";
+      return 0;
+    }
+    s_.header_json = b_.substr(12, n);
+    if (crc32(s_.header_json.data(), n) != get<uint32_t>(b_, 12 + n)) {
+      header_problem_ = "its header's checksum does not match (the file is damaged)";
+      return 0;
+    }
+    return 12 + static_cast<size_t>(n) + 4;
+  }
+
+  // One chunk at `at`; returns where the next one starts (the next mark after damage).
+  size_t chunk(size_t at) {
+    if (b_.size() - at < kChunkHeadBytes + 4) {
+      problem(at, "the last " + std::to_string(b_.size() - at) +
+                      " bytes are an incomplete chunk (the session was cut off)");
+      return b_.size();
+    }
+    if (get<uint32_t>(b_, at) != kChunkMagic) return skip_to_next_mark(at, "not a chunk's mark");
+    const auto kind = get<uint32_t>(b_, at + 4);
+    const auto bytes = get<uint32_t>(b_, at + 8);
+    const auto count = get<uint32_t>(b_, at + 12);
+    const auto first = get<int64_t>(b_, at + 16);
+    const size_t end = at + kChunkHeadBytes + static_cast<size_t>(bytes) + 4;
+    if (bytes > kMaxPayloadBytes) return skip_to_next_mark(at, "a chunk of impossible length");
+    if (end > b_.size()) {
+      if (next_mark(at + 4) == std::string::npos) {
+        problem(at, "the last chunk is incomplete (the session was cut off)");
+        return b_.size();
+      }
+      return skip_to_next_mark(at, "a chunk whose length runs past the file");
+    }
+    const uint32_t crc = crc32(b_.data() + at + 4, kChunkHeadBytes - 4 + bytes);
+    if (crc != get<uint32_t>(b_, end - 4)) {
+      return skip_to_next_mark(at, "a chunk whose checksum does not match (" +
+                                       std::to_string(count) + " ticks from tick " +
+                                       std::to_string(first) + " if its head is right)");
+    }
+    const size_t payload = at + kChunkHeadBytes;
+    if (kind == kChunkTicks) {
+      ticks(at, payload, bytes, count);
+    } else if (kind == kChunkEvents) {
+      s_.events_json = b_.substr(payload, bytes);
+    } else if (kind == kChunkEnd) {
+      s_.end_json = b_.substr(payload, bytes);
+      s_.interrupted = false;
+    } else {
+      problem(at, "a chunk of unknown kind " + std::to_string(kind) + ", skipped");
+    }
+    return end;
+  }
+
+  void ticks(size_t at, size_t payload, uint32_t bytes, uint32_t count) {
+    if (static_cast<size_t>(count) * kTickRecordBytes != bytes) {
+      problem(at, "a ticks chunk whose length is not its count's, skipped");
+      return;
+    }
+    for (uint32_t k = 0; k < count; ++k) {
+      hardware::RecordedSample left, right;
+      TickLog log;
+      if (!decode_tick(b_, payload + k * kTickRecordBytes, &left, &right, &log)) {
+        problem(at, "tick record " + std::to_string(k) +
+                        " holds a non-finite value or an "
+                        "unknown status; the ticks from there on are not replayed");
+        gap_ = true;
+        return;
+      }
+      ++s_.ticks_read;
+      const bool next = log.tick == static_cast<int64_t>(s_.ticks.size());
+      if (!next && !gap_) {
+        problem(at, "ticks " + std::to_string(s_.ticks.size()) + " to " +
+                        std::to_string(log.tick - 1) +
+                        " are missing; the replay stops before them");
+      }
+      gap_ = gap_ || !next;
+      if (gap_) continue;
+      s_.devices[0].samples.push_back(left);
+      s_.devices[1].samples.push_back(right);
+      s_.ticks.push_back(log);
+    }
+  }
+
+  [[nodiscard]] size_t next_mark(size_t from) const {
+    char mark[4];
+    std::memcpy(mark, &kChunkMagic, 4);
+    return b_.find(std::string(mark, 4), from);
+  }
+
+  size_t skip_to_next_mark(size_t at, const std::string& what) {
+    const size_t next = next_mark(at + 1);
+    const size_t to = next == std::string::npos ? b_.size() : next;
+    problem(at,
+            what + ": bytes " + std::to_string(at) + " to " + std::to_string(to - 1) + " skipped");
+    return to;
+  }
+
+  void problem(size_t at, const std::string& what) {
+    s_.problems.push_back(file_ + ": at byte " + std::to_string(at) + ": " + what);
+  }
+
+  std::string file_;
+  std::string b_;
+  RecordedSession s_;
+  std::string header_problem_;
+  bool gap_ = false;
+};
+
+}  // namespace
+
+Result<RecordedSession> read_session_recording(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return file_diagnostic(file.string(), 0, "", "cannot read the recording");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return Reader(file, std::move(bytes)).read();
+}
+
+}  // namespace lap::sim

@@ -1,0 +1,163 @@
+#include "sim/runtime/session_recorder.h"
+
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+
+namespace lap::sim {
+
+namespace {
+
+std::array<uint32_t, 256> crc_table() {
+  std::array<uint32_t, 256> t{};
+  for (uint32_t i = 0; i < 256; ++i) {
+    uint32_t c = i;
+    for (int k = 0; k < 8; ++k) c = (c & 1U) != 0 ? 0xEDB88320U ^ (c >> 1) : c >> 1;
+    t[i] = c;
+  }
+  return t;
+}
+
+template <typename T>
+void put(std::string* out, T v) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &v, sizeof(T));  // little-endian hosts (x86-64, arm64 Linux)
+  out->append(bytes, sizeof(T));
+}
+
+void put_vec(std::string* out, const Eigen::Vector3d& v) {
+  for (int k = 0; k < 3; ++k) put(out, v[k]);
+}
+
+}  // namespace
+
+uint32_t crc32(const void* data, size_t n, uint32_t crc) {
+  static const std::array<uint32_t, 256> table = crc_table();
+  const auto* p = static_cast<const unsigned char*>(data);
+  crc = ~crc;
+  for (size_t i = 0; i < n; ++i) crc = table[(crc ^ p[i]) & 0xFFU] ^ (crc >> 8);
+  return ~crc;
+}
+
+void append_tick_record(const hardware::RecordedSample& left, const hardware::RecordedSample& right,
+                        const TickLog& log, std::string* out) {
+  put(out, log.tick);
+  put(out, log.wall_ns);
+  for (size_t i = 0; i < 2; ++i) {
+    const hardware::RecordedSample& r = i == 0 ? left : right;
+    const hardware::DeviceSample& s = r.sample;
+    put(out, s.time_s);
+    put_vec(out, s.position_W);
+    put(out, s.orientation_W.w());
+    put(out, s.orientation_W.x());
+    put(out, s.orientation_W.y());
+    put(out, s.orientation_W.z());
+    put_vec(out, s.velocity_W);
+    put(out, s.gripper_angle_rad);
+    put(out, s.buttons);
+    put(out, static_cast<uint32_t>(r.status));
+    put_vec(out, log.force_W[i]);
+    put(out, log.squeeze_n[i]);
+  }
+  put(out, log.gain);
+  put(out, static_cast<uint8_t>(log.late ? 1 : 0));
+  put(out, static_cast<uint8_t>(log.paused ? 1 : 0));
+  out->append(6, '\0');
+}
+static_assert(kTickRecordBytes == 8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 1 + 1 + 6);
+
+Result<std::unique_ptr<SessionRecorder>> SessionRecorder::open(const std::filesystem::path& file,
+                                                               const std::string& header_json) {
+  std::unique_ptr<SessionRecorder> r(new SessionRecorder());
+  r->file_ = file;
+  r->f_ = std::fopen(file.c_str(), "wb");
+  if (r->f_ == nullptr) {
+    return file_diagnostic(file.string(), 0, "",
+                           std::string("cannot create the recording: ") + std::strerror(errno));
+  }
+  std::string head(kRecordingMagic, 8);
+  put(&head, static_cast<uint32_t>(header_json.size()));
+  head += header_json;
+  put(&head, crc32(header_json.data(), header_json.size()));
+  if (std::fwrite(head.data(), 1, head.size(), r->f_) != head.size() || std::fflush(r->f_) != 0) {
+    return file_diagnostic(file.string(), 0, "",
+                           std::string("cannot write the recording: ") + std::strerror(errno));
+  }
+  return r;
+}
+
+SessionRecorder::~SessionRecorder() {
+  stop_.store(true);
+  if (thread_.joinable()) thread_.join();
+  if (f_ != nullptr) std::fclose(f_);
+}
+
+void SessionRecorder::start(const hardware::RecordedSample* left,
+                            const hardware::RecordedSample* right, const TickLog* log,
+                            const std::atomic<int64_t>* published) {
+  left_ = left;
+  right_ = right;
+  log_ = log;
+  published_ = published;
+  thread_ = std::thread([this] { run(); });
+}
+
+void SessionRecorder::run() {
+  const auto period = std::chrono::duration<double>(kFlushPeriodS);
+  while (!stop_.load(std::memory_order_relaxed)) {
+    std::this_thread::sleep_for(period);
+    write_ticks_up_to(published_->load(std::memory_order_acquire));
+  }
+}
+
+void SessionRecorder::write_ticks_up_to(int64_t published) {
+  const int64_t from = written_.load(std::memory_order_relaxed);
+  if (!problem_.empty() || published <= from) return;
+  payload_.clear();
+  for (int64_t i = from; i < published; ++i) {
+    const auto k = static_cast<size_t>(i);
+    append_tick_record(left_[k], right_[k], log_[k], &payload_);
+  }
+  if (write_chunk(kChunkTicks, static_cast<uint32_t>(published - from), log_[from].tick,
+                  payload_)) {
+    written_.store(published, std::memory_order_relaxed);
+  }
+}
+
+bool SessionRecorder::write_chunk(uint32_t kind, uint32_t count, int64_t first_tick,
+                                  const std::string& payload) {
+  if (!problem_.empty()) return false;
+  std::string chunk;
+  put(&chunk, kChunkMagic);
+  put(&chunk, kind);
+  put(&chunk, static_cast<uint32_t>(payload.size()));
+  put(&chunk, count);
+  put(&chunk, first_tick);
+  chunk += payload;
+  put(&chunk, crc32(chunk.data() + 4, chunk.size() - 4));
+  // Handed to the kernel now: a process killed after this loses none of it.
+  if (std::fwrite(chunk.data(), 1, chunk.size(), f_) != chunk.size() || std::fflush(f_) != 0) {
+    problem_ = "the recording " + file_.string() + " stopped after " +
+               std::to_string(written_.load()) + " ticks: " + std::strerror(errno) +
+               " (what was written before is kept)";
+    return false;
+  }
+  return true;
+}
+
+Status SessionRecorder::finish(const std::string& events_json, const std::string& end_json) {
+  stop_.store(true);
+  if (thread_.joinable()) thread_.join();
+  if (published_ != nullptr) write_ticks_up_to(published_->load(std::memory_order_acquire));
+  write_chunk(kChunkEvents, 0, 0, events_json);
+  write_chunk(kChunkEnd, 0, 0, end_json);
+  if (f_ != nullptr && std::fclose(f_) != 0 && problem_.empty()) {
+    problem_ = "the recording " + file_.string() + " did not close: " + std::strerror(errno);
+  }
+  f_ = nullptr;
+  if (!problem_.empty()) return diagnostic(problem_);
+  return {};
+}
+
+}  // namespace lap::sim

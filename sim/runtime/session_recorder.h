@@ -1,0 +1,100 @@
+#pragma once
+/// \file
+/// A session's recording written while it runs, so that a crash loses at most the last 100 ms
+/// (issue 24): a writer thread of its own (never the loops) appends what the haptic loop has
+/// published every kFlushPeriodS, each time as a chunk with its own checksum, and hands it to
+/// the operating system at once (a killed process loses nothing the kernel has). At the end it
+/// writes the events and an end chunk; a file without one is an interrupted session.
+///
+/// File (session.lrec), little-endian:
+///   "LAPREC01" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
+///   chunks:    uint32 magic "LRCK" | uint32 kind | uint32 payload bytes | uint32 count |
+///              int64 first tick | payload | uint32 CRC-32 of kind … payload
+///   kinds:     1 ticks (count records of kTickRecordBytes), 2 events (JSON), 3 end (JSON)
+/// A tick record: int64 tick, int64 wall clock [ns since the epoch], per tool (left, right) the
+/// device's sample (double time_s, position[3], orientation w x y z, velocity[3], gripper angle;
+/// uint32 buttons, uint32 status) and what was sent (double force[3], squeeze), then double
+/// gain, uint8 late, uint8 paused, 6 bytes zero.
+
+#include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "core/result.h"
+#include "hardware/device_recording.h"
+
+namespace lap::sim {
+
+/// What the haptic loop sent on one tick, beside the devices' samples.
+struct TickLog {
+  int64_t tick = 0;
+  int64_t wall_ns = 0;  ///< CLOCK_REALTIME when the tick began
+  std::array<Eigen::Vector3d, 2> force_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<double, 2> squeeze_n{};
+  double gain = 1.0;  ///< the watchdog's factor on every command
+  bool late = false;  ///< a late tick: zero sent
+  bool paused = false;
+};
+
+inline constexpr char kRecordingMagic[9] = "LAPREC01";
+inline constexpr uint32_t kChunkMagic = 0x4B43524CU;  // "LRCK"
+inline constexpr uint32_t kChunkTicks = 1;
+inline constexpr uint32_t kChunkEvents = 2;
+inline constexpr uint32_t kChunkEnd = 3;
+inline constexpr size_t kChunkHeadBytes = 24;
+inline constexpr size_t kTickRecordBytes = 16 + 2 * (104 + 32) + 16;  // 304
+
+/// CRC-32 (IEEE 802.3, reflected, as zlib's crc32) of `n` bytes, continuing from `crc`.
+[[nodiscard]] uint32_t crc32(const void* data, size_t n, uint32_t crc = 0);
+
+/// One tick as its record's bytes (appended to `out`).
+void append_tick_record(const hardware::RecordedSample& left, const hardware::RecordedSample& right,
+                        const TickLog& log, std::string* out);
+
+class SessionRecorder {
+ public:
+  static constexpr double kFlushPeriodS = 0.04;
+
+  /// Creates the file and writes its header (`header_json`: what session.json holds).
+  static Result<std::unique_ptr<SessionRecorder>> open(const std::filesystem::path& file,
+                                                       const std::string& header_json);
+  ~SessionRecorder();
+  SessionRecorder(const SessionRecorder&) = delete;
+  SessionRecorder& operator=(const SessionRecorder&) = delete;
+
+  /// Starts the writer over storage the haptic loop fills (reserved: it never moves), of which
+  /// the first `*published` entries are complete (release-stored by the haptic thread).
+  void start(const hardware::RecordedSample* left, const hardware::RecordedSample* right,
+             const TickLog* log, const std::atomic<int64_t>* published);
+  /// Stops the writer, writes what is left, the events chunk and the end chunk, and closes.
+  /// The problem that stopped the recording early (a full disk), if any, is returned; what was
+  /// written before it stays.
+  [[nodiscard]] Status finish(const std::string& events_json, const std::string& end_json);
+
+  [[nodiscard]] int64_t written_ticks() const { return written_.load(); }
+  [[nodiscard]] const std::filesystem::path& file() const { return file_; }
+
+ private:
+  SessionRecorder() = default;
+  void run();
+  void write_ticks_up_to(int64_t published);
+  bool write_chunk(uint32_t kind, uint32_t count, int64_t first_tick, const std::string& payload);
+
+  std::filesystem::path file_;
+  std::FILE* f_ = nullptr;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<int64_t> written_{0};
+  const hardware::RecordedSample* left_ = nullptr;
+  const hardware::RecordedSample* right_ = nullptr;
+  const TickLog* log_ = nullptr;
+  const std::atomic<int64_t>* published_ = nullptr;
+  std::string problem_;  ///< writer thread's until finish() joins it
+  std::string payload_;
+};
+
+}  // namespace lap::sim

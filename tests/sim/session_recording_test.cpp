@@ -1,0 +1,186 @@
+// The streamed recording (sim/runtime/session_recorder.h) and its reader
+// (sim/report/recording_reader.h): a session recorded as it runs reads back to the very samples
+// it recorded; a damaged chunk is reported by its offset and the rest still reads; a file cut
+// anywhere reads up to its last whole chunk as an interrupted session; a disk that fills up
+// stops the recording, not the session, and what was written stays.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+
+#include <cstring>
+#include <fstream>
+#include <random>
+
+#include "hardware/scripted_device.h"
+#include "sim/report/recording_reader.h"
+#include "sim/report/session_replay.h"
+#include "sim/runtime/session.h"
+#include "tests/sim/session_test_support.h"
+
+namespace lap::sim {
+namespace {
+
+using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
+
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+
+std::unique_ptr<Session> expert_session() {
+  Devices d;
+  for (int side = 0; side < 2; ++side) {
+    auto t = hardware::load_scripted_trajectory(
+        kScripts / (side == 0 ? "expert_left.csv" : "expert_right.csv"));
+    EXPECT_TRUE(t.ok()) << t.message();
+    d[static_cast<size_t>(side)] = std::make_unique<hardware::ScriptedDevice>(
+        std::move(t).value(), side == 0 ? "left" : "right");
+  }
+  auto created = Session::create(default_scene(), std::move(d), fast(60.0));
+  EXPECT_TRUE(created.ok()) << created.message();
+  return std::move(created).value();
+}
+
+bool same_bits(const hardware::RecordedSample& a, const hardware::RecordedSample& b) {
+  const hardware::DeviceSample& x = a.sample;
+  const hardware::DeviceSample& y = b.sample;
+  return a.tick == b.tick && a.status == b.status && x.time_s == y.time_s &&
+         x.position_W == y.position_W && x.orientation_W.coeffs() == y.orientation_W.coeffs() &&
+         x.velocity_W == y.velocity_W && x.gripper_angle_rad == y.gripper_angle_rad &&
+         x.buttons == y.buttons;
+}
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const fs::path& p, const std::string& b) {
+  std::ofstream(p, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
+}
+
+TEST(SessionRecording, ReadsBackTheSamplesItRecorded) {
+  const test::TempDir dir;
+  const auto session = expert_session();
+  ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{\"test\": 1}").ok());
+  const SessionMetrics m = session->run();
+  EXPECT_TRUE(m.warnings.empty() || m.warnings.front().find("recording") == std::string::npos);
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_FALSE(r.value().interrupted);
+  EXPECT_TRUE(r.value().problems.empty()) << r.value().problems.front();
+  EXPECT_EQ(r.value().header_json, "{\"test\": 1}");
+  ASSERT_EQ(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
+  for (int side = 0; side < 2; ++side) {
+    const auto& live = session->recording(side).samples;
+    const auto& read = r.value().devices[static_cast<size_t>(side)].samples;
+    ASSERT_EQ(live.size(), read.size());
+    for (size_t k = 0; k < live.size(); ++k) ASSERT_TRUE(same_bits(live[k], read[k])) << k;
+  }
+  EXPECT_NE(r.value().end_json.find("\"result\":\"success\""), std::string::npos)
+      << r.value().end_json;
+  EXPECT_NE(r.value().events_json.find("catheter_grasped"), std::string::npos);
+  // What was sent: the grasp's and the duct's forces are in it, never more than the device's.
+  double largest = 0.0;
+  for (const TickLog& t : r.value().ticks) largest = std::max(largest, t.force_W[1].norm());
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LE(largest, m.max_force_sent_n);
+}
+
+TEST(SessionRecording, ADamagedChunkIsReportedAndTheRestStillReads) {
+  const test::TempDir dir;
+  const auto session = expert_session();
+  ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{}").ok());
+  const SessionMetrics m = session->run();
+  std::string b = bytes_of(dir.path() / "session.lrec");
+  const size_t at = b.size() / 2;
+  b[at] = static_cast<char>(b[at] ^ 0x5A);
+  write_bytes(dir.path() / "damaged.lrec", b);
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "damaged.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.value().problems.size(), 2U) << r.value().problems[0];  // the chunk, the gap
+  EXPECT_NE(r.value().problems[0].find("checksum does not match"), std::string::npos)
+      << r.value().problems[0];
+  EXPECT_NE(r.value().problems[0].find("damaged.lrec: at byte "), std::string::npos);
+  EXPECT_NE(r.value().problems[1].find("are missing; the replay stops before them"),
+            std::string::npos)
+      << r.value().problems[1];
+  EXPECT_FALSE(r.value().interrupted);  // the end chunk after the damage still read
+  const auto n = static_cast<int64_t>(r.value().ticks.size());
+  EXPECT_GT(n, 0);  // the chunks before the damaged one
+  EXPECT_LT(n, m.recorded_ticks);
+  EXPECT_GT(r.value().ticks_read, n);  // the ticks after the gap were read, not replayed
+  for (int64_t k = 0; k < n; ++k) {
+    ASSERT_TRUE(same_bits(session->recording(0).samples[static_cast<size_t>(k)],
+                          r.value().devices[0].samples[static_cast<size_t>(k)]));
+  }
+}
+
+// Cut at 40 random places: never a crash, every whole chunk before the cut, interrupted.
+TEST(SessionRecording, CutAnywhereItReadsUpToItsLastWholeChunk) {
+  const test::TempDir dir;
+  const auto session = expert_session();
+  ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{}").ok());
+  const SessionMetrics m = session->run();
+  const std::string b = bytes_of(dir.path() / "session.lrec");
+  std::mt19937 rng(7);
+  int64_t previous = -1;
+  std::vector<size_t> cuts;
+  for (int k = 0; k < 40; ++k) cuts.push_back(20 + rng() % (b.size() - 40));
+  std::sort(cuts.begin(), cuts.end());
+  for (const size_t cut : cuts) {
+    write_bytes(dir.path() / "cut.lrec", b.substr(0, cut));
+    const Result<RecordedSession> r = read_session_recording(dir.path() / "cut.lrec");
+    ASSERT_TRUE(r.ok()) << cut << ": " << r.message();
+    EXPECT_TRUE(r.value().interrupted) << cut;
+    const auto n = static_cast<int64_t>(r.value().ticks.size());
+    EXPECT_GE(n, previous) << cut;  // a longer file keeps at least as much
+    EXPECT_LE(n, m.recorded_ticks);
+    previous = n;
+    for (const std::string& p : r.value().problems) {
+      EXPECT_NE(p.find("cut off"), std::string::npos) << cut << ": " << p;
+    }
+  }
+  write_bytes(dir.path() / "short.lrec", b.substr(0, 10));
+  const Result<RecordedSession> none = read_session_recording(dir.path() / "short.lrec");
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.message().find("short.lrec"), std::string::npos);
+  EXPECT_NE(none.message().find("not a laptrainer session recording"), std::string::npos)
+      << none.message();
+}
+
+// The file may grow to 2 MB only (RLIMIT_FSIZE, as a full disk would): the recording stops
+// there and says so, the session runs to its end, and the ticks written before stay readable.
+TEST(SessionRecording, ADiskThatFillsUpStopsTheRecordingNotTheSession) {
+  const test::TempDir dir;
+  const auto session = expert_session();
+  ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{}").ok());
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto previous = signal(SIGXFSZ, SIG_IGN);  // the write fails with EFBIG instead
+  rlimit small = old;
+  small.rlim_cur = 2 * 1024 * 1024;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const SessionMetrics m = session->run();
+  setrlimit(RLIMIT_FSIZE, &old);
+  signal(SIGXFSZ, previous);
+  EXPECT_EQ(m.task.result, TaskResult::kSuccess);  // the session went on
+  std::string warning;
+  for (const std::string& w : m.warnings) {
+    if (w.find("the recording") != std::string::npos) warning = w;
+  }
+  EXPECT_NE(warning.find("stopped after"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("what was written before is kept"), std::string::npos) << warning;
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r.value().interrupted);  // no end: it could not be written
+  EXPECT_GT(r.value().ticks.size(), 1000U);  // several whole chunks (40 ms of --fast each)
+  EXPECT_LT(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
+  EXPECT_LE(fs::file_size(dir.path() / "session.lrec"), 2U * 1024U * 1024U);
+}
+
+TEST(SessionRecording, Crc32IsTheStandardOne) {
+  EXPECT_EQ(crc32("123456789", 9), 0xCBF43926U);  // the check value of CRC-32/ISO-HDLC
+  EXPECT_EQ(crc32("", 0), 0U);
+}
+
+}  // namespace
+}  // namespace lap::sim
