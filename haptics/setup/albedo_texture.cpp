@@ -4,20 +4,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/spatial_hash.h"
+
 namespace lap::haptics {
 namespace {
 
-// Integer hash (lowbias32, Wellons): a fixed function of its input, so images are the same bytes
-// on every machine.
-uint32_t hash32(uint32_t x) {
-  x ^= x >> 16U;
-  x *= 0x7feb352dU;
-  x ^= x >> 15U;
-  x *= 0x846ca68bU;
-  x ^= x >> 16U;
-  return x;
-}
-
+// The integer hash (haptics/spatial_hash.h) is a fixed function of its input, so the images are
+// the same bytes on every machine.
 uint32_t hash_cell(int32_t i, int32_t j, uint32_t seed) {
   return hash32(static_cast<uint32_t>(i) * 0x9E3779B1U ^ hash32(static_cast<uint32_t>(j) + seed));
 }

@@ -91,27 +91,196 @@ Pose solve_pose(const PortTool& tool, const HeldCatheter& held, const V& tip, co
   return pose;
 }
 
+// What the plan is made from: the incision and the line in, the catheter as it lies.
+struct Geometry {
+  const models::IncisionRim* rim = nullptr;
+  Eigen::Isometry3d pose_WD = Eigen::Isometry3d::Identity();
+  V incision = V::Zero();  ///< its centre on the wall's mid-surface
+  V normal = V::UnitZ();   ///< out of the duct there
+  V axis = V::UnitZ();     ///< along the duct, towards its end further from the incision
+  V in_dir = V::UnitZ();   ///< the line in: at the entry slant to the axis, into the wall
+  V cath_tip = V::Zero();
+  V cath_dir = V::UnitZ();  ///< towards the tip
+  double jaw_mid_m = 0.01;
+};
+
+Geometry measure(const SessionModel& model, const ExpertRunSettings& settings) {
+  Geometry g;
+  g.rim = &model.tissue().duct().rim;
+  const models::IncisionRim& rim = *g.rim;
+  g.pose_WD = rim.pose_DW.inverse();
+  g.incision = g.pose_WD * V(rim.mid_radius_m * std::cos(rim.angle_rad),
+                             rim.mid_radius_m * std::sin(rim.angle_rad), rim.z_m);
+  g.normal = g.pose_WD.linear() * V(std::cos(rim.angle_rad), std::sin(rim.angle_rad), 0.0);
+  g.axis =
+      (rim.z_m < 0.5 * rim.length_m ? 1.0 : -1.0) * (g.pose_WD.linear() * V::UnitZ()).normalized();
+  const double slant = settings.entry_slant_deg * std::numbers::pi / 180.0;
+  g.in_dir = (std::cos(slant) * g.axis - std::sin(slant) * g.normal).normalized();
+  const TissueWorldSettings& ws = model.tissue().settings();
+  g.cath_dir = ws.catheter_direction_W.normalized();
+  g.cath_tip = ws.catheter_start_W + ws.catheter.length_m * g.cath_dir;
+  g.jaw_mid_m = 0.5 * model.tool(1).gripper.jaw_length_m;
+  return g;
+}
+
 struct Planner {
   const ExpertRunSettings& s;
+  const Geometry& g;
   PortTool right;
   PortTool left;
   ExpertRun run;
-  double t = 0.0;
 
   void key(hardware::ScriptedTrajectory* traj, const PortTool& tool, double time, const V& hinge,
            const V& roll_x, double grip) {
     traj->keyframes.push_back(tool.keyframe(time, hinge, roll_x, grip));
   }
+  [[nodiscard]] int steps(double duration) const {
+    return std::max(1, static_cast<int>(std::lround(duration / s.keyframe_step_s)));
+  }
   // The hinge, roll and grip eased from one to the other over `duration`.
   void move(hardware::ScriptedTrajectory* traj, const PortTool& tool, double duration, const V& h0,
             const V& h1, const V& x0, const V& x1, double g0, double g1) {
-    const int n = std::max(1, static_cast<int>(std::lround(duration / s.keyframe_step_s)));
+    const int n = steps(duration);
     const double t0 = traj->keyframes.empty() ? 0.0 : traj->keyframes.back().time_s;
     for (int k = 1; k <= n; ++k) {
       const double e = smoothstep(static_cast<double>(k) / n);
       const V x = ((1.0 - e) * x0 + e * x1).normalized();
       key(traj, tool, t0 + duration * k / n, h0 + e * (h1 - h0), x, g0 + e * (g1 - g0));
     }
+  }
+  // Where the right hand's jaws go in: 5 cm inside its port towards `towards`.
+  [[nodiscard]] V right_entry(const V& towards) const {
+    return right.port_W + 0.05 * (towards - right.port_W).normalized();
+  }
+
+  // The right hand: over the catheter with the jaws open, down onto it, close; the tip carried
+  // round in front of the incision and onto the line in; pushed along it; held. Returns the
+  // end of the run.
+  double catheter_hand() {
+    const V held = g.cath_tip - s.grasp_from_tip_m * g.cath_dir;
+    const V hinge = hinge_holding(right, held, s.grasp_depth * 2.0 * g.jaw_mid_m);
+    const V x = right.shaft_dir(hinge).cross(g.cath_dir).normalized();
+    const Eigen::Matrix3d frame = right.frame(hinge, x);
+    const HeldCatheter hold{frame.transpose() * (g.cath_tip - hinge),
+                            frame.transpose() * g.cath_dir};
+    hardware::ScriptedTrajectory& r = run.right;
+    const V above = hinge + 0.02 * right.shaft_dir(hinge);
+    const V entry = right_entry(above);
+    const double open = s.grip_open_rad;
+    const double closed = s.grip_closed_rad;
+    key(&r, right, 0.0, entry, x, open);
+    move(&r, right, 1.5, entry, above, x, x, open, open);
+    move(&r, right, 1.0, above, hinge, x, x, open, open);
+    move(&r, right, 0.5, hinge, hinge, x, x, open, closed);
+    move(&r, right, 0.5, hinge, hinge, x, x, closed, closed);
+    Pose pose{hinge, x, 0.0, g.cath_dir};
+    const V out_front = g.incision - 0.025 * g.in_dir + 0.01 * g.normal;
+    const V start = g.incision - s.start_out_m * g.in_dir;
+    carry(hold, &pose, 2.5, g.cath_tip, out_front, g.cath_dir, g.in_dir);
+    if (s.mistake == ExpertMistake::kDropsCatheter) {
+      // The jaws open on the way and stay open: from here on every keyframe lets go.
+      const size_t from = r.keyframes.size() - 10;
+      for (size_t k = from; k < r.keyframes.size(); ++k) {
+        const double e = smoothstep(static_cast<double>(k - from + 1) / 10.0);
+        r.keyframes[k].gripper_angle_rad = closed + e * (open - closed);
+      }
+    }
+    carry(hold, &pose, 1.5, out_front, start, g.in_dir, g.in_dir);
+    along_line(hold, &pose, 0.5, -s.start_out_m, -s.start_out_m);
+    // The clumsy push goes on 2 cm past where the expert stops, as fast.
+    const double advance = s.advance_m + (s.mistake == ExpertMistake::kOvershoots ? 0.02 : 0.0);
+    along_line(hold, &pose, 6.0 * advance / s.advance_m, -s.start_out_m, advance - s.start_out_m);
+    if (s.mistake == ExpertMistake::kDropsCatheter) {
+      for (hardware::Keyframe& k : r.keyframes) {
+        if (k.time_s > 6.0) k.gripper_angle_rad = open;
+      }
+    }
+    hardware::Keyframe last = r.keyframes.back();
+    last.time_s += s.hold_after_s;
+    r.keyframes.push_back(last);
+    return last.time_s;
+  }
+
+  // The held tip eased from tip0 to tip1 and its direction from dir0 to dir1.
+  void carry(const HeldCatheter& hold, Pose* pose, double duration, const V& tip0, const V& tip1,
+             const V& dir0, const V& dir1) {
+    const int n = steps(duration);
+    const double t0 = run.right.keyframes.back().time_s;
+    for (int k = 1; k <= n; ++k) {
+      const double e = smoothstep(static_cast<double>(k) / n);
+      const V dir = ((1.0 - e) * dir0 + e * dir1).normalized();
+      *pose = solve_pose(right, hold, tip0 + e * (tip1 - tip0), dir, pose->hinge);
+      key(&run.right, right, t0 + duration * k / n, pose->hinge, pose->roll_x, s.grip_closed_rad);
+    }
+  }
+
+  // The held tip from s0 to s1 along the line the pose achieves through the incision's centre.
+  void along_line(const HeldCatheter& hold, Pose* pose, double duration, double s0, double s1) {
+    const int n = steps(duration);
+    const double t0 = run.right.keyframes.back().time_s;
+    for (int k = 1; k <= n; ++k) {
+      const double along = s0 + (s1 - s0) * smoothstep(static_cast<double>(k) / n);
+      V dir = g.in_dir;
+      for (int it = 0; it < 4; ++it) {
+        *pose = solve_pose(right, hold, g.incision + along * dir, g.in_dir, pose->hinge);
+        dir = pose->achieved_dir;
+      }
+      run.worst_direction_error_deg = std::max(run.worst_direction_error_deg, pose->error_deg);
+      key(&run.right, right, t0 + duration * k / n, pose->hinge, pose->roll_x, s.grip_closed_rad);
+    }
+  }
+
+  // The left hand: into view on its port's line to the incision, at the first place clear of
+  // every organ by 8 mm (its hinge and its jaws' tips) and seen by the laparoscope; waits there.
+  void waiting_hand(const SessionModel& model, double end_s) {
+    const std::vector<const haptics::MeshDatabase*> organs = model.rest_databases();
+    const TaskModel& task = model.task();
+    auto clear_and_seen = [&](const V& hinge, const V& jaw_tip) {
+      for (const haptics::MeshDatabase* db : organs) {
+        for (const V& x : {hinge, jaw_tip}) {
+          V q;
+          if (db->nearest_face(x, &q, nullptr) >= 0 && (q - x).norm() < 0.008) return false;
+        }
+      }
+      const V to = (hinge - task.camera_W).normalized();
+      return to.dot(task.view_dir_W) > task.cos_half_view;
+    };
+    const V to_port = (left.port_W - g.incision).normalized();
+    V park = g.incision + 0.06 * to_port;
+    for (double d = 0.03; d <= 0.12; d += 0.005) {
+      const V h = g.incision + d * to_port;
+      if (clear_and_seen(h, h - 0.02 * to_port)) {
+        park = h;
+        break;
+      }
+    }
+    hardware::ScriptedTrajectory& l = run.left;
+    const V entry = left.port_W - 0.05 * to_port;
+    const V x = to_port.unitOrthogonal();
+    key(&l, left, 0.0, entry, x, s.grip_open_rad);
+    move(&l, left, 1.5, entry, park, x, x, s.grip_open_rad, s.grip_open_rad);
+    key(&l, left, end_s, park, x, s.grip_open_rad);
+  }
+
+  // The clumsy right hand that takes the duct beside the incision instead of the catheter
+  // (across its jaws, at mid-jaw), shuts them and pulls it 3 cm towards its port.
+  void duct_tearing_hand(double end_s) {
+    const models::IncisionRim& rim = *g.rim;
+    hardware::ScriptedTrajectory& r = run.right;
+    r.keyframes.clear();
+    const double side = rim.z_m < 0.5 * rim.length_m ? 1.0 : -1.0;
+    const V on_axis = g.pose_WD * V(0.0, 0.0, rim.z_m + side * (rim.half_length_m + 0.004));
+    const V hinge = hinge_holding(right, on_axis, g.jaw_mid_m);
+    const V x = right.shaft_dir(hinge).cross(g.axis).normalized();
+    const V over = hinge + 0.02 * right.shaft_dir(hinge);
+    const V pulled = hinge + 0.03 * right.shaft_dir(hinge);
+    const double open = s.grip_open_rad;
+    key(&r, right, 0.0, right_entry(over), x, open);
+    move(&r, right, 1.5, right_entry(over), over, x, x, open, open);
+    move(&r, right, 1.0, over, hinge, x, x, open, open);
+    move(&r, right, 0.5, hinge, hinge, x, x, open, 0.0);
+    move(&r, right, 1.0, hinge, pulled, x, x, 0.0, 0.0);
+    key(&r, right, end_s, pulled, x, 0.0);
   }
 };
 
@@ -126,152 +295,17 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
   if (!sc.task || sc.task->kind != "catheter-insertion" || !sc.catheter) {
     return problem("the expert run is planned for a catheter-insertion task with a catheter");
   }
-  const DuctTissue& duct = model.tissue().duct();
-  if (!duct.has_incision) return problem("the target duct has no incision");
-  Planner p{settings, {}, {}, {}, 0.0};
+  if (!model.tissue().duct().has_incision) return problem("the target duct has no incision");
+  const Geometry g = measure(model, settings);
+  Planner p{settings, g, {}, {}, {}};
   for (size_t side : {size_t{0}, size_t{1}}) {
     PortTool& tool = side == 0 ? p.left : p.right;
     tool.port_W = model.tool(side).trocar.port_W;
     tool.shaft_length_m = model.tool(side).trocar.shaft_length_m;
   }
-  const double jaw_mid_m = 0.5 * model.tool(1).gripper.jaw_length_m;
-
-  // The incision, the duct's axis towards its further end, and the line in.
-  const models::IncisionRim& rim = duct.rim;
-  const Eigen::Isometry3d pose_WD = rim.pose_DW.inverse();
-  const V incision = pose_WD * V(rim.mid_radius_m * std::cos(rim.angle_rad),
-                                 rim.mid_radius_m * std::sin(rim.angle_rad), rim.z_m);
-  const V normal = pose_WD.linear() * V(std::cos(rim.angle_rad), std::sin(rim.angle_rad), 0.0);
-  const V axis =
-      (rim.z_m < 0.5 * rim.length_m ? 1.0 : -1.0) * (pose_WD.linear() * V::UnitZ()).normalized();
-  const double slant = settings.entry_slant_deg * std::numbers::pi / 180.0;
-  const V in_dir = (std::cos(slant) * axis - std::sin(slant) * normal).normalized();
-
-  // The catheter as it lies, and the grasp a little behind its tip, jaws across it.
-  const TissueWorldSettings& ws = model.tissue().settings();
-  const V cath_dir = ws.catheter_direction_W.normalized();
-  const V cath_tip = ws.catheter_start_W + ws.catheter.length_m * cath_dir;
-  const V held = cath_tip - settings.grasp_from_tip_m * cath_dir;
-  const V grasp_hinge = hinge_holding(p.right, held, settings.grasp_depth * 2.0 * jaw_mid_m);
-  const V grasp_x = p.right.shaft_dir(grasp_hinge).cross(cath_dir).normalized();
-  const Eigen::Matrix3d grasp_frame = p.right.frame(grasp_hinge, grasp_x);
-  const HeldCatheter hold{grasp_frame.transpose() * (cath_tip - grasp_hinge),
-                          grasp_frame.transpose() * cath_dir};
-
-  // Right hand: in over the catheter with the jaws open, down onto it, close.
-  hardware::ScriptedTrajectory& r = p.run.right;
-  const V above = grasp_hinge + 0.02 * p.right.shaft_dir(grasp_hinge);
-  const V entry = p.right.port_W + 0.05 * (above - p.right.port_W).normalized();
-  const double open = settings.grip_open_rad;
-  const double closed = settings.grip_closed_rad;
-  p.key(&r, p.right, 0.0, entry, grasp_x, open);
-  p.move(&r, p.right, 1.5, entry, above, grasp_x, grasp_x, open, open);
-  p.move(&r, p.right, 1.0, above, grasp_hinge, grasp_x, grasp_x, open, open);
-  p.move(&r, p.right, 0.5, grasp_hinge, grasp_hinge, grasp_x, grasp_x, open, closed);
-  p.move(&r, p.right, 0.5, grasp_hinge, grasp_hinge, grasp_x, grasp_x, closed, closed);
-
-  // Carry the tip round in front of the incision, then onto the line in; push along it.
-  Pose pose{grasp_hinge, grasp_x, 0.0, cath_dir};
-  auto carry = [&](double duration, const V& tip0, const V& tip1, const V& dir0, const V& dir1) {
-    const int n = std::max(1, static_cast<int>(std::lround(duration / settings.keyframe_step_s)));
-    const double t0 = r.keyframes.back().time_s;
-    for (int k = 1; k <= n; ++k) {
-      const double e = smoothstep(static_cast<double>(k) / n);
-      const V dir = ((1.0 - e) * dir0 + e * dir1).normalized();
-      pose = solve_pose(p.right, hold, tip0 + e * (tip1 - tip0), dir, pose.hinge);
-      p.key(&r, p.right, t0 + duration * k / n, pose.hinge, pose.roll_x, closed);
-    }
-  };
-  auto along_line = [&](double duration, double s0, double s1) {
-    const int n = std::max(1, static_cast<int>(std::lround(duration / settings.keyframe_step_s)));
-    const double t0 = r.keyframes.back().time_s;
-    for (int k = 1; k <= n; ++k) {
-      const double along = s0 + (s1 - s0) * smoothstep(static_cast<double>(k) / n);
-      V dir = in_dir;
-      for (int it = 0; it < 4; ++it) {  // the line the pose achieves, through the incision
-        pose = solve_pose(p.right, hold, incision + along * dir, in_dir, pose.hinge);
-        dir = pose.achieved_dir;
-      }
-      p.run.worst_direction_error_deg = std::max(p.run.worst_direction_error_deg, pose.error_deg);
-      p.key(&r, p.right, t0 + duration * k / n, pose.hinge, pose.roll_x, closed);
-    }
-  };
-  const V out_front = incision - 0.025 * in_dir + 0.01 * normal;
-  const V start = incision - settings.start_out_m * in_dir;
-  carry(2.5, cath_tip, out_front, cath_dir, in_dir);
-  if (settings.mistake == ExpertMistake::kDropsCatheter) {
-    // The jaws open on the way and stay open: from here on every keyframe lets go.
-    const size_t from = r.keyframes.size() - 10;
-    for (size_t k = from; k < r.keyframes.size(); ++k) {
-      const double e = smoothstep(static_cast<double>(k - from + 1) / 10.0);
-      r.keyframes[k].gripper_angle_rad = closed + e * (open - closed);
-    }
-  }
-  carry(1.5, out_front, start, in_dir, in_dir);
-  along_line(0.5, -settings.start_out_m, -settings.start_out_m);
-  // The clumsy push goes on 2 cm past where the expert stops, as fast.
-  const bool overshoot = settings.mistake == ExpertMistake::kOvershoots;
-  const double advance = settings.advance_m + (overshoot ? 0.02 : 0.0);
-  along_line(6.0 * advance / settings.advance_m, -settings.start_out_m,
-             advance - settings.start_out_m);
-  if (settings.mistake == ExpertMistake::kDropsCatheter) {
-    for (size_t k = 0; k < r.keyframes.size(); ++k) {
-      if (r.keyframes[k].time_s > 6.0) r.keyframes[k].gripper_angle_rad = open;
-    }
-  }
-  const double end_s = r.keyframes.back().time_s + settings.hold_after_s;
-  hardware::Keyframe last = r.keyframes.back();
-  last.time_s = end_s;
-  r.keyframes.push_back(last);
-
-  // Left hand: into view on its port's line to the incision, clear of every organ.
-  const std::vector<const haptics::MeshDatabase*> organs = model.rest_databases();
-  const TaskModel& task = model.task();
-  auto clear_and_seen = [&](const V& hinge, const V& jaw_tip) {
-    for (const haptics::MeshDatabase* db : organs) {
-      for (const V& x : {hinge, jaw_tip}) {
-        V q;
-        if (db->nearest_face(x, &q, nullptr) >= 0 && (q - x).norm() < 0.008) return false;
-      }
-    }
-    const V to = (hinge - task.camera_W).normalized();
-    return to.dot(task.view_dir_W) > task.cos_half_view;
-  };
-  const V to_port = (p.left.port_W - incision).normalized();
-  V park = incision + 0.06 * to_port;
-  for (double d = 0.03; d <= 0.12; d += 0.005) {
-    const V h = incision + d * to_port;
-    if (clear_and_seen(h, h - 0.02 * to_port)) {
-      park = h;
-      break;
-    }
-  }
-  hardware::ScriptedTrajectory& l = p.run.left;
-  const V left_entry = p.left.port_W - 0.05 * to_port;
-  const V left_x = to_port.unitOrthogonal();
-  p.key(&l, p.left, 0.0, left_entry, left_x, open);
-  p.move(&l, p.left, 1.5, left_entry, park, left_x, left_x, open, open);
-  p.key(&l, p.left, end_s, park, left_x, open);
-
-  if (settings.mistake == ExpertMistake::kTearsDuct) {
-    // The right hand, instead of taking the catheter, takes the duct beside the incision
-    // between its jaws (across them, at mid-jaw), jaws shut, and pulls it 3 cm towards its
-    // port.
-    r.keyframes.clear();
-    const V on_axis = pose_WD * V(0.0, 0.0,
-                                  rim.z_m + (rim.z_m < 0.5 * rim.length_m ? 1 : -1) *
-                                                (rim.half_length_m + 0.004));
-    const V hinge = hinge_holding(p.right, on_axis, jaw_mid_m);
-    const V x = p.right.shaft_dir(hinge).cross(axis).normalized();
-    const V over = hinge + 0.02 * p.right.shaft_dir(hinge);
-    p.key(&r, p.right, 0.0, entry, x, open);
-    p.move(&r, p.right, 1.5, entry, over, x, x, open, open);
-    p.move(&r, p.right, 1.0, over, hinge, x, x, open, open);
-    p.move(&r, p.right, 0.5, hinge, hinge, x, x, open, 0.0);
-    const V pulled = hinge + 0.03 * p.right.shaft_dir(hinge);
-    p.move(&r, p.right, 1.0, hinge, pulled, x, x, 0.0, 0.0);
-    p.key(&r, p.right, end_s, pulled, x, 0.0);
-  }
+  const double end_s = p.catheter_hand();
+  p.waiting_hand(model, end_s);
+  if (settings.mistake == ExpertMistake::kTearsDuct) p.duct_tearing_hand(end_s);
   return std::move(p.run);
 }
 

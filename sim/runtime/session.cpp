@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "haptics/point_proxy.h"
 #include "sim/runtime/realtime_thread.h"
 
 namespace lap::sim {
@@ -16,6 +17,18 @@ constexpr uint64_t kFnvPrime = 1099511628211ULL;
 /// The couplings' passivity reservoir leaks with this time constant (estimate: a few cycles of
 /// the hand's own 5–25 Hz modes on a grasp; long against a tick, short against a pull).
 constexpr double kCouplingLeakS = 0.2;
+
+// Whether p is inside a closed surface: the nearest point's primitive's (angle-weighted
+// pseudo-)normal points away from p (Baerentzen and Aanaes, IEEE TVCG 2005). Real time.
+bool inside_closed_surface(const haptics::MeshDatabase& surface, const Eigen::Vector3d& p) {
+  Eigen::Vector3d q;
+  const int32_t f = surface.nearest_face(p, &q, nullptr);
+  if (f < 0) return false;
+  int32_t rounds = 0;
+  const haptics::PrimitiveRef prim = haptics::PointProxy::local_search(
+      surface, {haptics::PrimitiveKind::kFace, f}, p, &q, &rounds);
+  return surface.normal(prim).dot(p - q) < 0.0;
+}
 
 void hash_bytes(uint64_t* h, const void* data, size_t n) noexcept {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -143,6 +156,7 @@ Result<std::unique_ptr<Session>> Session::create(
   s->world_ = TissueWorld::create(m.tissue_ptr());
   {
     const std::vector<const haptics::MeshDatabase*> dbs = m.rest_databases();
+    if (m.task().cbd_organ >= 0) s->cbd_rest_ = dbs[static_cast<size_t>(m.task().cbd_organ)];
     const std::vector<const haptics::SegmentDatabase*> sds = m.rest_segment_databases();
     const std::vector<const haptics::ShadingNormals*> shading = m.rest_shading();
     std::array<std::unique_ptr<HapticSurfaces>, 3> copies;
@@ -581,6 +595,9 @@ void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
       organ_force_n_[o] = std::max(organ_force_n_[o], f);
     }
     in.duct_squeeze_n = std::max(in.duct_squeeze_n, world_->duct_squeeze_n()[i]);
+  }
+  if (cbd_rest_ != nullptr && !in.catheter.empty()) {
+    in.tip_in_common_bile_duct = inside_closed_surface(*cbd_rest_, in.catheter.back());
   }
   for (size_t o = 0; o < organ_force_n_.size(); ++o) {
     organ_force_n_[o] =

@@ -282,6 +282,8 @@ class Session {
   std::vector<double> organ_force_n_;         ///< per organ [N]
   std::vector<uint8_t> organ_touched_;        ///< per organ
   std::vector<Eigen::Vector3d> tool_push_W_;  ///< per organ, one tool's contacts' sum [N]
+  /// The common bile duct's surface at rest (the model's), for the tip inside it; null: none.
+  const haptics::MeshDatabase* cbd_rest_ = nullptr;
   // Scheduling warnings, published once each (bit 0: the haptic thread's priority, bit 1: the
   // memory lock); each string is written before its bit is set and never after.
   std::string priority_warning_;

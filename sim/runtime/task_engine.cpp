@@ -236,6 +236,12 @@ class Stepper {
     }
   }
 
+  void common_bile_duct() {
+    if (in_.tip_in_common_bile_duct) {
+      fail(TaskReason::kCommonBileDuct, TaskEventKind::kTipInCommonBileDuct, -1, m_.cbd_organ);
+    }
+  }
+
   void end(TaskResult result, TaskEventKind kind) {
     emit(kind);
     s_.result = result;
@@ -278,6 +284,8 @@ std::string_view to_string(TaskReason reason) {
       return "out_of_view";
     case TaskReason::kForbiddenContact:
       return "forbidden_contact";
+    case TaskReason::kCommonBileDuct:
+      return "common_bile_duct";
   }
   return "unknown";
 }
@@ -316,6 +324,8 @@ std::string_view to_string(TaskEventKind kind) {
       return "out_of_view";
     case TaskEventKind::kForbiddenContact:
       return "forbidden_contact";
+    case TaskEventKind::kTipInCommonBileDuct:
+      return "tip_in_common_bile_duct";
     case TaskEventKind::kFailure:
       return "failure";
   }
@@ -362,6 +372,7 @@ void step_task(const TaskModel& model, const TaskInput& input, TaskState* state)
     step.grasps(held_before);
     step.tip();
     step.dropped();
+    step.common_bile_duct();
   }
   step.injuries();
   step.view();

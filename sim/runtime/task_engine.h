@@ -19,6 +19,8 @@
 ///   organ_injury      the same on another organ (organ_injury_force_n, organ_injury_time_s);
 ///   wall_perforation  the tip enters the lumen through the wall outside the incision, or leaves
 ///                     it through the wall;
+///   common_bile_duct  the tip inside the common bile duct (the scenario's organ named by
+///                     task.common_bile_duct: the catheter is for the cystic duct alone);
 ///   time_limit        time_limit_s passed (catheter-insertion only);
 ///   out_of_view       an instrument's tip outside the laparoscope's view cone for longer than
 ///                     out_of_view_grace_s;
@@ -53,10 +55,11 @@ enum class TaskReason : uint8_t {
   kTimeLimit,
   kOutOfView,
   kForbiddenContact,
+  kCommonBileDuct,
 };
-inline constexpr size_t kTaskReasons = 7;
+inline constexpr size_t kTaskReasons = 8;
 /// "catheter_dropped", "duct_injury", "organ_injury", "wall_perforation", "time_limit",
-/// "out_of_view", "forbidden_contact".
+/// "out_of_view", "forbidden_contact", "common_bile_duct".
 [[nodiscard]] std::string_view to_string(TaskReason reason);
 
 enum class TaskEventKind : uint8_t {
@@ -76,6 +79,7 @@ enum class TaskEventKind : uint8_t {
   kTimeLimit,
   kOutOfView,  ///< tool; duration_s
   kForbiddenContact,
+  kTipInCommonBileDuct,
   kFailure,  ///< the task ended in failure (its reasons are the error events before it)
 };
 /// snake_case names: "catheter_grasped", …, "failure".
@@ -103,6 +107,7 @@ struct TaskInput {
   std::span<const double> organ_force_n;
   std::span<const uint8_t> organ_touched;  ///< per organ: 1 where a tool touches it
   double duct_squeeze_n = 0.0;             ///< the harder of the two jaws' squeeze on the duct
+  bool tip_in_common_bile_duct = false;    ///< the tip inside that organ (at rest)
 };
 
 /// The catheter's tip and depth as the engine measured them at the last step.

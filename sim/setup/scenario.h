@@ -178,6 +178,9 @@ struct TaskSpec {
   double out_of_view_grace_s = 3.0;
   /// Organs the instruments must not touch (names from organs).
   std::vector<std::string> forbidden_organs;
+  /// The organ that is the common bile duct (closed, its lumen inside), or empty: the catheter's
+  /// tip inside it is the error `common_bile_duct`.
+  std::string common_bile_duct;
   int line = 0;  ///< where it is in the file, for later messages
 };
 

@@ -340,7 +340,7 @@ class ScenarioParser {
             n, "task",
             {"kind", "target", "insertion_depth_m", "hold_s", "time_limit_s", "duct_injury_force_n",
              "duct_injury_time_s", "duct_squeeze_n", "organ_injury_force_n", "organ_injury_time_s",
-             "drop_grace_s", "out_of_view_grace_s", "forbidden_organs"})) {
+             "drop_grace_s", "out_of_view_grace_s", "forbidden_organs", "common_bile_duct"})) {
       return;
     }
     t.line = yaml_line(n);
@@ -356,6 +356,7 @@ class ScenarioParser {
     parse_task_target(n, t);
     parse_task_limits(n, t);
     if (n["forbidden_organs"]) parse_forbidden_organs(n["forbidden_organs"], t);
+    if (n["common_bile_duct"]) parse_common_bile_duct(n["common_bile_duct"], t);
     if (t.kind == "catheter-insertion" && !s_.catheter) {
       fields_.problem(n, "task.kind", "catheter-insertion needs a catheter section");
     }
@@ -402,6 +403,21 @@ class ScenarioParser {
       } else {
         t.forbidden_organs.push_back(*v);
       }
+    }
+  }
+
+  void parse_common_bile_duct(const YAML::Node& n, TaskSpec& t) {
+    const std::optional<std::string> v = fields_.string(n, "task.common_bile_duct");
+    if (!v) return;
+    const auto& os = s_.organs;
+    if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
+      fields_.problem(n, "task.common_bile_duct",
+                      "no organ named '" + *v + "' (expected a name from organs)");
+    } else if (*v == t.target) {
+      fields_.problem(n, "task.common_bile_duct",
+                      "'" + *v + "' is the task's target (the catheter goes into it)");
+    } else {
+      t.common_bile_duct = *v;
     }
   }
 

@@ -45,6 +45,9 @@ Result<TaskModel> TaskModel::build(const Scenario& scenario, const TissueModel& 
   for (size_t i = 0; i < scenario.organs.size(); ++i) {
     const std::string& name = scenario.organs[i].name;
     if (name == spec.target) target = static_cast<int32_t>(i);
+    if (!spec.common_bile_duct.empty() && name == spec.common_bile_duct) {
+      m.cbd_organ = static_cast<int32_t>(i);
+    }
     if (std::find(spec.forbidden_organs.begin(), spec.forbidden_organs.end(), name) !=
             spec.forbidden_organs.end() &&
         i < m.forbidden.size()) {

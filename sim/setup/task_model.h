@@ -53,6 +53,9 @@ struct TaskModel {
   double at_incision_m = 0.0;
 
   std::vector<uint8_t> forbidden;  ///< per organ: 1 where the tools must not touch it
+  /// The common bile duct (the scenario's task.common_bile_duct; -1: none): the catheter's tip
+  /// inside it (a closed mesh, at rest) is an error.
+  int32_t cbd_organ = -1;
 
   // The laparoscope: a cone about its line of sight, of half the vertical view angle (the
   // screen's aspect only widens the view, so this never calls a visible tip out of view).

@@ -41,13 +41,13 @@ CatheterState threaded(const CatheterModel& m, const Eigen::Vector3d& through,
   return CatheterState(m, through - 20.4 * m.rest_length_m() * dir, dir);
 }
 
-// Where the centre line first crosses the mid-surface, marching in 1e-6 steps of a segment.
+// Where the centre line first crosses the mid-surface, marching in 1e-5 steps of a segment.
 double brute_force_crossing_s(const IncisionRim& r, const CatheterState& c) {
   const auto radius = [&](const Eigen::Vector3d& p) { return p.head<2>().norm() - r.mid_radius_m; };
   for (size_t i = 0; i + 1 < c.positions.size(); ++i) {
     const Eigen::Vector3d& a = c.positions[i];
     const Eigen::Vector3d& b = c.positions[i + 1];
-    constexpr int kSteps = 1000000;
+    constexpr int kSteps = 100000;
     for (int k = 0; k < kSteps; ++k) {
       const double t0 = static_cast<double>(k) / kSteps;
       const double t1 = static_cast<double>(k + 1) / kSteps;
@@ -74,7 +74,7 @@ TEST(IncisionRim, FindsTheCrossingWhereAMarchAlongTheCatheterFindsIt) {
       const RimCrossing x = find_rim_crossing(r, c.positions);
       ASSERT_GE(x.segment, 0) << slant << " deg, dz " << dz;
       const double s = brute_force_crossing_s(r, c);
-      EXPECT_NEAR(x.segment + x.t, s, 2e-6) << slant << " deg, dz " << dz;
+      EXPECT_NEAR(x.segment + x.t, s, 2e-5) << slant << " deg, dz " << dz;
       EXPECT_NEAR(x.point_D.z(), r.z_m + dz, 1e-9);
       EXPECT_NEAR(x.point_D.head<2>().norm(), r.mid_radius_m, 1e-12);
     }

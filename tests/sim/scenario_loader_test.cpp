@@ -334,7 +334,7 @@ TEST_F(ScenarioFixture, Bad37_MisspelledTaskField) {
              "34: task.hold_time_s: unknown field (expected one of: kind, target, "
              "insertion_depth_m, hold_s, time_limit_s, duct_injury_force_n, duct_injury_time_s, "
              "duct_squeeze_n, organ_injury_force_n, organ_injury_time_s, drop_grace_s, "
-             "out_of_view_grace_s, forbidden_organs)");
+             "out_of_view_grace_s, forbidden_organs, common_bile_duct)");
 }
 
 TEST_F(ScenarioFixture, Bad38_OutOfViewGraceTooLong) {
@@ -370,6 +370,16 @@ TEST_F(ScenarioFixture, Bad41_CatheterLaidWithItsTipAtTheIncision) {
   expect_one(load_with(catheter_towards_incision("[0, 0, 0]", "0.2529", "0.002")),
              "34: catheter.aim_m: lays the catheter's tip 8 mm from the incision: it must start "
              "outside the duct, at least 10 mm away");
+}
+
+TEST_F(ScenarioFixture, Bad42_CommonBileDuctIsNoOrgan) {
+  expect_one(load_with(33, "  target: duct\n  common_bile_duct: cbd"),
+             "34: task.common_bile_duct: no organ named 'cbd' (expected a name from organs)");
+}
+
+TEST_F(ScenarioFixture, Bad43_CommonBileDuctIsTheTarget) {
+  expect_one(load_with(33, "  target: duct\n  common_bile_duct: duct"),
+             "34: task.common_bile_duct: 'duct' is the task's target (the catheter goes into it)");
 }
 
 TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {

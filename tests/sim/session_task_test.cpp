@@ -22,15 +22,6 @@ std::unique_ptr<Session> session_over(const Scene& scene, const RuntimeSettings&
   return std::move(created).value();
 }
 
-std::string kinds(const TaskState& t) {
-  std::string s;
-  for (const TaskEvent& e : t.events) {
-    if (!s.empty()) s += ", ";
-    s += std::string(to_string(e.kind));
-  }
-  return s;
-}
-
 TEST(SessionTask, TheDuctsLumenAndIncisionAreTheScenarios) {
   // The default scenario's duct: 5 mm across with a 1 mm wall (mid-surface radius 2 mm), 35 mm
   // long; its incision 3 mm x 2 mm on the anterior wall.
@@ -78,7 +69,7 @@ TEST(SessionTask, TheSessionEndsWithTheTaskUnlessAskedToGoOn) {
   scene.scenario.task->time_limit_s = 1.0;
   const SessionMetrics ended = session_over(scene, fast(2.0))->run();
   EXPECT_EQ(ended.task.result, TaskResult::kFailure);
-  EXPECT_EQ(kinds(ended.task), "time_limit, failure");
+  EXPECT_EQ(event_kinds(ended.task), "time_limit, failure");
   EXPECT_DOUBLE_EQ(ended.task.end_s, 1.0);
   EXPECT_EQ(ended.haptic.ticks(), 1001);  // the step at tick 1000 ended it
   RuntimeSettings on = fast(2.0);
@@ -96,7 +87,7 @@ TEST(SessionTask, ToolsOutOfTheCamerasViewFail) {
   cam.focal_point_m = cam.position_m + (cam.position_m - cam.focal_point_m);
   scene.scenario.task->out_of_view_grace_s = 0.5;
   const SessionMetrics m = session_over(scene, fast(2.0))->run();
-  EXPECT_EQ(kinds(m.task), "out_of_view, out_of_view, failure");
+  EXPECT_EQ(event_kinds(m.task), "out_of_view, out_of_view, failure");
   ASSERT_EQ(m.task.events.size(), 3U);
   EXPECT_EQ(m.task.events[0].tool, 0);
   EXPECT_EQ(m.task.events[1].tool, 1);
@@ -109,7 +100,7 @@ TEST(SessionTask, ATouchOnAForbiddenOrganIsSeen) {
   Scene scene = default_scene();
   scene.scenario.task->forbidden_organs = {"liver", "gallbladder"};
   const SessionMetrics m = session_over(scene, fast(2.5))->run();
-  ASSERT_EQ(m.task.result, TaskResult::kFailure) << kinds(m.task);
+  ASSERT_EQ(m.task.result, TaskResult::kFailure) << event_kinds(m.task);
   EXPECT_EQ(m.task.reasons[0], TaskReason::kForbiddenContact);
   ASSERT_GE(m.task.events.size(), 2U);
   const TaskEvent& e = m.task.events[m.task.events.size() - 2];

@@ -8,14 +8,18 @@
 #include <array>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "hardware/scripted_device.h"
 #include "hardware/scripted_trajectory.h"
+#include "sim/authoring/expert_run.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/device_factory.h"
 #include "sim/setup/scene.h"
@@ -151,6 +155,61 @@ inline std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
   EXPECT_TRUE(s_created.ok()) << s_created.message();
   auto s = std::move(s_created).value();
   return s;
+}
+
+// The task's events' kinds in order, comma-separated.
+inline std::string event_kinds(const TaskState& t) {
+  std::string s;
+  for (const TaskEvent& e : t.events) {
+    if (!s.empty()) s += ", ";
+    s += std::string(to_string(e.kind));
+  }
+  return s;
+}
+
+inline std::string file_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The scripts dir/`stem`_left.csv and _right.csv played on the scene until its task ends (60 s
+// at most), --fast.
+inline SessionMetrics run_scripts(const Scene& scene, const fs::path& dir,
+                                  const std::string& stem) {
+  Devices d;
+  for (int side = 0; side < 2; ++side) {
+    const fs::path file = dir / (stem + (side == 0 ? "_left.csv" : "_right.csv"));
+    auto t = hardware::load_scripted_trajectory(file);
+    EXPECT_TRUE(t.ok()) << t.message();
+    d[static_cast<size_t>(side)] = std::make_unique<hardware::ScriptedDevice>(
+        std::move(t).value(), side == 0 ? "left" : "right");
+  }
+  auto created = Session::create(scene, std::move(d), fast(60.0));
+  EXPECT_TRUE(created.ok()) << created.message();
+  return created.value()->run();
+}
+
+// That the planner (sim/authoring/expert_run.h) still writes the scripts dir/`stem`_left.csv and
+// _right.csv from the scene, as `laptrainer-cli plan-expert` builds the session's model for it.
+inline void expect_planned_scripts(const Scene& scene, const ExpertRunSettings& settings,
+                                   const fs::path& dir, const std::string& stem) {
+  RuntimeSettings rs;
+  rs.fast = true;
+  auto model = SessionModel::build(scene, rs, {DeviceDescription{"left", {}}, {"right", {}}});
+  ASSERT_TRUE(model.ok()) << model.message();
+  const Result<ExpertRun> plan = plan_expert_run(scene, *model.value(), settings);
+  ASSERT_TRUE(plan.ok()) << plan.message();
+  const test::TempDir tmp;
+  for (const auto& [trajectory, side] :
+       {std::pair{&plan.value().left, "_left.csv"}, std::pair{&plan.value().right, "_right.csv"}}) {
+    const fs::path written = tmp.path() / (stem + side);
+    ASSERT_TRUE(save_trajectory_csv(*trajectory, written).ok());
+    EXPECT_EQ(file_text(written), file_text(dir / (stem + side)))
+        << (dir / (stem + side)).string() << " is stale: run laptrainer-cli plan-expert on "
+        << scene.scenario.file.string();
+  }
 }
 
 }  // namespace lap::sim::session_test

@@ -348,6 +348,20 @@ TEST(TaskEngine, TouchingAForbiddenOrganFailsAtOnce) {
   EXPECT_EQ(d.state.reasons[0], TaskReason::kForbiddenContact);
 }
 
+TEST(TaskEngine, TheTipInTheCommonBileDuctFails) {
+  TaskModel m = duct_model();
+  m.cbd_organ = kLiver;  // stands for it here
+  Driver d(m);
+  d.step(0.0);
+  d.input.tip_in_common_bile_duct = true;
+  d.step(0.1);
+  EXPECT_EQ(d.kinds(), "0.1 tip_in_common_bile_duct, 0.1 failure");
+  EXPECT_EQ(d.state.events[0].organ, kLiver);
+  ASSERT_EQ(d.state.reason_count, 1U);
+  EXPECT_EQ(d.state.reasons[0], TaskReason::kCommonBileDuct);
+  EXPECT_EQ(to_string(TaskReason::kCommonBileDuct), "common_bile_duct");
+}
+
 TEST(TaskEngine, AnErrorInTheStepOfTheSuccessWinsAndEveryReasonIsKept) {
   TaskModel m = duct_model();
   m.spec.hold_s = 0.0;
