@@ -135,33 +135,70 @@ struct GallbladderShape {
   }
 };
 
+// The gallbladder turned by `deg` about its neck tip, the fundus towards +y (cephalad): about
+// the axis across its long axis and the vertical. 0 leaves it as it is.
+GallbladderShape retracted(const GallbladderShape& gb, double deg) {
+  if (deg == 0.0) return gb;
+  const Eigen::AngleAxisd turn(deg * kPi / 180.0, gb.g.cross(V3::UnitY()).normalized());
+  GallbladderShape r = gb;
+  r.g = turn * gb.g;
+  r.up = turn * gb.up;
+  r.side = turn * gb.side;
+  return r;
+}
+
+// The height of the gallbladder fossa's floor over the underside point q: the gallbladder's top
+// with a 1 mm gap, wider than the gallbladder; false away from it. Over the ring nearest q
+// across, or (highest) the highest over all rings, for a gallbladder tilted out of the
+// horizontal, whose rings stack over one another.
+bool fossa_floor(const GallbladderShape& gb, const V3& q, bool highest, double* floor_y) {
+  auto over_ring = [&](double s, double d, double* y) {
+    const double r = gb.ring_radius(s) + 0.002;
+    const double width = 1.5 * r;
+    if (d >= width) return false;
+    *y = gb.centre(s).y() + r * std::sqrt(1.0 - std::pow(d / width, 2)) + 0.001;
+    return true;
+  };
+  double best_d = 1e9;
+  double best_s = 0.0;
+  bool found = false;
+  for (int i = 0; i <= 128; ++i) {
+    const double s = i / 128.0;
+    const V3 c = gb.centre(s);
+    const double d = std::hypot(q.x() - c.x(), q.z() - c.z());
+    double y = 0.0;
+    if (highest && over_ring(s, d, &y) && (!found || y > *floor_y)) {
+      *floor_y = y;
+      found = true;
+    }
+    if (d < best_d) {
+      best_d = d;
+      best_s = s;
+    }
+  }
+  return highest ? found : over_ring(best_s, best_d, floor_y);
+}
+
+// The liver over the gallbladder. In its fossa (lift_edge false) the visceral face is lifted
+// over the gallbladder's top, at most half the liver's thickness there. Over a retracted
+// gallbladder (lift_edge true) the free edge is lifted whole: the visceral face to the
+// gallbladder's top and the diaphragmatic face with it, keeping half the thickness.
 TriangleMesh make_liver(const LiverShape& shape, double scale, const V3& anchor,
-                        const GallbladderShape& gb) {
+                        const GallbladderShape& gb, bool lift_edge) {
   TriangleMesh m = make_mapped_sphere(40, 80, [&](const V3& u) {
     V3 p = anchor + scale * (shape.at(u) - anchor);
-    if (u.y() < 0.0) {
-      // The gallbladder fossa: the visceral face lifted over the gallbladder's top with a 1 mm
-      // gap, wider than the gallbladder, at most half the liver's thickness there.
-      double best_d = 1e9;
-      double best_s = 0.0;
-      for (int i = 0; i <= 128; ++i) {
-        const double s = i / 128.0;
-        const V3 c = gb.centre(s);
-        const double d = std::hypot(p.x() - c.x(), p.z() - c.z());
-        if (d < best_d) {
-          best_d = d;
-          best_s = s;
-        }
-      }
-      const double r = gb.ring_radius(best_s) + 0.002;
-      const double width = 1.5 * r;
-      if (best_d < width) {
-        const double floor_y =
-            gb.centre(best_s).y() + r * std::sqrt(1.0 - std::pow(best_d / width, 2)) + 0.001;
-        const V3 top = anchor + scale * (shape.at(V3(u.x(), -u.y(), u.z())) - anchor);
+    if (u.y() < 0.0 || lift_edge) {
+      const V3 under = anchor + scale * (shape.at(V3(u.x(), -std::abs(u.y()), u.z())) - anchor);
+      const V3 top = anchor + scale * (shape.at(V3(u.x(), std::abs(u.y()), u.z())) - anchor);
+      double floor_y = 0.0;
+      if (!fossa_floor(gb, under, lift_edge, &floor_y)) return p;
+      if (!lift_edge) {
         const double limit = p.y() + 0.5 * (top.y() - p.y());
         p.y() = smooth_max(p.y(), std::min(floor_y, limit), 0.001);
+        return p;
       }
+      const double lift = smooth_max(under.y(), floor_y, 0.001) - under.y();
+      p.y() += u.y() < 0.0 ? lift : std::max(0.0, lift - 0.5 * (top.y() - under.y()));
     }
     return p;
   });
@@ -448,6 +485,8 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
     const V3 towards = (-gb.up + 0.6 * medial).normalized();
     gb.pouch_angle = std::atan2(towards.dot(gb.side), towards.dot(gb.up));
   }
+  // The gallbladder as shown: retracted about its neck (the duct leaves the neck as it lay).
+  const GallbladderShape shown = retracted(gb, p.gallbladder_retraction_deg);
   auto liver_under = [&](double x, double z) {
     double y = 0.0;
     double t = 0.0;
@@ -542,15 +581,16 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
   // modelled) across Calot's triangle above the duct to the gallbladder's neck-body junction.
   const V3 artery_start = axis_point + 0.016 * up_cbd - 0.006 * V3::UnitZ();
   const double s_gb = 0.3;
-  const V3 artery_end =
-      gb.centre(s_gb) + 0.85 * gb.ring_radius(s_gb) * (0.7 * gb.up + 0.7 * medial).normalized();
+  const V3 shown_medial = perpendicular(shown.g, V3::UnitX());
+  const V3 artery_end = shown.centre(s_gb) + 0.85 * shown.ring_radius(s_gb) *
+                                                 (0.7 * shown.up + 0.7 * shown_medial).normalized();
   const double a_len = (artery_end - artery_start).norm();
   const std::vector<V3> artery =
       resample(sample_curve(60,
                             [&](double s) {
                               return hermite(artery_start, artery_end,
                                              a_len * V3(-1.0, 0.3, 0.3).normalized(),
-                                             a_len * (-gb.up - 0.5 * gb.g).normalized(), s);
+                                             a_len * (-shown.up - 0.5 * shown.g).normalized(), s);
                             }),
                0.0015);
   const double r_artery = 0.5 * p.cystic_artery_diameter_m;
@@ -590,8 +630,9 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
   // the duct's length (past the clip at the neck) whose line of sight is clear of the
   // gallbladder, the liver, the artery, the clips and the duodenum (a short duct under a big
   // gallbladder is partly hidden behind it, as through the real laparoscope).
-  TriangleMesh liver_mesh = make_liver(liver, p.liver_scale, anchor, gb);
-  TriangleMesh gb_mesh = make_gallbladder(gb);
+  TriangleMesh liver_mesh =
+      make_liver(liver, p.liver_scale, anchor, shown, p.gallbladder_retraction_deg != 0.0);
+  TriangleMesh gb_mesh = make_gallbladder(shown);
   TriangleMesh artery_mesh = make_tube(artery, std::vector<double>(artery.size(), r_artery), 12);
   TriangleMesh duodenum_mesh =
       make_tube(duodenum_line, std::vector<double>(duodenum_line.size(), duodenum_radius), 32);

@@ -2,6 +2,12 @@
 
 namespace lap::haptics {
 
+namespace {
+// The patients are shown as for cholangiography, the gallbladder retracted (its fundus held up
+// over the liver, anatomy_parameters.h): the default keeps the textbook position.
+constexpr double kRetractionDeg = 30.0;
+}  // namespace
+
 std::vector<std::string> anatomy_preset_names() { return {"default", "easy", "moderate", "hard"}; }
 
 bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
@@ -12,6 +18,7 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
   } else if (name == "easy") {
     // A long, wide, straight duct leaving at an open angle, a lean hilum: the duct is easy to
     // see, to hold and to cannulate.
+    p.gallbladder_retraction_deg = kRetractionDeg;
     p.cystic_duct_length_m = 0.038;
     p.cystic_duct_inner_diameter_m = 0.0038;
     p.cystic_duct_angle_deg = 55.0;
@@ -22,6 +29,7 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
   } else if (name == "moderate") {
     // A short, narrower duct at the usual angle (little room for the clip and the
     // ductotomy), a little more fat and a bigger liver over it.
+    p.gallbladder_retraction_deg = kRetractionDeg;
     p.cystic_duct_length_m = 0.022;
     p.cystic_duct_inner_diameter_m = 0.0025;
     p.cystic_duct_angle_deg = 35.0;
@@ -37,6 +45,7 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
     // the duct and the common hepatic duct look alike side by side, where misidentification is
     // the classic bile duct injury. A low insertion needs a duct long enough to reach down to
     // it, so this duct is not short (the short duct is `moderate`'s).
+    p.gallbladder_retraction_deg = kRetractionDeg;
     p.cystic_duct_length_m = 0.038;
     p.cystic_duct_inner_diameter_m = 0.0021;
     p.cystic_duct_tortuosity_m = 0.0015;

@@ -32,6 +32,14 @@ struct AnatomyParameters {
   /// Hartmann's pouch: how far the neck's bulge stands out beyond the neck [m] (estimate).
   double hartmann_pouch_m = 0.005;
 
+  /// How far the gallbladder is retracted, turned about its neck so the fundus goes cephalad
+  /// [deg]: 0 lies in its fossa under the liver. Before cholangiography the assistant holds the
+  /// fundus up over the liver to open Calot's triangle (Sabiston Textbook of Surgery, 21st ed.,
+  /// ch. 54, laparoscopic cholecystectomy: "the fundus of the gallbladder is grasped and
+  /// retracted cephalad over the liver"); the liver's free edge is lifted with it. The duct
+  /// keeps its course from the neck (the neck is the pivot).
+  double gallbladder_retraction_deg = 0.0;
+
   /// Cystic duct: centre-line length from the gallbladder neck to the common bile duct's wall,
   /// inside diameter and wall [m]. 2-4 cm long, 2-3 mm inside (up to 4 mm; Gray's Anatomy,
   /// 41st ed., ch. 70; Sabiston ch. 54: "2 to 4 cm" long). Wall 1 mm: estimate, as the stand-in
