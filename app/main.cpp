@@ -8,12 +8,17 @@
 #include <QApplication>
 #include <QSurfaceFormat>
 #include <QTimer>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "app/main_window.h"
+#include "app/run_stats.h"
 #include "hardware/device_spec.h"
 #include "sim/setup/scenario_loader.h"
 #include "sim/setup/scene.h"
@@ -28,7 +33,7 @@ constexpr int kExitUsage = 64;
 
 const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
-    "                  [--quit-after S] [--screenshot PNG --frames N]\n"
+    "                  [--quit-after S] [--screenshot PNG --frames N] [--stats FILE]\n"
     "  --scenario FILE   scenario to open (default: scenarios/default.yaml)\n"
     "  --left DEV, --right DEV  the tools' devices: simulated (default, keyboard and mouse),\n"
     "                    scripted:FILE, replay:FILE (a saved session), phantom:NAME\n"
@@ -36,12 +41,16 @@ const char* const kUsage =
     "  --record DIR      when the session ends, save its inputs (for replay) and metrics\n"
     "                    there: left.lapdev, right.lapdev, metrics.json\n"
     "  --screenshot PNG  render N frames, write the last one to PNG and exit\n"
-    "  --frames N        frames to render before the screenshot (default 10)\n";
+    "  --frames N        frames to render before the screenshot (default 10)\n"
+    "  --stats FILE      at exit, write how fast the loops ran as JSON: graphics frame rate\n"
+    "                    (mean, 5th percentile), start to first frame, haptic rate and its\n"
+    "                    p99.9 lateness, modelling rate\n";
 
 struct Options {
   std::string scenario;
   std::string screenshot;
   std::string record;
+  std::string stats;
   std::array<lap::hardware::DeviceSpec, 2> devices{};
   double quit_after_s = 0.0;
   int frames = 10;
@@ -65,6 +74,8 @@ bool parse(int argc, char** argv, Options& o) {
       if (!value(o.screenshot)) return false;
     } else if (a == "--record") {
       if (!value(o.record)) return false;
+    } else if (a == "--stats") {
+      if (!value(o.stats)) return false;
     } else if (a == "--left" || a == "--right") {
       std::string text;
       if (!value(text)) return false;
@@ -131,6 +142,8 @@ int run_headless(const std::string& scenario) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const double started_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   Options opt;
   if (!parse(argc, argv, opt)) {
     std::cerr << kUsage;
@@ -185,5 +198,21 @@ int main(int argc, char** argv) {
     QTimer::singleShot(static_cast<int>(opt.quit_after_s * 1000.0), &window,
                        [&window] { window.close(); });
   }
-  return QApplication::exec();
+  const int code = QApplication::exec();
+  if (!opt.stats.empty()) {
+    // The window has ended its session by now (closing it, or the screenshot's end).
+    if (const lap::Status ended = window.end_session(); !ended.ok()) {
+      std::cerr << "laptrainer: " << ended.message() << "\n";
+    }
+    const std::vector<double>& frames = window.view()->frame_times_s();
+    const double first_frame_s = frames.empty() ? -1.0 : frames.front() - started_s;
+    std::ofstream f(opt.stats);
+    f << lap::app::run_stats_json(frames, first_frame_s, window.last_metrics()).dump(2) << "\n";
+    f.flush();
+    if (!f) {
+      std::cerr << "laptrainer: " << opt.stats << ": cannot write the statistics\n";
+      return code == 0 ? kExitProblems : code;
+    }
+  }
+  return code;
 }

@@ -23,6 +23,8 @@ class MainWindow : public QMainWindow {
   /// Loads a scenario and shows it; on failure keeps the current scene and returns the problems.
   [[nodiscard]] Status open_scenario(const QString& file);
   VtkView* view() { return view_; }
+  /// The last session's metrics, once end_session() or the window's closing has stopped it.
+  [[nodiscard]] const sim::SessionMetrics& last_metrics() const { return session_.last_metrics(); }
   /// Where the session's inputs and metrics are saved when it ends (window closed, quit);
   /// empty: not saved unless the user asks (File > End and Save Session).
   void set_record_dir(const QString& dir) { record_dir_ = dir; }

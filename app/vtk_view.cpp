@@ -8,6 +8,7 @@
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QWheelEvent>
+#include <chrono>
 #include <cmath>
 
 namespace lap::app {
@@ -54,6 +55,8 @@ void VtkView::render() {
   }
   render_window_->Render();
   ++frames_;
+  frame_times_s_.push_back(
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
   emit frame_rendered();
 }
 

@@ -11,6 +11,7 @@
 
 #include <QPoint>
 #include <QWidget>
+#include <vector>
 
 #include "core/result.h"
 
@@ -46,6 +47,8 @@ class VtkView : public QWidget {
   [[nodiscard]] lap::Status save_png(const QString& file);
   /// Frames rendered so far.
   [[nodiscard]] long frames() const { return frames_; }
+  /// When each frame was done [s, steady clock] (for `laptrainer --stats`).
+  [[nodiscard]] const std::vector<double>& frame_times_s() const { return frame_times_s_; }
 
   QPaintEngine* paintEngine() const override { return nullptr; }
 
@@ -78,6 +81,7 @@ class VtkView : public QWidget {
   QPoint last_mouse_;
   Qt::MouseButtons buttons_ = Qt::NoButton;
   long frames_ = 0;
+  std::vector<double> frame_times_s_;
 };
 
 }  // namespace lap::app

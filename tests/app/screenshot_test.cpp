@@ -163,6 +163,32 @@ TEST(Screenshot, TheSessionIsSavedForReviewWhenItEnds) {
   EXPECT_TRUE(json["watchdog_events"].is_array() && json["watchdog_events"].empty()) << json;
 }
 
+// `--stats FILE`: at exit, the loops' rates as JSON (the haptic loop's 1 kHz while the window
+// draws; the frame rate and start to first frame measured, not asserted here: this machine's
+// software renderer and load vary; docs/benchmarks.md has the figures of a dedicated run).
+TEST(Screenshot, StatsAtExitGiveTheLoopsRates) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  TempDir dir;
+  const auto stats = dir.path() / "stats.json";
+  const CommandResult r = run_command((bin_dir() / "laptrainer").string() + " --scenario " +
+                                      (source_dir() / "scenarios/default.yaml").string() +
+                                      " --quit-after 2 --stats " + stats.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream f(stats);
+  const auto json = nlohmann::json::parse(f, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(json.is_discarded()) << "stats.json is not JSON";
+  EXPECT_GT(json["graphics"]["frames"].get<int64_t>(), 2) << json;
+  EXPECT_GT(json["graphics"]["fps_mean"].get<double>(), 0.0) << json;
+  EXPECT_GT(json["graphics"]["fps_p5"].get<double>(), 0.0) << json;
+  EXPECT_LE(json["graphics"]["fps_p5"].get<double>(),
+            json["graphics"]["fps_mean"].get<double>() * 1.5)
+      << json;
+  EXPECT_GT(json["graphics"]["first_frame_s"].get<double>(), 0.0) << json;
+  EXPECT_NEAR(json["haptic"]["rate_hz"].get<double>(), 1000.0, 50.0) << json;
+  EXPECT_NEAR(json["model"]["rate_hz"].get<double>(), 200.0, 10.0) << json;
+  EXPECT_TRUE(json["haptic"]["lateness_p999_us"].is_number()) << json;
+}
+
 // An instructor plays a saved session back in the window (--left/--right replay:FILE): the
 // replayed session's inputs are the saved ones, tick for tick, bit for bit.
 TEST(Screenshot, ASavedSessionPlaysBackInTheWindow) {
