@@ -29,6 +29,7 @@
 #include "haptics/setup/mesh_repair.h"
 #include "haptics/setup/mesh_validation.h"
 #include "hardware/device_spec.h"
+#include "hardware/libusb_transport.h"
 #include "sim/authoring/expert_benchmarks.h"
 #include "sim/authoring/expert_run.h"
 #include "sim/report/session_pdf.h"
@@ -88,6 +89,9 @@ const char* const kUsage =
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
     "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
     "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
+    "  devices\n"
+    "      list the actuated USB grippers plugged in (serial, bus path), to name each tool's\n"
+    "      with DEV+gripper:SERIAL or DEV+gripper@BUS-PORTS\n"
     "  report --session DIR [--format json|csv|pdf] [--out FILE]\n"
     "      replay a session recorded by run --record and print its task and training metrics,\n"
     "      recomputed from the recorded inputs (json: as run prints them, with the series;\n"
@@ -512,6 +516,23 @@ int cmd_run(int argc, char** argv) {
   return kExitOk;
 }
 
+int cmd_devices(int argc, char** argv) {
+  Args args(argc, argv, {});
+  if (!args.only({})) return usage_error(args);
+  const auto found = lap::hardware::LibusbTransport::list();
+  if (!found.ok()) {
+    std::cerr << "laptrainer-cli devices: " << found.message() << "\n";
+    return kExitProblems;
+  }
+  std::cout << found.value().size() << " actuated gripper(s) (USB 1209:4c54)\n";
+  for (const lap::hardware::FoundGripper& g : found.value()) {
+    std::cout << "  serial " << (g.serial.empty() ? "(unreadable)" : g.serial) << " at "
+              << g.bus_path << ": use DEV+gripper"
+              << (g.serial.empty() ? "@" + g.bus_path : ":" + g.serial) << "\n";
+  }
+  return kExitOk;
+}
+
 int cmd_report(int argc, char** argv) {
   Args args(argc, argv, {});
   const bool ok = args.only({"--session", "--format", "--out"});
@@ -716,6 +737,7 @@ int main(int argc, char** argv) {
     if (cmd == "probe") return cmd_probe(argc, argv);
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "report") return cmd_report(argc, argv);
+    if (cmd == "devices") return cmd_devices(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "laptrainer-cli " << cmd << ": " << e.what() << "\n";
     return 1;

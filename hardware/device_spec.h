@@ -3,12 +3,14 @@
 /// The device specifications accepted on the command line (docs/architecture.md `run --left DEV`):
 /// `simulated`, `scripted:FILE`, `replay:FILE`, `phantom` or `phantom:NAME`, each optionally
 /// followed by `+gripper`: the actuated USB gripper on the arm's end gives the jaw opening and
-/// renders the squeeze (thesis Figure 7-9).
+/// renders the squeeze (thesis Figure 7-9); `+gripper:SERIAL` or `+gripper@BUS-PORTS` names
+/// which one when two are plugged in (gripper_selection.h).
 
 #include <string>
 #include <string_view>
 
 #include "core/result.h"
+#include "hardware/gripper_selection.h"
 
 namespace lap::hardware {
 
@@ -20,6 +22,7 @@ struct DeviceSpec {
   DeviceKind kind = DeviceKind::kSimulated;
   std::string argument;      ///< file for scripted/replay, device name for phantom (may be empty)
   bool usb_gripper = false;  ///< `+gripper`: the actuated gripper over USB
+  GripperSelector gripper;   ///< which one (`+gripper:SERIAL`, `+gripper@BUS-PORTS`)
 };
 
 /// Parses DEV; on failure a diagnostic saying what was expected.

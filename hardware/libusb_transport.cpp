@@ -2,6 +2,9 @@
 
 #include <libusb-1.0/libusb.h>
 
+#include <string>
+#include <utility>
+
 #include "hardware/gripper_protocol.h"
 
 namespace lap::hardware {
@@ -22,14 +25,64 @@ TransferResult map(int rc) {
   }
 }
 
+/// "BUS-PORT.PORT…" as the kernel names a device's place on the bus.
+std::string bus_path(libusb_device* d) {
+  std::string path = std::to_string(libusb_get_bus_number(d));
+  uint8_t ports[8];
+  const int n = libusb_get_port_numbers(d, ports, 8);
+  for (int i = 0; i < n; ++i) path += (i == 0 ? "-" : ".") + std::to_string(ports[i]);
+  return path;
+}
+
+/// The grippers on the bus, each with its device (referenced: unref when done).
+std::vector<std::pair<FoundGripper, libusb_device*>> enumerate(libusb_context* context) {
+  std::vector<std::pair<FoundGripper, libusb_device*>> out;
+  libusb_device** list = nullptr;
+  const ssize_t n = libusb_get_device_list(context, &list);
+  for (ssize_t i = 0; i < n; ++i) {
+    libusb_device_descriptor desc{};
+    if (libusb_get_device_descriptor(list[i], &desc) != LIBUSB_SUCCESS ||
+        desc.idVendor != gripper::kVendorId || desc.idProduct != gripper::kProductId) {
+      continue;
+    }
+    FoundGripper g;
+    g.bus_path = bus_path(list[i]);
+    libusb_device_handle* h = nullptr;
+    if (desc.iSerialNumber != 0 && libusb_open(list[i], &h) == LIBUSB_SUCCESS) {
+      unsigned char text[128];
+      const int len = libusb_get_string_descriptor_ascii(h, desc.iSerialNumber, text, sizeof(text));
+      if (len > 0) g.serial.assign(reinterpret_cast<const char*>(text), static_cast<size_t>(len));
+      libusb_close(h);
+    }
+    out.emplace_back(g, libusb_ref_device(list[i]));
+  }
+  if (list != nullptr) libusb_free_device_list(list, 1);
+  return out;
+}
+
 }  // namespace
 
 struct LibusbTransport::Impl {
+  GripperSelector selector;
   libusb_context* context = nullptr;
   libusb_device_handle* handle = nullptr;
 };
 
-LibusbTransport::LibusbTransport() : impl_(std::make_unique<Impl>()) {}
+LibusbTransport::LibusbTransport(GripperSelector selector) : impl_(std::make_unique<Impl>()) {
+  impl_->selector = std::move(selector);
+}
+
+Result<std::vector<FoundGripper>> LibusbTransport::list() {
+  libusb_context* context = nullptr;
+  if (libusb_init(&context) != LIBUSB_SUCCESS) return diagnostic("libusb could not start");
+  std::vector<FoundGripper> found;
+  for (auto& [g, device] : enumerate(context)) {
+    found.push_back(g);
+    libusb_unref_device(device);
+  }
+  libusb_exit(context);
+  return found;
+}
 
 LibusbTransport::~LibusbTransport() {
   close();
@@ -42,12 +95,19 @@ Status LibusbTransport::open() {
     impl_->context = nullptr;
     return diagnostic("libusb could not start");
   }
-  impl_->handle =
-      libusb_open_device_with_vid_pid(impl_->context, gripper::kVendorId, gripper::kProductId);
-  if (impl_->handle == nullptr) {
-    return diagnostic(
-        "no actuated gripper found (USB 1209:4c54); is it plugged in, and may this user "
-        "open it (udev rule in hardware/README.md)?");
+  auto found = enumerate(impl_->context);
+  std::vector<FoundGripper> grippers;
+  for (const auto& f : found) grippers.push_back(f.first);
+  const Result<size_t> chosen = select_gripper(grippers, impl_->selector);
+  int rc_open = LIBUSB_ERROR_NOT_FOUND;
+  if (chosen.ok()) rc_open = libusb_open(found[chosen.value()].second, &impl_->handle);
+  for (auto& f : found) libusb_unref_device(f.second);
+  if (!chosen.ok()) return chosen.diagnostics();
+  if (rc_open != LIBUSB_SUCCESS) {
+    impl_->handle = nullptr;
+    return diagnostic("the actuated gripper at " + grippers[chosen.value()].bus_path +
+                      " could not be opened: " + libusb_strerror(rc_open) +
+                      " (may this user open it? udev rule in hardware/README.md)");
   }
   libusb_set_auto_detach_kernel_driver(impl_->handle, 1);
   const int rc = libusb_claim_interface(impl_->handle, gripper::kInterface);

@@ -4,14 +4,17 @@
 /// endpoints). The only file in the project that includes libusb (docs/architecture.md).
 
 #include <memory>
+#include <vector>
 
+#include "hardware/gripper_selection.h"
 #include "hardware/usb_transport.h"
 
 namespace lap::hardware {
 
 class LibusbTransport final : public UsbTransport {
  public:
-  LibusbTransport();
+  /// Opens the gripper `selector` names (gripper_selection.h), or the only one plugged in.
+  explicit LibusbTransport(GripperSelector selector = {});
   ~LibusbTransport() override;
   LibusbTransport(const LibusbTransport&) = delete;
   LibusbTransport& operator=(const LibusbTransport&) = delete;
@@ -23,6 +26,9 @@ class LibusbTransport final : public UsbTransport {
   TransferResult read(std::span<uint8_t> buffer, int timeout_ms, size_t* received) override;
   TransferResult write(std::span<const uint8_t> bytes, int timeout_ms) override;
   TransferResult clear_stall(uint8_t endpoint) override;
+
+  /// The grippers plugged in now (serials need permission to open them: empty where refused).
+  [[nodiscard]] static Result<std::vector<FoundGripper>> list();
 
  private:
   struct Impl;

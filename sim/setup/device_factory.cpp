@@ -74,8 +74,8 @@ Result<std::unique_ptr<hardware::HapticDevice>> make_device(const hardware::Devi
   if (!arm.ok() || !spec.usb_gripper) return arm;
   // The actuated gripper on the arm's end (started, and checked, with the session).
   return std::unique_ptr<hardware::HapticDevice>(std::make_unique<hardware::ArmWithGripper>(
-      std::move(arm).value(),
-      std::make_unique<hardware::UsbGripper>(std::make_unique<hardware::LibusbTransport>())));
+      std::move(arm).value(), std::make_unique<hardware::UsbGripper>(
+                                  std::make_unique<hardware::LibusbTransport>(spec.gripper))));
 }
 
 }  // namespace lap::sim

@@ -38,5 +38,48 @@ TEST(DeviceSpec, RejectsWithAClearMessage) {
   EXPECT_EQ(simulated.message(), "device 'simulated:x': 'simulated' takes no argument");
 }
 
+// Two grippers, two tools: each DEV names its own by serial or by where it is plugged.
+TEST(DeviceSpec, NamesWhichGripperBySerialOrBusPath) {
+  const Result<DeviceSpec> serial = parse_device_spec("phantom:Left+gripper:LT-0042");
+  ASSERT_TRUE(serial.ok()) << serial.message();
+  EXPECT_EQ(serial->argument, "Left");
+  EXPECT_TRUE(serial->usb_gripper);
+  EXPECT_EQ(serial->gripper.serial, "LT-0042");
+  EXPECT_TRUE(serial->gripper.bus_path.empty());
+  const Result<DeviceSpec> path = parse_device_spec("simulated+gripper@1-2.3");
+  ASSERT_TRUE(path.ok()) << path.message();
+  EXPECT_EQ(path->kind, DeviceKind::kSimulated);
+  EXPECT_EQ(path->gripper.bus_path, "1-2.3");
+  EXPECT_TRUE(parse_device_spec("phantom+gripper")->gripper.serial.empty());
+  for (const char* bad : {"phantom+gripper:", "phantom+gripper@", "phantom+gripper@x-1",
+                          "phantom+gripper@12", "phantom+gripperX"}) {
+    const Result<DeviceSpec> r = parse_device_spec(bad);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(r.message(), "device '" + std::string(bad) +
+                               "': expected +gripper, +gripper:SERIAL or +gripper@BUS-PORTS "
+                               "(e.g. +gripper@1-2.3) at its end");
+  }
+}
+
+TEST(GripperSelection, TheOnlyOneOrTheNamedOne) {
+  const std::vector<FoundGripper> two = {{"LT-0042", "1-2"}, {"", "1-3.1"}};
+  EXPECT_EQ(select_gripper({{"A", "1-4"}}, {}).value(), 0U);
+  EXPECT_EQ(select_gripper(two, {"LT-0042", ""}).value(), 0U);
+  EXPECT_EQ(select_gripper(two, {"", "1-3.1"}).value(), 1U);
+  const Result<size_t> ambiguous = select_gripper(two, {});
+  ASSERT_FALSE(ambiguous.ok());
+  EXPECT_EQ(ambiguous.message(),
+            "2 actuated grippers found (serial LT-0042 at 1-2, serial (unreadable) at 1-3.1): name "
+            "the tool's with +gripper:SERIAL or +gripper@BUS-PORTS");
+  EXPECT_EQ(select_gripper(two, {"LT-9", ""}).message(),
+            "no actuated gripper with serial 'LT-9' (found: serial LT-0042 at 1-2, serial "
+            "(unreadable) at 1-3.1)");
+  EXPECT_EQ(select_gripper(two, {"", "2-1"}).message(),
+            "no actuated gripper plugged in at 2-1 (found: serial LT-0042 at 1-2, serial "
+            "(unreadable) at 1-3.1)");
+  EXPECT_NE(select_gripper({}, {}).message().find("no actuated gripper found (USB 1209:4c54)"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace lap::hardware
