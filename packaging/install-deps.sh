@@ -15,8 +15,9 @@ PACKAGES=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # headless display for GUI tests and screenshots
   xvfb xauth libgl1-mesa-dri mesa-utils
-  # the PDF reports are checked by rendering them (pdftoppm) and reading their text (pdftotext)
-  poppler-utils
+  # the PDF reports are checked by rendering them (pdftoppm) and reading their text (pdftotext);
+  # the .deb is checked by lintian
+  poppler-utils lintian
 )
 
 missing=()

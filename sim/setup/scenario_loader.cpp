@@ -540,11 +540,17 @@ ScenarioLoadResult load_scenario(const fs::path& file, const ScenarioLoadSetting
 }
 
 fs::path default_scenario_path() {
+  // Installed: beside the binary, PREFIX/bin/../share/laptrainer (the package's layout, wherever
+  // it was unpacked); else the source tree the binary was built from; else the system's.
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path installed =
+      ec ? fs::path() : exe.parent_path().parent_path() / "share/laptrainer/scenarios/default.yaml";
   for (const fs::path& candidate :
-       {fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml",
+       {installed, fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml",
         fs::path("/usr/share/laptrainer/scenarios/default.yaml"),
         fs::path("/usr/local/share/laptrainer/scenarios/default.yaml")}) {
-    std::error_code ec;
+    if (candidate.empty()) continue;
     if (fs::is_regular_file(candidate, ec)) return candidate;
   }
   return fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml";

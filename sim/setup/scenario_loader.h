@@ -35,8 +35,8 @@ using ScenarioLoadResult = Result<Scenario>;
                                                 const std::filesystem::path& file,
                                                 const ScenarioLoadSettings& settings = {});
 
-/// The scenario the application opens when none is given: scenarios/default.yaml of the source
-/// tree, or of the install prefix.
+/// The scenario the application opens when none is given: share/laptrainer/scenarios/default.yaml
+/// beside the running binary (an installed package, wherever unpacked), else the source tree's.
 [[nodiscard]] std::filesystem::path default_scenario_path();
 
 }  // namespace lap::sim
