@@ -26,6 +26,11 @@ file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/packaging)
 execute_process(COMMAND gzip -9nc ${PROJECT_SOURCE_DIR}/packaging/deb/changelog
                 OUTPUT_FILE ${LAP_CHANGELOG_GZ})
 install(FILES ${LAP_CHANGELOG_GZ} DESTINATION ${LAP_DOC_DIR})
+foreach(page laptrainer laptrainer-cli)
+  execute_process(COMMAND gzip -9nc ${PROJECT_SOURCE_DIR}/packaging/deb/${page}.1
+                  OUTPUT_FILE ${CMAKE_BINARY_DIR}/packaging/${page}.1.gz)
+  install(FILES ${CMAKE_BINARY_DIR}/packaging/${page}.1.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+endforeach()
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME laptrainer)
