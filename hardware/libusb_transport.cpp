@@ -97,6 +97,7 @@ Status LibusbTransport::open() {
   }
   auto found = enumerate(impl_->context);
   std::vector<FoundGripper> grippers;
+  grippers.reserve(found.size());
   for (const auto& f : found) grippers.push_back(f.first);
   const Result<size_t> chosen = select_gripper(grippers, impl_->selector);
   int rc_open = LIBUSB_ERROR_NOT_FOUND;

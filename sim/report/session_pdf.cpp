@@ -140,7 +140,10 @@ double draw_head(PdfDocument& doc, const SessionMetrics& m, const SessionPdfCont
     while (at <= n.size()) {
       const size_t end = std::min(n.find(' ', at), n.size());
       const std::string word = n.substr(at, end - at);
-      if (PdfDocument::text_width(line + " " + word, 7.0, false) > kWidth) {
+      std::string wider = line;
+      wider += ' ';
+      wider += word;
+      if (PdfDocument::text_width(wider, 7.0, false) > kWidth) {
         doc.text(kLeft, y, line, 7.0, false, kGrey);
         y += 9.0;
         line.clear();

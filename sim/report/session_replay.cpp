@@ -20,7 +20,7 @@ namespace {
 constexpr const char* kFormat = "laptrainer-session";
 constexpr int kVersion = 1;
 /// A session.json is a few hundred bytes: anything far larger is not one.
-constexpr std::uintmax_t kMaxRecordBytes = 64 * 1024;
+constexpr std::uintmax_t kMaxRecordBytes = std::uintmax_t{64} * 1024;
 
 std::string hex64(uint64_t v) {
   char text[32];

@@ -171,7 +171,7 @@ TEST(SessionRecording, ADiskThatFillsUpStopsTheRecordingNotTheSession) {
   EXPECT_NE(warning.find("what was written before is kept"), std::string::npos) << warning;
   const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
   ASSERT_TRUE(r.ok()) << r.message();
-  EXPECT_TRUE(r.value().interrupted);  // no end: it could not be written
+  EXPECT_TRUE(r.value().interrupted);        // no end: it could not be written
   EXPECT_GT(r.value().ticks.size(), 1000U);  // several whole chunks (40 ms of --fast each)
   EXPECT_LT(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
   EXPECT_LE(fs::file_size(dir.path() / "session.lrec"), 2U * 1024U * 1024U);
