@@ -27,11 +27,18 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
     p.gallbladder_width_m = 0.031;
     p.liver_scale = 0.95;
   } else if (name == "moderate") {
-    // A short, narrower duct at the usual angle (little room for the clip and the
-    // ductotomy), a little more fat and a bigger liver over it.
+    // A short duct (2.6 cm against the textbook 3.2) at a narrower angle than easy's, a high
+    // junction (a short common hepatic duct), more fat and a bigger liver and gallbladder over
+    // it: little room for the clip and the ductotomy, a more crowded view. The lumen is the
+    // textbook 3 mm (2-4 mm, Gray's Anatomy, 41st ed., ch. 70): the expert's planned catheter
+    // (sim/authoring/expert_run.h) does not stay in a lumen under 3 mm (an open defect,
+    // docs/anatomy.md), so difficulty is graded by the duct's course, the fat and the liver.
+    // Not shorter: at 2.2 cm the expert's run failed from every ductotomy site tried (25, 4-8 mm
+    // from the neck), 7 of them through the wall just after reaching the 10 mm target depth
+    // (scenarios/patient_moderate.yaml).
     p.gallbladder_retraction_deg = kRetractionDeg;
-    p.cystic_duct_length_m = 0.022;
-    p.cystic_duct_inner_diameter_m = 0.0025;
+    p.cystic_duct_length_m = 0.026;
+    p.cystic_duct_inner_diameter_m = 0.003;
     p.cystic_duct_angle_deg = 35.0;
     p.common_hepatic_duct_length_m = 0.025;
     p.hilum_fat = 1.4;
@@ -44,10 +51,11 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
     // low (a low insertion: a long common hepatic duct), in a fatty hilum, under a big liver:
     // the duct and the common hepatic duct look alike side by side, where misidentification is
     // the classic bile duct injury. A low insertion needs a duct long enough to reach down to
-    // it, so this duct is not short (the short duct is `moderate`'s).
+    // it, so this duct is not short (the short duct is `moderate`'s). The lumen is the textbook
+    // 3 mm, as moderate's (why: there); the duct's course, the fat and the liver make it hard.
     p.gallbladder_retraction_deg = kRetractionDeg;
     p.cystic_duct_length_m = 0.038;
-    p.cystic_duct_inner_diameter_m = 0.0021;
+    p.cystic_duct_inner_diameter_m = 0.003;
     p.cystic_duct_tortuosity_m = 0.0015;
     p.cystic_duct_half_waves = 2;
     p.cystic_duct_angle_deg = 18.0;

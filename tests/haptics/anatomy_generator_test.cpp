@@ -322,6 +322,24 @@ TEST(AnatomyGenerator, PresetsVaryWhatTheySay) {
     return r.length_m / (r.centre_line_m.back() - r.centre_line_m.front()).norm();
   };
   EXPECT_GT(slack(hard.cystic_duct), slack(easy.cystic_duct));
+  // Graded: each patient harder than the one before by the duct's course, the fat and the
+  // liver (docs/anatomy.md "Presets"), not by a lumen under 3 mm, which the expert's planned
+  // catheter does not stay in (an open defect, docs/anatomy.md "Narrow lumens").
+  EXPECT_LT(moderate.cystic_duct.length_m, easy.cystic_duct.length_m);
+  EXPECT_GT(easy.parameters.cystic_duct_angle_deg, moderate.parameters.cystic_duct_angle_deg);
+  EXPECT_GT(moderate.parameters.cystic_duct_angle_deg, hard.parameters.cystic_duct_angle_deg);
+  EXPECT_GT(slack(hard.cystic_duct), slack(moderate.cystic_duct));
+  EXPECT_GT(hard.common_hepatic_duct_length_m, moderate.common_hepatic_duct_length_m);
+  for (const auto* lighter : {&easy, &moderate}) {
+    const auto* heavier = lighter == &easy ? &moderate : &hard;
+    EXPECT_GT(heavier->organ("hepatoduodenal_fat")->mesh.signed_volume(),
+              lighter->organ("hepatoduodenal_fat")->mesh.signed_volume());
+    EXPECT_GT(heavier->organ("liver")->mesh.signed_volume(),
+              lighter->organ("liver")->mesh.signed_volume());
+  }
+  for (const auto* patient : {&easy, &moderate, &hard}) {
+    EXPECT_GE(patient->cystic_duct.inner_diameter_m, 0.003 - 1e-9) << patient->parameters.name;
+  }
 }
 
 TEST(AnatomyGenerator, SameParametersSameNumbers) {

@@ -105,7 +105,9 @@ TEST_P(PatientRun, PullingTheGraspedDuctInjuresIt) {
   EXPECT_NEAR(e.duration_s, scene.scenario.task->duct_injury_time_s, 0.006);
 }
 
-INSTANTIATE_TEST_SUITE_P(Patients, PatientRun, ::testing::Values(Patient{"patient_easy"}),
+INSTANTIATE_TEST_SUITE_P(Patients, PatientRun,
+                         ::testing::Values(Patient{"patient_easy"}, Patient{"patient_moderate"},
+                                           Patient{"patient_hard"}),
                          [](const ::testing::TestParamInfo<Patient>& info) {
                            return info.param.stem;
                          });
