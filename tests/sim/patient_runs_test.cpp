@@ -1,9 +1,8 @@
-// The patients of graded difficulty (scenarios/patient_*.yaml on the generated anatomy,
-// docs/anatomy.md; issue 22): for each, the shipped scripts are what the planner
-// (sim/authoring/expert_run.h) writes from the scenario, the expert's run ends in success and
-// each clumsy run fails for its own reason, with the exact sequence of events
-// (sim/runtime/task_engine.h), as tests/sim/expert_run_test.cpp checks for the default. All in
-// --fast mode: a function of the inputs only.
+// The default scenario and the patients of graded difficulty (scenarios/patient_*.yaml on the
+// generated anatomy, docs/anatomy.md; issue 22): for each, the shipped scripts are what the
+// planner (sim/authoring/expert_run.h) writes from the scenario, the expert's run ends in success
+// and each clumsy run fails for its own reason, with the exact sequence of events
+// (sim/runtime/task_engine.h). All in --fast mode: a function of the inputs only.
 
 #include <gtest/gtest.h>
 
@@ -106,8 +105,8 @@ TEST_P(PatientRun, PullingTheGraspedDuctInjuresIt) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Patients, PatientRun,
-                         ::testing::Values(Patient{"patient_easy"}, Patient{"patient_moderate"},
-                                           Patient{"patient_hard"}),
+                         ::testing::Values(Patient{"default"}, Patient{"patient_easy"},
+                                           Patient{"patient_moderate"}, Patient{"patient_hard"}),
                          [](const ::testing::TestParamInfo<Patient>& info) {
                            return info.param.stem;
                          });

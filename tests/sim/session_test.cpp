@@ -326,7 +326,8 @@ TEST(Session, BadSettingsAndScenesAreClearErrors) {
   std::string error = toolless.message();
   EXPECT_NE(error.find("tools: expected a left tool"), std::string::npos) << error;
   // No OpenHaptics on the library path (the fake is loaded by its full path only).
-  hardware::DeviceSpec phantom{hardware::DeviceKind::kPhantom, ""};
+  hardware::DeviceSpec phantom;
+  phantom.kind = hardware::DeviceKind::kPhantom;
   auto no_phantom = make_device(phantom, scene, 0);
   EXPECT_FALSE(no_phantom.ok());
   error = no_phantom.message();
