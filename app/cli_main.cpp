@@ -462,7 +462,14 @@ int cmd_run(int argc, char** argv) {
     // Streamed as it runs (a crash loses at most the last 100 ms), with what it was run with.
     const fs::path dir = args.get("--record");
     std::error_code ec;
+    if (fs::exists(dir / "session.lrec", ec) || fs::exists(dir / "session.json", ec)) {
+      std::cerr << "laptrainer-cli run: --record " << dir.string()
+                << " already holds a recorded session; choose a new folder\n";
+      return kExitProblems;
+    }
+    // The trainee's sessions are theirs: the folder and its files for its owner only.
     fs::create_directories(dir, ec);
+    fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace, ec);
     const auto header = lap::sim::session_record_json(args.get("--scenario"), rs);
     lap::Status ready = header.ok()
                             ? lap::sim::write_session_record(dir, args.get("--scenario"), rs)
@@ -543,6 +550,20 @@ int cmd_report(int argc, char** argv) {
   }
   if (format == "pdf" && !args.has("--out")) args.errors.push_back("--format pdf needs --out FILE");
   if (!ok || !args.errors.empty()) return usage_error(args);
+  // The report never overwrites what it reports on.
+  if (args.has("--out")) {
+    std::error_code ec;
+    const fs::path out = fs::weakly_canonical(args.get("--out"), ec);
+    const fs::path session = fs::weakly_canonical(args.get("--session"), ec);
+    if (out.parent_path() == session &&
+        (out.filename() == "session.lrec" || out.filename() == "session.json" ||
+         out.filename() == "metrics.json" || out.extension() == ".lapdev")) {
+      std::cerr << "laptrainer-cli report: --out " << args.get("--out")
+                << " would overwrite the session's own " << out.filename().string()
+                << "; write the report elsewhere\n";
+      return kExitProblems;
+    }
+  }
   const auto replayed = lap::sim::replay_session(args.get("--session"));
   if (!replayed.ok()) return print_problems(replayed.diagnostics());
   const lap::sim::ReplayedSession& r = replayed.value();

@@ -8,6 +8,7 @@
 #include <QApplication>
 #include <QSurfaceFormat>
 #include <QTimer>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -150,6 +151,15 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   if (opt.scenario.empty()) opt.scenario = lap::sim::default_scenario_path().string();
+  if (!opt.stats.empty()) {
+    // Said now, not after the session: the statistics' file must be writable.
+    std::ofstream probe(opt.stats, std::ios::app);
+    if (!probe) {
+      std::cerr << "laptrainer: --stats " << opt.stats << ": cannot write there ("
+                << std::strerror(errno) << ")\n";
+      return kExitProblems;
+    }
+  }
 
   if (!display_available()) {
     if (!opt.screenshot.empty()) {

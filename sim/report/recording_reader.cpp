@@ -1,6 +1,7 @@
 #include "sim/report/recording_reader.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -12,6 +13,8 @@ namespace {
 /// A recording's header JSON is a few hundred bytes, a chunk of ticks 40 ms of them.
 constexpr uint32_t kMaxHeaderBytes = 1U << 20;
 constexpr uint32_t kMaxPayloadBytes = 64U << 20;
+/// Three hours of ticks at 1 kHz (304 bytes each): what a session may leave.
+constexpr std::uintmax_t kMaxRecordingBytes = std::uintmax_t{4} << 30;
 
 template <typename T>
 T get(const std::string& bytes, size_t at) {
@@ -68,6 +71,7 @@ class Reader {
     const size_t head = header();
     if (head == 0) return file_diagnostic(file_, 0, "", header_problem_);
     for (size_t at = head; at < b_.size();) at = chunk(at);
+    if (!s_.end_json.empty()) truncated();
     return std::move(s_);
   }
 
@@ -118,6 +122,7 @@ class Reader {
                                        std::to_string(first) + " if its head is right)");
     }
     const size_t payload = at + kChunkHeadBytes;
+    if (!s_.interrupted) problem(at, "a chunk after the end chunk");
     if (kind == kChunkTicks) {
       ticks(at, payload, bytes, count);
     } else if (kind == kChunkEvents) {
@@ -147,6 +152,11 @@ class Reader {
         return;
       }
       ++s_.ticks_read;
+      if (!gap_ && log.tick < static_cast<int64_t>(s_.ticks.size())) {
+        problem(at, "tick " + std::to_string(log.tick) +
+                        " again (a repeated or out-of-order chunk): skipped");
+        return;
+      }
       const bool next = log.tick == static_cast<int64_t>(s_.ticks.size());
       if (!next && !gap_) {
         problem(at, "ticks " + std::to_string(s_.ticks.size()) + " to " +
@@ -165,6 +175,23 @@ class Reader {
     char mark[4];
     std::memcpy(mark, &kChunkMagic, 4);
     return b_.find(std::string(mark, 4), from);
+  }
+
+  // The end chunk says how many ticks the session ran and how many it recorded: fewer recorded
+  // means the space reserved for the recording ran out (RuntimeSettings::record_s).
+  void truncated() {
+    const auto number = [&](const char* key) {
+      const size_t at = s_.end_json.find(key);
+      return at == std::string::npos ? -1LL
+                                     : std::atoll(s_.end_json.c_str() + at + std::strlen(key));
+    };
+    const long long ran = number("\"session_ticks\":");
+    const long long kept = number("\"ticks\":");
+    if (ran > 0 && kept >= 0 && ran > kept) {
+      problem(b_.size(), "the session ran " + std::to_string(ran) +
+                             " ticks and its recording kept " + std::to_string(kept) +
+                             " (the space reserved for it ran out)");
+    }
   }
 
   size_t skip_to_next_mark(size_t at, const std::string& what) {
@@ -189,6 +216,16 @@ class Reader {
 }  // namespace
 
 Result<RecordedSession> read_session_recording(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    return file_diagnostic(file.string(), 0, "", "expected a regular file (a session's recording)");
+  }
+  const std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec || size > kMaxRecordingBytes) {
+    return file_diagnostic(file.string(), 0, "",
+                           "is larger than a recording may be (" +
+                               std::to_string(kMaxRecordingBytes >> 20) + " MB: 3 hours)");
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return file_diagnostic(file.string(), 0, "", "cannot read the recording");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

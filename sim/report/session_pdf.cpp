@@ -26,6 +26,14 @@ std::string fixed(double v, int digits) {
   return text;
 }
 
+/// Four significant digits (a squeeze of 0.0003 N stays readable).
+std::string significant(double v) {
+  if (!std::isfinite(v)) return "-";
+  char text[48];
+  std::snprintf(text, sizeof(text), "%.4g", v);
+  return text;
+}
+
 /// The metrics that count (movements, grasp attempts, drops, injury events): whole numbers.
 bool is_count(const std::string& name) {
   for (const char* word : {"movements", "attempts", "drops", "events"}) {
@@ -179,12 +187,15 @@ void draw_metrics_page(PdfDocument& doc, const SessionMetrics& m) {
     }
     doc.text(kLeft, y, x.name, 7.5, false, kInk);
     doc.text(kLeft + 250.0, y,
-             !std::isfinite(x.value) ? "null" : fixed(x.value, is_count(x.name) ? 0 : 4), 7.5,
-             false, kInk);
+             !std::isfinite(x.value) ? "null"
+             : is_count(x.name)      ? fixed(x.value, 0)
+                                     : significant(x.value),
+             7.5, false, kInk);
     for (const BenchmarkResult& r : verdicts) {
       if (r.benchmark.metric != x.name) continue;
-      doc.text(kLeft + 340.0, y, (r.benchmark.higher_is_better ? ">= " : "<= ") + fixed(r.limit, 4),
-               7.5, false, kInk);
+      doc.text(kLeft + 340.0, y,
+               (r.benchmark.higher_is_better ? ">= " : "<= ") + significant(r.limit), 7.5, false,
+               kInk);
       doc.text(kLeft + 430.0, y, r.met ? "met" : "NOT MET", 7.5, true, r.met ? kGreen : kRed);
     }
     y += 9.5;

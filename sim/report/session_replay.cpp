@@ -1,5 +1,6 @@
 #include "sim/report/session_replay.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -28,15 +29,23 @@ std::string hex64(uint64_t v) {
   return text;
 }
 
-/// A number field, finite and positive.
-Result<double> positive_field(const nlohmann::json& j, const std::string& file, const char* field) {
+/// What a session's record may say: a day at most, a haptic loop of 10 kHz at most.
+constexpr double kMaxDurationS = 86400.0;
+constexpr double kMaxRateHz = 10000.0;
+
+/// A number field, finite, positive and at most `most`.
+Result<double> positive_field(const nlohmann::json& j, const std::string& file, const char* field,
+                              double most) {
   const auto it = j.find(field);
   if (it == j.end() || !it->is_number()) {
     return file_diagnostic(file, 0, field, "expected a number");
   }
   const double v = it->get<double>();
-  if (!std::isfinite(v) || v <= 0.0) {
-    return file_diagnostic(file, 0, field, "expected a positive finite number");
+  if (!std::isfinite(v) || v <= 0.0 || v > most) {
+    char range[64];
+    std::snprintf(range, sizeof(range), "%g", most);
+    return file_diagnostic(file, 0, field,
+                           std::string("expected a number above 0 and at most ") + range);
   }
   return v;
 }
@@ -53,6 +62,10 @@ Result<std::string> string_field(const nlohmann::json& j, const std::string& fil
 }  // namespace
 
 Result<uint64_t> file_digest(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    return file_diagnostic(file.string(), 0, "", "expected a regular file");
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return file_diagnostic(file.string(), 0, "", "cannot read the file");
   uint64_t h = 1469598103934665603ULL;
@@ -100,6 +113,9 @@ Result<SessionRecord> read_session_record(const std::filesystem::path& dir) {
   const std::filesystem::path path = dir / "session.json";
   const std::string file = path.string();
   std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    return file_diagnostic(file, 0, "", "missing or not a regular file (a session's record)");
+  }
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec)
     return file_diagnostic(file, 0, "", "cannot read the session's record (" + ec.message() + ")");
@@ -134,10 +150,13 @@ Result<SessionRecord> read_session_record(const std::filesystem::path& dir) {
   take(string_field(j, file, "scenario_digest"), &digest);
   take(string_field(j, file, "mode"), &mode);
   take(string_field(j, file, "dominant_hand"), &hand);
-  take(positive_field(j, file, "duration_s"), &r.settings.duration_s);
-  take(positive_field(j, file, "haptic_rate_hz"), &r.settings.haptic_rate_hz);
-  take(positive_field(j, file, "model_rate_hz"), &r.settings.model_rate_hz);
+  take(positive_field(j, file, "duration_s", kMaxDurationS), &r.settings.duration_s);
+  take(positive_field(j, file, "haptic_rate_hz", kMaxRateHz), &r.settings.haptic_rate_hz);
+  take(positive_field(j, file, "model_rate_hz", kMaxRateHz), &r.settings.model_rate_hz);
   if (!problems.empty()) return problems;
+  if (r.settings.model_rate_hz > r.settings.haptic_rate_hz) {
+    return file_diagnostic(file, 0, "model_rate_hz", "expected at most haptic_rate_hz");
+  }
   if (mode != "fast" && mode != "realtime") {
     return file_diagnostic(file, 0, "mode",
                            "expected \"fast\" or \"realtime\", got \"" + mode + "\"");
@@ -163,7 +182,10 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
   ReplayedSession out;
   out.record = std::move(record).value();
   const Result<uint64_t> digest = file_digest(out.record.scenario);
-  if (!digest.ok()) return digest.diagnostics();
+  if (!digest.ok()) {
+    return file_diagnostic((dir / "session.json").string(), 0, "scenario",
+                           "the scenario it names cannot be read: " + digest.message());
+  }
   if (digest.value() != out.record.scenario_digest) {
     out.notes.push_back(out.record.scenario.string() +
                         " has changed since the session was recorded: the replay runs the "
@@ -179,21 +201,39 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
   out.scenario_name = scene.value().scenario.name;
   out.task = scene.value().scenario.task;
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
-  if (std::filesystem::exists(dir / "session.lrec")) {
+  std::error_code ec;
+  const std::filesystem::path lrec = dir / "session.lrec";
+  const bool lapdevs = std::filesystem::is_regular_file(dir / "left.lapdev", ec) &&
+                       std::filesystem::is_regular_file(dir / "right.lapdev", ec);
+  int64_t recorded = -1;  // ticks to replay, when known before the replay devices read them
+  if (std::filesystem::exists(std::filesystem::symlink_status(lrec, ec))) {
     // The streamed recording: what a crash left, too.
-    Result<RecordedSession> rec = read_session_recording(dir / "session.lrec");
+    Result<RecordedSession> rec = read_session_recording(lrec);
     if (!rec.ok()) return rec.diagnostics();
     out.streamed = true;
     out.interrupted = rec.value().interrupted;
     out.recorded_ticks = static_cast<int64_t>(rec.value().ticks.size());
     out.recording_problems = rec.value().problems;
-    for (size_t side = 0; side < 2; ++side) {
-      hardware::DeviceRecording r = std::move(rec.value().devices[side]);
-      r.period_s = 1.0 / out.record.settings.haptic_rate_hz;
-      devices[side] = std::make_unique<hardware::ReplayDevice>(
-          std::move(r), side == 0 ? "left replay" : "right replay");
+    if (out.recorded_ticks == 0 && !lapdevs) {
+      std::string why = "no whole tick could be read";
+      for (const std::string& p : out.recording_problems) why += "; " + p;
+      return file_diagnostic(lrec.string(), 0, "", why);
     }
-  } else {
+    if (out.recorded_ticks == 0) {
+      out.notes.push_back(lrec.string() + " holds no whole tick: the session's left.lapdev and " +
+                          "right.lapdev (written at its end) are replayed instead");
+      out.streamed = false;
+    } else {
+      recorded = out.recorded_ticks;
+      for (size_t side = 0; side < 2; ++side) {
+        hardware::DeviceRecording r = std::move(rec.value().devices[side]);
+        r.period_s = 1.0 / out.record.settings.haptic_rate_hz;
+        devices[side] = std::make_unique<hardware::ReplayDevice>(
+            std::move(r), side == 0 ? "left replay" : "right replay");
+      }
+    }
+  }
+  if (!devices[0]) {
     for (int side = 0; side < 2; ++side) {
       hardware::DeviceSpec spec;
       spec.kind = hardware::DeviceKind::kReplay;
@@ -205,6 +245,11 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
   }
   RuntimeSettings rs = out.record.settings;
   rs.fast = true;
+  // As long as what was recorded (a window's session is given a day, and stops much sooner):
+  // the replay reserves its recording space for its duration.
+  if (recorded > 0) {
+    rs.duration_s = std::min(rs.duration_s, static_cast<double>(recorded + 2) / rs.haptic_rate_hz);
+  }
   auto session = Session::create(scene.value(), std::move(devices), rs);
   if (!session.ok()) return session.diagnostics();
   out.metrics = session.value()->run();

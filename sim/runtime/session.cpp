@@ -822,7 +822,9 @@ void Session::finish_recording(SessionMetrics* m) {
                                        {"watchdog_events", m->events.size()}};
   char hash[32];
   std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(m->state_hash));
+  // Fewer ticks recorded than run: the space reserved (RuntimeSettings::record_s) ran out.
   const nlohmann::ordered_json end = {{"ticks", published_ticks_.load()},
+                                      {"session_ticks", m->haptic.ticks()},
                                       {"result", std::string(to_string(m->task.result))},
                                       {"state_hash", hash}};
   const Status done = recorder_->finish(body.dump(), end.dump());
@@ -834,6 +836,9 @@ Status Session::write_recording(const std::string& dir) const {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return Diagnostic{dir, 0, "", "cannot create the recording folder: " + ec.message()};
+  // A trainee's session: readable by its owner only.
+  std::filesystem::permissions(dir, std::filesystem::perms::owner_all,
+                               std::filesystem::perm_options::replace, ec);
   const std::filesystem::path d(dir);
   for (size_t i = 0; i < 2; ++i) {
     Status written = hardware::write_device_recording(d / (i == 0 ? "left.lapdev" : "right.lapdev"),

@@ -1,5 +1,8 @@
 #include "sim/runtime/session_recorder.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -71,8 +74,11 @@ Result<std::unique_ptr<SessionRecorder>> SessionRecorder::open(const std::filesy
                                                                const std::string& header_json) {
   std::unique_ptr<SessionRecorder> r(new SessionRecorder());
   r->file_ = file;
-  r->f_ = std::fopen(file.c_str(), "wb");
+  // A new file, for its owner only (a trainee's session): an existing one is never overwritten.
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  r->f_ = fd >= 0 ? ::fdopen(fd, "wb") : nullptr;
   if (r->f_ == nullptr) {
+    if (fd >= 0) ::close(fd);
     return file_diagnostic(file.string(), 0, "",
                            std::string("cannot create the recording: ") + std::strerror(errno));
   }
@@ -152,6 +158,10 @@ Status SessionRecorder::finish(const std::string& events_json, const std::string
   if (published_ != nullptr) write_ticks_up_to(published_->load(std::memory_order_acquire));
   write_chunk(kChunkEvents, 0, 0, events_json);
   write_chunk(kChunkEnd, 0, 0, end_json);
+  // On the disk, not only in the kernel's cache, before it is called done.
+  if (f_ != nullptr && ::fdatasync(::fileno(f_)) != 0 && problem_.empty()) {
+    problem_ = "the recording " + file_.string() + " could not be synced: " + std::strerror(errno);
+  }
   if (f_ != nullptr && std::fclose(f_) != 0 && problem_.empty()) {
     problem_ = "the recording " + file_.string() + " did not close: " + std::strerror(errno);
   }

@@ -414,8 +414,14 @@ class ScenarioParser {
     const std::optional<std::string> name = fields_.string(key, "proficiency.metrics");
     if (!name) return;
     const std::string f = "proficiency.metrics." + *name;
+    // The duct's per-organ metrics are named "duct" (the task's target, else the modal shell),
+    // never by its organ name.
     std::vector<std::string> organs;
-    for (const OrganSpec& o : s_.organs) organs.push_back(o.name);
+    for (const OrganSpec& o : s_.organs) {
+      const bool duct =
+          s_.task ? o.name == s_.task->target : o.model == models::ModelKind::kModalShell;
+      if (!duct) organs.push_back(o.name);
+    }
     if (!is_metric_name(*name, organs)) {
       fields_.problem(key, f,
                       "not a training metric of this scenario (docs/metrics.md lists them; "

@@ -492,6 +492,21 @@ TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
   EXPECT_GT(red, 200) << "the force's curve and its threshold";
   EXPECT_GT(ink, 2000) << "text and axes";
 
+  // The report never overwrites its session; a run never records over another.
+  const CommandResult over = run_command(cli() + " report --session " + session.string() +
+                                         " --out " + (session / "session.lrec").string());
+  EXPECT_EQ(over.exit_code, 2);
+  EXPECT_NE(over.err.find("would overwrite the session's own session.lrec"), std::string::npos)
+      << over.err;
+  EXPECT_GT(std::filesystem::file_size(session / "session.lrec"), 1000U);
+  const CommandResult again = run_command(
+      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+      " --left simulated --right simulated --fast --duration 0.1 --record " + session.string());
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("already holds a recorded session"), std::string::npos) << again.err;
+  EXPECT_EQ(std::filesystem::status(session).permissions() & std::filesystem::perms::others_all,
+            std::filesystem::perms::none);
+
   // Problems: a folder without a session's record (exit 2, naming the file), a bad format (64).
   const CommandResult missing = run_command(cli() + " report --session " + dir.path().string());
   EXPECT_EQ(missing.exit_code, 2);

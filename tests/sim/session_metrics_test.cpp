@@ -48,10 +48,13 @@ SessionMetrics run_and_record(const std::string& stem, const fs::path& dir, int3
   rs.dominant_tool = dominant;
   auto created = Session::create(scene, std::move(d), rs);
   EXPECT_TRUE(created.ok()) << created.message();
+  // Streamed as it runs (session.lrec), then saved at the end, as `run --record` does.
+  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const Result<std::string> header = session_record_json(scenario, rs);
+  EXPECT_TRUE(header.ok());
+  EXPECT_TRUE(created.value()->record_to(dir / "session.lrec", header.value()).ok());
   const SessionMetrics m = created.value()->run();
-  const Status saved =
-      save_session(*created.value(), m, (test::source_dir() / "scenarios/default.yaml").string(),
-                   true, dir.string());
+  const Status saved = save_session(*created.value(), m, scenario.string(), true, dir.string());
   EXPECT_TRUE(saved.ok()) << saved.message();
   return m;
 }
@@ -121,6 +124,25 @@ TEST(SessionMetrics, ReplayedFromItsRecordingASessionScoresTheSame) {
   EXPECT_EQ(live.state_hash, again.state_hash);
   EXPECT_EQ(live.series.depth_m, again.series.depth_m);
   EXPECT_EQ(live.series.duct_force_n, again.series.duct_force_n);
+  EXPECT_TRUE(r.value().streamed);
+  EXPECT_FALSE(r.value().interrupted);
+
+  // A recording with no whole tick (cut after its header): the .lapdev files written at the end
+  // are replayed instead, and the report says so.
+  const std::string lrec = file_text(dir.path() / "session.lrec");
+  dir.write("session.lrec", lrec.substr(0, lrec.find("LRCK") + 10));
+  const Result<ReplayedSession> fallback = replay_session(dir.path());
+  ASSERT_TRUE(fallback.ok()) << fallback.message();
+  EXPECT_FALSE(fallback.value().streamed);
+  ASSERT_FALSE(fallback.value().notes.empty());
+  EXPECT_NE(fallback.value().notes.back().find("holds no whole tick"), std::string::npos);
+  expect_same_metrics(live.training, fallback.value().metrics.training);
+  // Neither a whole tick nor the .lapdev files: a clear error naming the recording.
+  fs::remove(dir.path() / "left.lapdev");
+  const Result<ReplayedSession> none = replay_session(dir.path());
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.message().find("session.lrec: no whole tick could be read"), std::string::npos)
+      << none.message();
 }
 
 // The record's fields, each checked: the message names session.json and the field.
@@ -136,6 +158,9 @@ TEST(SessionMetrics, ABadSessionRecordNamesItsField) {
       {"\"dominant_hand\": \"right\"", "\"dominant_hand\": 1", "dominant_hand"},
       {"\"duration_s\": 60.0", "\"duration_s\": -1", "duration_s"},
       {"\"haptic_rate_hz\": 1000.0", "\"haptic_rate_hz\": \"fast\"", "haptic_rate_hz"},
+      {"\"haptic_rate_hz\": 1000.0", "\"haptic_rate_hz\": 1e12", "haptic_rate_hz"},
+      {"\"duration_s\": 60.0", "\"duration_s\": 1e300", "duration_s"},
+      {"\"model_rate_hz\": 200.0", "\"model_rate_hz\": 5000", "model_rate_hz"},
       {"\"version\": 1", "\"version\": 7", "version"},
       {"\"format\": \"laptrainer-session\"", "\"format\": \"other\"", "format"},
   };

@@ -62,11 +62,11 @@ TEST(SessionRecording, ReadsBackTheSamplesItRecorded) {
   const auto session = expert_session();
   ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{\"test\": 1}").ok());
   const SessionMetrics m = session->run();
-  EXPECT_TRUE(m.warnings.empty() || m.warnings.front().find("recording") == std::string::npos);
+  for (const std::string& w : m.warnings) EXPECT_EQ(w.find("recording"), std::string::npos) << w;
   const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_FALSE(r.value().interrupted);
-  EXPECT_TRUE(r.value().problems.empty()) << r.value().problems.front();
+  EXPECT_TRUE(r.value().problems.empty()) << testing::PrintToString(r.value().problems);
   EXPECT_EQ(r.value().header_json, "{\"test\": 1}");
   ASSERT_EQ(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
   for (int side = 0; side < 2; ++side) {
@@ -96,7 +96,8 @@ TEST(SessionRecording, ADamagedChunkIsReportedAndTheRestStillReads) {
   write_bytes(dir.path() / "damaged.lrec", b);
   const Result<RecordedSession> r = read_session_recording(dir.path() / "damaged.lrec");
   ASSERT_TRUE(r.ok()) << r.message();
-  ASSERT_EQ(r.value().problems.size(), 2U) << r.value().problems[0];  // the chunk, the gap
+  ASSERT_EQ(r.value().problems.size(), 2U)  // the chunk, the gap
+      << testing::PrintToString(r.value().problems);
   EXPECT_NE(r.value().problems[0].find("checksum does not match"), std::string::npos)
       << r.value().problems[0];
   EXPECT_NE(r.value().problems[0].find("damaged.lrec: at byte "), std::string::npos);
@@ -139,6 +140,11 @@ TEST(SessionRecording, CutAnywhereItReadsUpToItsLastWholeChunk) {
       EXPECT_NE(p.find("cut off"), std::string::npos) << cut << ": " << p;
     }
   }
+  // Not a file at all, and an existing recording never overwritten.
+  const Result<RecordedSession> folder = read_session_recording(dir.path());
+  ASSERT_FALSE(folder.ok());
+  EXPECT_NE(folder.message().find("expected a regular file"), std::string::npos);
+  EXPECT_FALSE(expert_session()->record_to(dir.path() / "session.lrec", "{}").ok());
   write_bytes(dir.path() / "short.lrec", b.substr(0, 10));
   const Result<RecordedSession> none = read_session_recording(dir.path() / "short.lrec");
   ASSERT_FALSE(none.ok());
@@ -175,6 +181,23 @@ TEST(SessionRecording, ADiskThatFillsUpStopsTheRecordingNotTheSession) {
   EXPECT_GT(r.value().ticks.size(), 1000U);  // several whole chunks (40 ms of --fast each)
   EXPECT_LT(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
   EXPECT_LE(fs::file_size(dir.path() / "session.lrec"), 2U * 1024U * 1024U);
+}
+
+// A session longer than the recording space reserved for it (record_s): the recording keeps
+// what fitted and says, when read, that the rest did not.
+TEST(SessionRecording, ARecordingShorterThanItsSessionSaysSo) {
+  const test::TempDir dir;
+  RuntimeSettings rs = fast(2.0);
+  rs.record_s = 1.0;
+  const auto session = scripted_session(rs);
+  ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{}").ok());
+  const SessionMetrics m = session->run();
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_FALSE(r.value().interrupted);
+  EXPECT_LT(static_cast<int64_t>(r.value().ticks.size()), m.haptic.ticks());
+  ASSERT_EQ(r.value().problems.size(), 1U) << testing::PrintToString(r.value().problems);
+  EXPECT_NE(r.value().problems[0].find("(the space reserved for it ran out)"), std::string::npos);
 }
 
 TEST(SessionRecording, Crc32IsTheStandardOne) {

@@ -49,9 +49,9 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   hardware::ScriptedTrajectory t;
-  for (double time = 0.0; time <= duration_s + 1e-9; time += 0.4) {
+  for (int i = 0; i == 0 || t.keyframes.back().time_s < duration_s; ++i) {
     hardware::Keyframe k;
-    k.time_s = time;
+    k.time_s = std::min(0.4 * i, duration_s);            // the last one at the session's end
     const double inside = reach - 0.01 + 0.02 * u(rng);  // the tip's depth past the port
     const Eigen::Vector3d tip =
         port->position_m + inside * axis + 0.025 * u(rng) * across + 0.025 * u(rng) * across2;
@@ -77,22 +77,26 @@ TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
             std::make_unique<hardware::ScriptedDevice>(wander(scene, 1, duration, 12), "right")};
   RuntimeSettings rs = fast(duration);
   rs.end_with_task = false;  // the task fails soon enough; the soak goes on
-  rs.record_s = 10.0;        // an hour's inputs would be 0.8 GB: the first 10 s are enough here
+  // An hour's inputs would be 0.8 GB: the first fifth (10 s at most) are enough here.
+  rs.record_s = std::min(10.0, duration / 5.0);
   auto created = Session::create(scene, std::move(d), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   const std::unique_ptr<Session> session = std::move(created).value();
 
-  // The resident memory, and what the tools hold, sampled while it runs (this thread is the
-  // graphics snapshots' one reader, as the window would be).
+  // The resident memory once the storage reserved at set-up has been touched (the first
+  // record_s of inputs; at least a fifth of the way in), and what the tools hold, sampled while
+  // it runs by this thread, the graphics snapshots' one reader as the window would be. Nothing
+  // here grows as it samples (its own growth would read as the session's).
+  const double settled = std::max(0.2, rs.record_s / duration + 0.05);
+  const auto settled_tick = static_cast<int64_t>(settled * duration * 1000.0);
   std::atomic<bool> done{false};
-  std::vector<std::pair<double, int64_t>> rss;
+  int64_t early = -1;
   int catheter_takes = 0, duct_takes = 0;
   const auto t0 = std::chrono::steady_clock::now();
   std::thread sampler([&] {
     bool catheter_held = false, duct_held = false;
     while (!done.load()) {
-      rss.emplace_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                       resident_bytes());
+      if (early < 0 && session->graphics_haptic().tick >= settled_tick) early = resident_bytes();
       const ModelSnapshot& snap = session->graphics_model();
       const bool c = snap.grasps[0].grasping() || snap.grasps[1].grasping();
       const bool g = snap.duct_grasps[0].grasping() || snap.duct_grasps[1].grasping();
@@ -106,6 +110,7 @@ TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
   const SessionMetrics m = session->run();
   done.store(true);
   sampler.join();
+  const int64_t late = resident_bytes();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -117,19 +122,11 @@ TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
   EXPECT_GT(m.max_force_sent_n, 0.0);  // they did touch
   for (const auto& s : m.device_status) EXPECT_NE(s, hardware::DeviceStatus::kError);
   // The catheter and the duct were taken and let go of (as sampled).
-  EXPECT_GE(catheter_takes + duct_takes, 2);
-  ASSERT_GE(rss.size(), 5U);
-  // From when the storage reserved at set-up has been touched (the first record_s of inputs),
-  // and at least a fifth of the way in: what grows after that is kept, not reserved.
-  const double settled = std::max(0.2, (rs.record_s + 2.0) / duration);
-  int64_t early = rss.front().second;
-  for (const auto& [t, bytes] : rss) {
-    if (t <= settled * wall_s) early = bytes;
-  }
-  const int64_t late = rss.back().second;
+  EXPECT_GE(catheter_takes + duct_takes, duration >= 10.0 ? 2 : 1);
+  ASSERT_GT(early, 0) << "the session ended before it settled";
   const double growth = static_cast<double>(late - early) / static_cast<double>(early);
   std::printf(
-      "soak: %.0f s simulated in %.1f s; %lld haptic ticks (mean %.2f us, p99.9 %.2f us), %lld "
+      "soak: %.1f s simulated in %.1f s; %lld haptic ticks (mean %.2f us, p99.9 %.2f us), %lld "
       "modelling steps (mean %.1f us); the catheter taken %d times, the duct %d times (as "
       "sampled); largest force %.2f N; resident memory %.1f MB once settled, %.1f MB at the end "
       "(%+.3f %%)\n",
@@ -137,7 +134,10 @@ TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
       m.haptic.step_quantile_s(0.999) * 1e6, static_cast<long long>(m.model.ticks()),
       m.model.mean_step_s() * 1e6, catheter_takes, duct_takes, m.max_force_sent_n,
       static_cast<double>(early) / 1e6, static_cast<double>(late) / 1e6, growth * 100.0);
-  EXPECT_LT(growth, 0.01);
+  // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
+  if (test::kSanitizerDivisor == 1) {
+    EXPECT_LT(growth, 0.01);
+  }
 }
 
 }  // namespace
