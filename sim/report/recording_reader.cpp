@@ -1,10 +1,10 @@
 #include "sim/report/recording_reader.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 
 namespace lap::sim {
 
@@ -180,13 +180,10 @@ class Reader {
   // The end chunk says how many ticks the session ran and how many it recorded: fewer recorded
   // means the space reserved for the recording ran out (RuntimeSettings::record_s).
   void truncated() {
-    const auto number = [&](const char* key) {
-      const size_t at = s_.end_json.find(key);
-      return at == std::string::npos ? -1LL
-                                     : std::atoll(s_.end_json.c_str() + at + std::strlen(key));
-    };
-    const long long ran = number("\"session_ticks\":");
-    const long long kept = number("\"ticks\":");
+    const nlohmann::json end = nlohmann::json::parse(s_.end_json, nullptr, false);
+    if (!end.is_object()) return;
+    const int64_t ran = end.value("session_ticks", int64_t{-1});
+    const int64_t kept = end.value("ticks", int64_t{-1});
     if (ran > 0 && kept >= 0 && ran > kept) {
       problem(b_.size(), "the session ran " + std::to_string(ran) +
                              " ticks and its recording kept " + std::to_string(kept) +

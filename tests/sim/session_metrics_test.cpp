@@ -36,17 +36,9 @@ double metric(const SessionMetrics& m, const std::string& name) {
 // The scripts `stem` on the default scene, recorded into `dir` as `run --record` does.
 SessionMetrics run_and_record(const std::string& stem, const fs::path& dir, int32_t dominant) {
   const Scene& scene = default_scene();
-  Devices d;
-  for (int side = 0; side < 2; ++side) {
-    auto t = hardware::load_scripted_trajectory(kScripts /
-                                                (stem + (side == 0 ? "_left.csv" : "_right.csv")));
-    EXPECT_TRUE(t.ok()) << t.message();
-    d[static_cast<size_t>(side)] = std::make_unique<hardware::ScriptedDevice>(
-        std::move(t).value(), side == 0 ? "left" : "right");
-  }
   RuntimeSettings rs = fast(60.0);
   rs.dominant_tool = dominant;
-  auto created = Session::create(scene, std::move(d), rs);
+  auto created = Session::create(scene, scripted_devices(kScripts, stem), rs);
   EXPECT_TRUE(created.ok()) << created.message();
   // Streamed as it runs (session.lrec), then saved at the end, as `run --record` does.
   const fs::path scenario = test::source_dir() / "scenarios/default.yaml";

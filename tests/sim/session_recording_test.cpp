@@ -26,15 +26,7 @@ using namespace session_test;  // NOLINT(google-build-using-namespace): the test
 const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
 
 std::unique_ptr<Session> expert_session() {
-  Devices d;
-  for (int side = 0; side < 2; ++side) {
-    auto t = hardware::load_scripted_trajectory(
-        kScripts / (side == 0 ? "expert_left.csv" : "expert_right.csv"));
-    EXPECT_TRUE(t.ok()) << t.message();
-    d[static_cast<size_t>(side)] = std::make_unique<hardware::ScriptedDevice>(
-        std::move(t).value(), side == 0 ? "left" : "right");
-  }
-  auto created = Session::create(default_scene(), std::move(d), fast(60.0));
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), fast(60.0));
   EXPECT_TRUE(created.ok()) << created.message();
   return std::move(created).value();
 }

@@ -174,10 +174,8 @@ inline std::string file_text(const fs::path& p) {
   return s.str();
 }
 
-// The scripts dir/`stem`_left.csv and _right.csv played on the scene until its task ends (60 s
-// at most), --fast.
-inline SessionMetrics run_scripts(const Scene& scene, const fs::path& dir,
-                                  const std::string& stem) {
+// The scripts dir/`stem`_left.csv and _right.csv as the two tools' devices.
+inline Devices scripted_devices(const fs::path& dir, const std::string& stem) {
   Devices d;
   for (int side = 0; side < 2; ++side) {
     const fs::path file = dir / (stem + (side == 0 ? "_left.csv" : "_right.csv"));
@@ -186,7 +184,14 @@ inline SessionMetrics run_scripts(const Scene& scene, const fs::path& dir,
     d[static_cast<size_t>(side)] = std::make_unique<hardware::ScriptedDevice>(
         std::move(t).value(), side == 0 ? "left" : "right");
   }
-  auto created = Session::create(scene, std::move(d), fast(60.0));
+  return d;
+}
+
+// The scripts dir/`stem`_left.csv and _right.csv played on the scene until its task ends (60 s
+// at most), --fast.
+inline SessionMetrics run_scripts(const Scene& scene, const fs::path& dir,
+                                  const std::string& stem) {
+  auto created = Session::create(scene, scripted_devices(dir, stem), fast(60.0));
   EXPECT_TRUE(created.ok()) << created.message();
   return created.value()->run();
 }
