@@ -234,10 +234,23 @@ TEST(Session, ARealTimeSessionIsStreamedToItsRecordingAsItRuns) {
     ASSERT_EQ(r.value().devices[0].samples[k].sample.position_W,
               s->recording(0).samples[k].sample.position_W);
   }
-  // Ticks a millisecond apart on the wall clock, give or take the scheduler.
+  // The wall clock of each tick is recorded: never backwards, and the ticks never run ahead of
+  // their 1 ms schedule (a late tick only delays). The median gap is 1 ms where the machine keeps
+  // up; under a sanitizer on a loaded machine it need not, so the gap is checked only without one.
   const auto& t = r.value().ticks;
+  std::vector<int64_t> gaps_ns;
+  for (size_t k = 1; k < t.size(); ++k) {
+    ASSERT_GE(t[k].wall_ns, t[k - 1].wall_ns) << "tick " << k;
+    gaps_ns.push_back(t[k].wall_ns - t[k - 1].wall_ns);
+  }
   const double span_s = static_cast<double>(t.back().wall_ns - t.front().wall_ns) * 1e-9;
-  EXPECT_NEAR(span_s, static_cast<double>(t.size() - 1) * 1e-3, 0.05);
+  EXPECT_GE(span_s, static_cast<double>(t.size() - 1) * 1e-3 - 0.002);
+  if (test::kSanitizerDivisor == 1) {
+    std::nth_element(gaps_ns.begin(),
+                     gaps_ns.begin() + static_cast<std::ptrdiff_t>(gaps_ns.size() / 2),
+                     gaps_ns.end());
+    EXPECT_NEAR(static_cast<double>(gaps_ns[gaps_ns.size() / 2]) * 1e-9, 1e-3, 0.2e-3);
+  }
 }
 
 TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {
