@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Command two: install dependencies (Debian 12, as root), build Release with warnings as errors,
 # run every test (ctest, GUI tests under Xvfb), then the same tests built with AddressSanitizer
-# and UndefinedBehaviorSanitizer, and the runtime tests with ThreadSanitizer. Exits non-zero on
-# any failure.
+# and UndefinedBehaviorSanitizer, the runtime tests with ThreadSanitizer, and a minute of
+# libFuzzer on each reader of untrusted input (tests/fuzz). Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Each stage prints the minutes taken so far, so that a slow CI run shows where its time went.
@@ -54,5 +54,13 @@ if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
     --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*:Phantom*'
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/session_tests \
     --gtest_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*'
+fi
+if [ "${LAP_SKIP_FUZZ:-0}" != "1" ]; then
+  stage "libFuzzer build (clang, ASan + UBSan): the readers of every untrusted input"
+  cmake --preset fuzz -DLAP_WARNINGS_AS_ERRORS=ON
+  cmake --build --preset fuzz --parallel "$jobs"
+  stage "libFuzzer runs, 60 s per target, from the seed corpora"
+  # Any crash, leak, timeout or sanitizer report fails the run and prints the input.
+  bash tests/fuzz/run.sh --seconds 60
 fi
 stage "all passed"

@@ -426,7 +426,12 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
   std::vector<int> roots;
   if (!model.scenes.empty()) {
     const int s = model.defaultScene >= 0 ? model.defaultScene : 0;
-    roots = model.scenes.at(static_cast<size_t>(s)).nodes;
+    if (s >= static_cast<int>(model.scenes.size())) {  // found by fuzzing: an uncaught throw
+      throw LoadError(Diagnostic{file.string(), 0, "scene",
+                                 "scene " + std::to_string(s) + " does not exist (the file has " +
+                                     std::to_string(model.scenes.size()) + ")"});
+    }
+    roots = model.scenes[static_cast<size_t>(s)].nodes;
   } else {
     // No scene: every node that is nobody's child is a root.
     std::vector<bool> is_child(model.nodes.size(), false);

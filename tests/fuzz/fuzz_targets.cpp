@@ -1,0 +1,193 @@
+#include "tests/fuzz/fuzz_targets.h"
+
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "haptics/setup/mesh_repair.h"
+#include "haptics/setup/mesh_validation.h"
+#include "hardware/device_recording.h"
+#include "hardware/gripper_protocol.h"
+#include "hardware/scripted_trajectory.h"
+#include "sim/report/recording_reader.h"
+#include "sim/setup/height_image_loader.h"
+#include "sim/setup/mesh_loader.h"
+#include "sim/setup/scenario_loader.h"
+
+namespace lap::fuzz {
+namespace {
+
+// A folder of this process's own, made once, for the readers that take a path (the file's
+// extension chooses the reader, as it does for a user's file). Removed at exit.
+const std::filesystem::path& scratch_dir() {
+  static const std::filesystem::path dir = [] {
+    const char* tmp = std::getenv("TMPDIR");
+    std::string pattern =
+        std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/laptrainer-fuzz-XXXXXX";
+    if (mkdtemp(pattern.data()) == nullptr) std::abort();
+    std::filesystem::path made(pattern);
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(scratch_dir(), ec);
+    });
+    return made;
+  }();
+  return dir;
+}
+
+// The bytes as the file input.<extension> in the scratch folder.
+std::filesystem::path as_file(std::span<const uint8_t> data, std::string_view extension) {
+  const std::filesystem::path file = scratch_dir() / ("input." + std::string(extension));
+  FILE* f = std::fopen(file.c_str(), "wb");
+  if (f == nullptr) std::abort();
+  if (!data.empty() && std::fwrite(data.data(), 1, data.size(), f) != data.size()) std::abort();
+  if (std::fclose(f) != 0) std::abort();
+  return file;
+}
+
+std::string_view as_text(std::span<const uint8_t> data) {
+  return {reinterpret_cast<const char*>(data.data()), data.size()};
+}
+
+// A result the reader accepted must hold what its documentation promises; a broken promise is
+// a crash the fuzzer reports (abort), as an ASan finding is.
+void require(bool promise) {
+  if (!promise) std::abort();
+}
+
+bool fuzz_scenario(std::span<const uint8_t> data) {
+  // Paths in the text resolve against the scratch folder, which holds the meshes the seeds name
+  // (the loader checks that they exist; reading them is the mesh targets' work), so that the
+  // fuzzer starts from scenarios the loader accepts and mutates every field's checks from there.
+  static const bool meshes_made = [] {
+    constexpr std::string_view kTetra =
+        "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    const std::span<const uint8_t> tetra(reinterpret_cast<const uint8_t*>(kTetra.data()),
+                                         kTetra.size());
+    for (const char* name : {"liver", "gallbladder", "cystic_duct"}) {
+      std::filesystem::rename(as_file(tetra, "obj"), scratch_dir() / (std::string(name) + ".obj"));
+    }
+    return true;
+  }();
+  (void)meshes_made;
+  return sim::parse_scenario(as_text(data), scratch_dir() / "scenario.yaml").ok();
+}
+
+// As `laptrainer-cli mesh-info --repair` does: read, validate, measure, repair, validate again.
+bool fuzz_mesh(std::span<const uint8_t> data, std::string_view extension) {
+  Result<haptics::TriangleMesh> loaded = sim::load_mesh(as_file(data, extension));
+  if (!loaded.ok()) return false;
+  haptics::TriangleMesh& mesh = loaded.value();
+  // The reader promises finite vertices and in-range indices (issue 25: validation crashed on
+  // a face pointing past a dropped vertex).
+  for (const Eigen::Vector3d& v : mesh.positions) require(v.allFinite());
+  for (const haptics::Triangle& t : mesh.triangles) {
+    for (const int32_t corner : t) require(corner >= 0 && corner < mesh.vertex_count());
+  }
+  const haptics::MeshDiagnostics before = haptics::validate_mesh(mesh);
+  (void)before.describe();
+  (void)mesh.surface_area();
+  (void)mesh.signed_volume();
+  (void)haptics::repair_mesh(mesh);
+  (void)haptics::validate_mesh(mesh);
+  return true;
+}
+
+bool fuzz_height_image(std::span<const uint8_t> data) {
+  const Result<haptics::HeightImage> image = sim::load_height_image(as_file(data, "png"));
+  if (!image.ok()) return false;
+  const haptics::HeightImage& h = image.value();
+  require(h.width > 0 && h.height > 0);
+  require(static_cast<int64_t>(h.width) * h.height <= sim::kMaxHeightMapPixels);
+  require(static_cast<int64_t>(h.values.size()) == static_cast<int64_t>(h.width) * h.height);
+  for (const float v : h.values) require(v >= 0.0F && v <= 1.0F);
+  return true;
+}
+
+bool fuzz_keyframes(std::span<const uint8_t> data) {
+  const Result<hardware::ScriptedTrajectory> script =
+      hardware::parse_scripted_trajectory(std::string(as_text(data)), "fuzz.csv");
+  if (!script.ok()) return false;
+  // Sampled forwards across the script and past both ends: every sample finite.
+  const double end_s = script.value().duration_s();
+  size_t cursor = 0;
+  hardware::DeviceSample s;
+  for (int k = -2; k <= 102; ++k) {
+    script.value().sample(end_s * k / 100.0, &cursor, &s);
+    require(s.position_W.allFinite());
+  }
+  return true;
+}
+
+bool fuzz_device_recording(std::span<const uint8_t> data) {
+  return hardware::read_device_recording(as_file(data, "lapdev")).ok();
+}
+
+bool fuzz_session_recording(std::span<const uint8_t> data) {
+  const Result<sim::RecordedSession> r = sim::read_session_recording(as_file(data, "lrec"));
+  if (!r.ok()) return false;
+  // What a replay relies on: the devices' samples and the ticks cover the same ticks.
+  for (const hardware::DeviceRecording& d : r.value().devices) {
+    require(d.samples.empty() || d.samples.size() == r.value().ticks.size());
+    for (const hardware::RecordedSample& s : d.samples) require(s.sample.position_W.allFinite());
+  }
+  return r.value().problems.empty();
+}
+
+// A report that decodes, encoded again, decodes to the same values (reserved bytes aside).
+bool fuzz_gripper_report(std::span<const uint8_t> data) {
+  namespace g = hardware::gripper;
+  if (const Result<g::StateReport> s = g::decode_state(data); s.ok()) {
+    const Result<g::StateReport> again = g::decode_state(g::encode(s.value()));
+    require(again.ok());
+    const g::StateReport& a = s.value();
+    const g::StateReport& b = again.value();
+    require(a.flags == b.flags && a.sequence == b.sequence &&
+            a.encoder_counts == b.encoder_counts && a.motor_current_ma == b.motor_current_ma &&
+            a.device_time_ms == b.device_time_ms);
+    return true;
+  }
+  if (const Result<g::CommandReport> c = g::decode_command(data); c.ok()) {
+    const Result<g::CommandReport> again = g::decode_command(g::encode(c.value()));
+    require(again.ok());
+    const g::CommandReport& a = c.value();
+    const g::CommandReport& b = again.value();
+    require(a.motor_enabled == b.motor_enabled && a.sequence == b.sequence &&
+            a.squeeze_mn == b.squeeze_mn);
+    return true;
+  }
+  return false;
+}
+
+constexpr std::array kTargets = {
+    FuzzTarget{"scenario", &fuzz_scenario},
+    FuzzTarget{"mesh_obj", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "obj"); }},
+    FuzzTarget{"mesh_stl", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "stl"); }},
+    FuzzTarget{"mesh_ply", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "ply"); }},
+    FuzzTarget{"mesh_off", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "off"); }},
+    FuzzTarget{"mesh_gltf", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "gltf"); }},
+    FuzzTarget{"mesh_glb", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "glb"); }},
+    FuzzTarget{"height_image", &fuzz_height_image},
+    FuzzTarget{"keyframes", &fuzz_keyframes},
+    FuzzTarget{"device_recording", &fuzz_device_recording},
+    FuzzTarget{"session_recording", &fuzz_session_recording},
+    FuzzTarget{"gripper_report", &fuzz_gripper_report},
+};
+
+}  // namespace
+
+std::span<const FuzzTarget> fuzz_targets() { return kTargets; }
+
+const FuzzTarget* find_fuzz_target(std::string_view name) {
+  for (const FuzzTarget& t : kTargets) {
+    if (t.name == name) return &t;
+  }
+  return nullptr;
+}
+
+}  // namespace lap::fuzz
