@@ -733,6 +733,10 @@ void Session::run_realtime() {
       sleep_until_ns(deadline, 0);
       const int64_t begin = monotonic_ns();
       model_tick(k * timing.ticks_per_model);
+      if (injected_delay_tick_ >= 0 && k * timing.ticks_per_model >= injected_delay_tick_) {
+        injected_delay_tick_ = -1;  // once
+        sleep_until_ns(monotonic_ns() + std::llround(injected_delay_s_ * 1e9), 0);
+      }
       const int64_t end = monotonic_ns();
       model_stats_.add(static_cast<double>(begin - deadline) * 1e-9,
                        static_cast<double>(end - begin) * 1e-9);

@@ -198,6 +198,12 @@ class Session {
     injected_fault_ = kind;
     injected_fault_steps_ = steps;
   }
+  /// Tests (real time): the modelling step at haptic tick `tick` takes `delay_s` longer, as a
+  /// step held up by the machine would (issue 25's fault injection: a 100 ms step).
+  void inject_model_delay(int64_t tick, double delay_s) {
+    injected_delay_tick_ = tick;
+    injected_delay_s_ = delay_s;
+  }
 
   [[nodiscard]] const SessionModel& model() const { return *model_; }
 
@@ -292,6 +298,8 @@ class Session {
   int64_t injected_fault_tick_ = -1;
   ModelFaultKind injected_fault_ = ModelFaultKind::kNone;
   int64_t injected_fault_steps_ = 0;
+  int64_t injected_delay_tick_ = -1;  ///< modelling thread reads; set before run()
+  double injected_delay_s_ = 0.0;
   // The task engine's state and its inputs' storage, sized at set-up (modelling thread).
   TaskState task_;
   MetricsModel metrics_model_;

@@ -235,21 +235,17 @@ TEST(Session, ARealTimeSessionIsStreamedToItsRecordingAsItRuns) {
               s->recording(0).samples[k].sample.position_W);
   }
   // The wall clock of each tick is recorded: never backwards, and the ticks never run ahead of
-  // their 1 ms schedule (a late tick only delays). The median gap is 1 ms where the machine keeps
-  // up; under a sanitizer on a loaded machine it need not, so the gap is checked only without one.
+  // their 1 ms schedule (a late tick only delays). How close to 1 ms the gaps are is the loop's
+  // speed, measured by the benchmarks (docs/benchmarks.md), not asserted here: a test machine
+  // shared with other suites can hold the thread up for any time.
   const auto& t = r.value().ticks;
-  std::vector<int64_t> gaps_ns;
+  for (size_t k = 1; k < t.size(); ++k) ASSERT_GE(t[k].wall_ns, t[k - 1].wall_ns) << "tick " << k;
+  // Tick k starts no earlier than its deadline k ms after the first's, and the first started at
+  // most the loop's worst lateness (plus its step) after its own.
+  const double first_late_bound_s = m.haptic.worst_lateness_s() + m.haptic.worst_step_s() + 1e-3;
   for (size_t k = 1; k < t.size(); ++k) {
-    ASSERT_GE(t[k].wall_ns, t[k - 1].wall_ns) << "tick " << k;
-    gaps_ns.push_back(t[k].wall_ns - t[k - 1].wall_ns);
-  }
-  const double span_s = static_cast<double>(t.back().wall_ns - t.front().wall_ns) * 1e-9;
-  EXPECT_GE(span_s, static_cast<double>(t.size() - 1) * 1e-3 - 0.002);
-  if (test::kSanitizerDivisor == 1) {
-    std::nth_element(gaps_ns.begin(),
-                     gaps_ns.begin() + static_cast<std::ptrdiff_t>(gaps_ns.size() / 2),
-                     gaps_ns.end());
-    EXPECT_NEAR(static_cast<double>(gaps_ns[gaps_ns.size() / 2]) * 1e-9, 1e-3, 0.2e-3);
+    const double since_first_s = static_cast<double>(t[k].wall_ns - t.front().wall_ns) * 1e-9;
+    ASSERT_GE(since_first_s, static_cast<double>(k) * 1e-3 - first_late_bound_s) << "tick " << k;
   }
 }
 

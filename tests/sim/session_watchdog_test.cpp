@@ -362,6 +362,43 @@ TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
   EXPECT_EQ(m.recorded_ticks, 500);
 }
 
+// Issue 25's fault injection: a modelling step that takes 100 ms. The loops share only
+// lock-free buffers, so the haptic loop goes on at 1 kHz on the last model state: the tool
+// still feels the organ it presses, within the device's limits; nothing pauses (a slow model is
+// not a fault: the tissue only stands still for that long). The modelling loop then skips the
+// periods it missed rather than running them back to back, and its statistics show the step.
+TEST(Session, AModellingStepOf100MsNeitherPausesNorHoldsUpTheHapticLoop) {
+  const Scene& scene = default_scene();
+  auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* dev = left.get();
+  auto created = Session::create(scene, with_left(scene, std::move(left)), device_fault_run(1.8));
+  ASSERT_TRUE(created.ok()) << created.message();
+  auto s = std::move(created).value();
+  constexpr int64_t kAt = kPressingTick + 100;
+  s->inject_model_delay(kAt, 0.100);
+  const SessionMetrics m = s->run();
+  EXPECT_EQ(m.haptic.ticks(), 1800);
+  EXPECT_TRUE(m.events.empty());
+  EXPECT_FALSE(m.paused);
+  EXPECT_GE(m.model.worst_step_s(), 0.100);
+  EXPECT_GE(m.model.overruns(), 1);  // the step overran its period (the next is on time)
+  // 360 periods at 200 Hz, of which the ~20 the step overran are skipped, not caught up.
+  EXPECT_LE(m.model.ticks(), 360 - 15);
+  const double limit = hardware::DeviceLimits{}.max_force_n;
+  // Every tick's command, then the zero force sent as the session stops.
+  ASSERT_GE(static_cast<int64_t>(dev->commands.size()), 1800);
+  EXPECT_EQ(dev->commands.back().force_W.norm(), 0.0);
+  for (int64_t t = kAt; t < kAt + 100; ++t) {
+    const Eigen::Vector3d f = dev->commands[static_cast<size_t>(t)].force_W;
+    ASSERT_TRUE(f.allFinite()) << t;
+    ASSERT_LE(f.norm(), limit + 1e-12) << t;
+    ASSERT_GT(f.norm(), 0.0) << "tick " << t << ": the pressing tool lost the organ";
+  }
+  if (test::kSanitizerDivisor == 1) {  // a sanitizer on a loaded machine has its own hold-ups
+    EXPECT_LT(m.haptic.worst_lateness_s(), 0.050);
+  }
+}
+
 // The watchdog with a PHANToM (through the fake libHD.so): a servo error zeroes the force the
 // device outputs and pauses the session; an unplugged arm is reported as disconnected.
 TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
