@@ -1,0 +1,93 @@
+#pragma once
+/// \file
+/// The operative field of a running session: the 3D view (VtkView), the session it shows
+/// (LiveSession: the haptic and modelling loops on their threads), what is drawn of it
+/// (SessionActors), and the graphics loop — a 60 Hz timer that takes the newest snapshots,
+/// updates the actors and renders. The keys and the 3D mouse that drive simulated tools are
+/// handled here, so that any page that shows a session behaves the same.
+///
+/// The window around it (menus, status bar, the pages of a training session) only starts,
+/// stops and saves sessions through this widget, and reads its figures (loops_text()).
+
+#include <QElapsedTimer>
+#include <QString>
+#include <QWidget>
+#include <array>
+#include <memory>
+#include <string>
+
+#include "app/live_session.h"
+#include "app/tool_actors.h"
+#include "app/vtk_view.h"
+#include "core/result.h"
+#include "hardware/device_spec.h"
+#include "hardware/space_mouse.h"
+#include "sim/setup/scene.h"
+
+namespace lap::app {
+
+class OperativeView : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit OperativeView(QWidget* parent = nullptr);
+  ~OperativeView() override;
+  OperativeView(const OperativeView&) = delete;
+  OperativeView& operator=(const OperativeView&) = delete;
+  OperativeView(OperativeView&&) = delete;
+  OperativeView& operator=(OperativeView&&) = delete;
+
+  /// Stops any running session, shows `scene` and starts a session on it with `devices`. When
+  /// the loops cannot start, the organs are still shown and the diagnostics say why.
+  [[nodiscard]] Status start(const sim::Scene& scene,
+                             const std::array<hardware::DeviceSpec, 2>& devices);
+  /// Ends the running session without saving it.
+  void stop();
+  /// Ends the running session and saves it into `dir` (LiveSession::stop_and_save).
+  [[nodiscard]] Status stop_and_save(const std::string& dir);
+
+  [[nodiscard]] LiveSession& session() { return session_; }
+  [[nodiscard]] VtkView* view() { return view_; }
+  /// The tool the keys and the 3D mouse move: 0 left, 1 right.
+  [[nodiscard]] int active_tool() const { return active_tool_; }
+  void set_active_tool(int tool);
+  /// Frames per second over the last second, and the loops' figures as one line (rates, the
+  /// haptic loop's worst lateness and late ticks, PAUSED, BEST EFFORT timing).
+  [[nodiscard]] double frame_rate() const { return frame_rate_; }
+  [[nodiscard]] const QString& loops_text() const { return loops_text_; }
+  [[nodiscard]] const QString& loops_tooltip() const { return loops_tooltip_; }
+  /// Whether a 3D mouse (spacenavd) drives the active tool.
+  [[nodiscard]] bool has_space_mouse() const { return space_mouse_ != nullptr; }
+  /// Draws the organs as wireframes (true) or surfaces.
+  void set_wireframe(bool on);
+
+ signals:
+  /// Once a second: the frame rate and the loops' figures have been updated.
+  void figures_updated();
+
+ protected:
+  void keyPressEvent(QKeyEvent* event) override;
+
+ private:
+  void graphics_frame();
+  void update_figures();
+
+  VtkView* view_ = nullptr;
+  LiveSession session_;
+  SessionActors actors_;
+  int active_tool_ = 0;
+  int64_t last_haptic_tick_ = -1;
+  int64_t last_model_steps_ = 0;
+  long last_frames_ = 0;
+  QElapsedTimer figures_clock_;
+  double frame_rate_ = 0.0;
+  QString loops_text_;
+  QString loops_tooltip_;
+  bool wireframe_ = false;
+  double last_frame_s_ = 0.0;
+  // A 3D mouse, when spacenavd and libspnav are there: it steers the active tool like the keys.
+  std::unique_ptr<hardware::SpaceMouse> space_mouse_;
+  hardware::SpaceMouseMapping space_mouse_mapping_;
+};
+
+}  // namespace lap::app
