@@ -392,12 +392,17 @@ TEST(Session, AModellingStepOf100MsNeitherPausesNorHoldsUpTheHapticLoop) {
   // Every tick's command, then the zero force sent as the session stops.
   ASSERT_GE(static_cast<int64_t>(dev->commands.size()), 1800);
   EXPECT_EQ(dev->commands.back().force_W.norm(), 0.0);
+  // A tick that starts late is zeroed by the watchdog (a busy machine makes some: the slow
+  // step's own thread shares two cores with parallel tests); every other tick still presses.
+  int64_t zeroed = 0;
   for (int64_t t = kAt; t < kAt + 100; ++t) {
     const Eigen::Vector3d f = dev->commands[static_cast<size_t>(t)].force_W;
     ASSERT_TRUE(f.allFinite()) << t;
     ASSERT_LE(f.norm(), limit + 1e-12) << t;
-    ASSERT_GT(f.norm(), 0.0) << "tick " << t << ": the pressing tool lost the organ";
+    if (f.norm() == 0.0) ++zeroed;
   }
+  EXPECT_LE(zeroed, m.late_ticks) << "the pressing tool lost the organ on ticks that were on time";
+  EXPECT_LT(zeroed, 50);
   if (test::kSanitizerDivisor == 1) {  // a sanitizer on a loaded machine has its own hold-ups
     EXPECT_LT(m.haptic.worst_lateness_s(), 0.050);
   }
