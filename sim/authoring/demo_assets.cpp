@@ -212,13 +212,13 @@ std::array<std::vector<TipWaypoint>, 2> demo_tip_paths(const std::string& demo) 
   return {};
 }
 
-Status write_demo_scripts(const fs::path& scenarios_dir) {
+Status write_demo_scripts(const fs::path& scenarios_dir, const fs::path& scripts_dir) {
   for (const std::string& demo : demo_names()) {
     const fs::path file = scenarios_dir / "demos" / (demo + ".yaml");
     const SceneLoadResult scene = load_scene_file(file);
     if (!scene.ok()) return scene.diagnostics();
     const std::array<std::vector<TipWaypoint>, 2> paths = demo_tip_paths(demo);
-    const fs::path out = scenarios_dir / "scripts" / demo;
+    const fs::path out = scripts_dir / demo;
     std::error_code ec;
     fs::create_directories(out, ec);
     if (ec) return diagnostic(out.string() + ": cannot create the folder: " + ec.message());

@@ -66,7 +66,8 @@ struct TipWaypoint {
 [[nodiscard]] std::array<std::vector<TipWaypoint>, 2> demo_tip_paths(const std::string& demo);
 
 /// Writes each demonstration's scripts from its scenario in `scenarios_dir`/demos into
-/// `scenarios_dir`/scripts/<demo>/demo_left.csv and demo_right.csv.
-[[nodiscard]] Status write_demo_scripts(const std::filesystem::path& scenarios_dir);
+/// `scripts_dir`/<demo>/demo_left.csv and demo_right.csv (scripts_dir: scenarios/scripts).
+[[nodiscard]] Status write_demo_scripts(const std::filesystem::path& scenarios_dir,
+                                        const std::filesystem::path& scripts_dir);
 
 }  // namespace lap::sim

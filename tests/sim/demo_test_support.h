@@ -57,12 +57,14 @@ struct ObservedRun {
   ObservedDevice* right = nullptr;
 };
 
-inline ObservedRun observed_session(
-    const Scene& scene, const std::array<std::vector<TipWaypoint>, 2>& paths, double duration_s,
-    const std::function<void(int64_t, const HapticSnapshot&, const ModelSnapshot&)>& observe) {
+using Observer = std::function<void(int64_t, const HapticSnapshot&, const ModelSnapshot&)>;
+
+inline ObservedRun observed_session(const Scene& scene,
+                                    std::array<hardware::ScriptedTrajectory, 2> scripts,
+                                    double duration_s, const Observer& observe) {
   ObservedRun run;
-  auto left = std::make_unique<ObservedDevice>(tip_path_script(scene, 0, paths[0]), "left");
-  auto right = std::make_unique<ObservedDevice>(tip_path_script(scene, 1, paths[1]), "right");
+  auto left = std::make_unique<ObservedDevice>(std::move(scripts[0]), "left");
+  auto right = std::make_unique<ObservedDevice>(std::move(scripts[1]), "right");
   run.left = left.get();
   run.right = right.get();
   RuntimeSettings rs;
@@ -80,6 +82,14 @@ inline ObservedRun observed_session(
     };
   }
   return run;
+}
+
+inline ObservedRun observed_session(const Scene& scene,
+                                    const std::array<std::vector<TipWaypoint>, 2>& paths,
+                                    double duration_s, const Observer& observe) {
+  return observed_session(
+      scene, {tip_path_script(scene, 0, paths[0]), tip_path_script(scene, 1, paths[1])}, duration_s,
+      observe);
 }
 
 /// The force the tool's contacts put on the tool at its tip (the negated sum of their forces on
