@@ -5,7 +5,8 @@
 /// device through its trocar, the watchdog, and the recording of every device input.
 ///
 /// - Haptic loop (default 1 kHz): read both devices, tool kinematics through the trocars, the
-///   three-segment gripper proxies against the organs, the virtual coupling to a grasped
+///   three-segment gripper proxies (or a probe's one proxy, probe_tool.h) against the organs,
+///   the free rigid bodies pushed and stepped (moving_bodies.h), the virtual coupling to a grasped
 ///   catheter and duct, the wrench back through the fulcrum, limits, the passivity controller at
 ///   the handle (hardware/passivity_controller.h), write both devices. No allocation,
 ///   lock or exception after start-up.
