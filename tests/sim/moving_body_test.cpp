@@ -231,9 +231,10 @@ TEST(ModelKinds, WhatAnOrganCannotBeIsRefusedWithFileAndLine) {
   const test::TempDir dir;
   ASSERT_TRUE(save_obj(haptics::make_box(kBlockSides, 1), dir.path() / "block.obj").ok());
   auto problems = [&](const std::string& organ) {
-    const fs::path f = dir.write("s.yaml", "version: 1\nname: s\norgans:\n  - name: block\n"
-                                           "    mesh: block.obj\n" + organ +
-                                               "    material: {stiffness_n_per_m: 400}\n");
+    const fs::path f = dir.write("s.yaml",
+                                 "version: 1\nname: s\norgans:\n  - name: block\n"
+                                 "    mesh: block.obj\n" +
+                                     organ + "    material: {stiffness_n_per_m: 400}\n");
     const SceneLoadResult r = load_scene_file(f);
     EXPECT_FALSE(r.ok());
     return r.ok() ? std::string() : r.message();
@@ -244,8 +245,9 @@ TEST(ModelKinds, WhatAnOrganCannotBeIsRefusedWithFileAndLine) {
   EXPECT_NE(problems("    model: local\n    dynamics: {mass_kg: 1}\n")
                 .find("s.yaml:7: organs[0].dynamics: only a rigid organ moves as a body"),
             std::string::npos);
-  EXPECT_NE(problems("    dynamics: {linear_damping_per_s: 1}\n").find("s.yaml:6: organs[0].dynamics"),
-            std::string::npos);
+  EXPECT_NE(
+      problems("    dynamics: {linear_damping_per_s: 1}\n").find("s.yaml:6: organs[0].dynamics"),
+      std::string::npos);
   EXPECT_NE(problems("    dynamics: {mass_kg: -1}\n").find("mass_kg"), std::string::npos);
 }
 

@@ -26,8 +26,8 @@ constexpr double kK = 400.0;
 // `material` appended; the right tool of `kind` through a port straight above the origin.
 Scene probe_scene(const test::TempDir& dir, bool sphere, const std::string& kind,
                   const std::string& material = "") {
-  const haptics::TriangleMesh mesh = sphere ? haptics::make_uv_sphere(0.03, 48, 96)
-                                            : haptics::make_box({0.06, 0.01, 0.06}, 6);
+  const haptics::TriangleMesh mesh =
+      sphere ? haptics::make_uv_sphere(0.03, 48, 96) : haptics::make_box({0.06, 0.01, 0.06}, 6);
   EXPECT_TRUE(save_obj(mesh, dir.path() / "shape.obj").ok());
   const std::string yaml = std::string(R"(version: 1
 name: probe
@@ -41,13 +41,16 @@ trocars:
   - {name: pr, position_m: [0.0, 0.15, 0.0]}
 tools:
   - {name: l, side: left, trocar: pl, kind: probe}
-  - {name: r, side: right, trocar: pr, kind: )" + kind + "}\n";
+  - {name: r, side: right, trocar: pr, kind: )" +
+                           kind + "}\n";
   const SceneLoadResult r = load_scene_file(dir.write("probe.yaml", yaml));
   EXPECT_TRUE(r.ok()) << r.message();
   return r.value();
 }
 
-std::vector<TipWaypoint> parked() { return {{0.0, V(-0.15, 0.07, 0.0)}, {3.0, V(-0.15, 0.07, 0.0)}}; }
+std::vector<TipWaypoint> parked() {
+  return {{0.0, V(-0.15, 0.07, 0.0)}, {3.0, V(-0.15, 0.07, 0.0)}};
+}
 
 // Lowered from 3 cm above `surface_y` to `depth` below it, then held.
 std::vector<TipWaypoint> press(double surface_y, double depth) {
@@ -56,11 +59,16 @@ std::vector<TipWaypoint> press(double surface_y, double depth) {
           {1.5, V(0.0, surface_y - depth, 0.0)}};
 }
 
-void expect_k_depth(const Scene& scene, double surface_y, ToolKind kind) {
+// Pressed 2 mm (0.8 N: below the default device's 0.88 N sustained force, so the handle gets it
+// unscaled). `tilt_rad`: how far the force may lean off the true normal (a tessellated sphere's
+// facet beside its pole vertex leans π/96).
+void expect_k_depth(const Scene& scene, double surface_y, ToolKind kind, double tilt_rad = 1e-9,
+                    double tolerance_n = 1e-9) {
+  const double depth = 0.002;
   V felt = V::Zero();
   V proxy_tip = V::Zero();
   ToolKind seen = ToolKind::kGripper;
-  auto run = observed_session(scene, {parked(), press(surface_y, 0.003)}, 1.5,
+  auto run = observed_session(scene, {parked(), press(surface_y, depth)}, 1.5,
                               [&](int64_t, const HapticSnapshot& h, const ModelSnapshot&) {
                                 felt = tip_force(h.tools[1]);
                                 proxy_tip = h.tools[1].proxy_tip_W;
@@ -69,8 +77,8 @@ void expect_k_depth(const Scene& scene, double surface_y, ToolKind kind) {
   ASSERT_NE(run.session, nullptr);
   run.session->run();
   EXPECT_EQ(seen, kind);
-  EXPECT_NEAR(felt.y(), kK * 0.003, 0.02 * kK * 0.003);
-  EXPECT_LT(felt.head<1>().norm() + std::abs(felt.z()), 1e-6);
+  EXPECT_NEAR(felt.norm(), kK * depth, tolerance_n);
+  EXPECT_LT(test::angle_between(felt, V::UnitY()), tilt_rad);
   EXPECT_NEAR(proxy_tip.y(), surface_y, 1e-4) << "the proxy stays on the surface";
   // The shaft is vertical: the lever passes the axial force to the handle 1:1.
   ASSERT_FALSE(run.right->commands.empty());
@@ -85,7 +93,9 @@ TEST(ProbeSession, APointProbePressingAPlaneFeelsKTimesDepth) {
 
 TEST(ProbeSession, APointProbePressingASphereFeelsKTimesDepth) {
   const test::TempDir dir;
-  expect_k_depth(probe_scene(dir, true, "probe"), 0.03, ToolKind::kPointProbe);
+  // The facets under the pole lie within r (1 − cos(π/48)) = 0.06 mm of the sphere: 2 %.
+  expect_k_depth(probe_scene(dir, true, "probe"), 0.03, ToolKind::kPointProbe, M_PI / 96.0 + 1e-9,
+                 0.02 * kK * 0.002);
 }
 
 TEST(ProbeSession, ARayProbePressingAPlaneEndOnFeelsKTimesDepth) {
@@ -98,22 +108,24 @@ TEST(ProbeSession, ARayProbePressingAPlaneEndOnFeelsKTimesDepth) {
 // PositionDrivenStickThenSlipAtMuSFn, through the trocar).
 TEST(ProbeSession, FrictionSticksToMuSFnThenSlidesAtMuDFn) {
   const test::TempDir dir;
-  const Scene scene = probe_scene(
-      dir, false, "probe", "      friction_static: 0.6\n      friction_dynamic: 0.4\n");
+  const Scene scene =
+      probe_scene(dir, false, "probe", "      friction_static: 0.6\n      friction_dynamic: 0.4\n");
   const double fn = kK * 0.003;
   double peak = 0.0;
   double last = 0.0;
-  auto run = observed_session(
-      scene,
-      {parked(),
-       {{0.0, V(0.0, 0.03, 0.0)}, {1.0, V(0.0, -0.003, 0.0)}, {1.2, V(0.0, -0.003, 0.0)},
-        {3.0, V(0.006, -0.003, 0.0)}}},
-      3.0, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
-        if (tick < 1200) return;
-        const double resist = -tip_force(h.tools[1]).x();
-        peak = std::max(peak, resist);
-        last = resist;
-      });
+  auto run =
+      observed_session(scene,
+                       {parked(),
+                        {{0.0, V(0.0, 0.03, 0.0)},
+                         {1.0, V(0.0, -0.003, 0.0)},
+                         {1.2, V(0.0, -0.003, 0.0)},
+                         {3.0, V(0.006, -0.003, 0.0)}}},
+                       3.0, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
+                         if (tick < 1200) return;
+                         const double resist = -tip_force(h.tools[1]).x();
+                         peak = std::max(peak, resist);
+                         last = resist;
+                       });
   run.session->run();
   std::printf("friction: peak %.4f N (μs Fn = %.4f), sliding %.4f N (μd Fn = %.4f)\n", peak,
               0.6 * fn, last, 0.4 * fn);
@@ -141,13 +153,17 @@ TEST(ProbeSession, ATextureGivesKTimesTheTexturedDepth) {
   auto run = observed_session(
       scene,
       {parked(),
-       {{0.0, V(-0.01, 0.01, 0.0)}, {0.5, V(-0.01, 0.01, 0.0)}, {1.0, V(-0.01, -depth, 0.0)},
+       {{0.0, V(-0.01, 0.01, 0.0)},
+        {0.5, V(-0.01, 0.01, 0.0)},
+        {1.0, V(-0.01, -depth, 0.0)},
         {3.0, V(0.01, -depth, 0.0)}}},
       3.0, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
         if (tick < 1100) return;
         const ToolSnapshot& t = h.tools[1];
+        // Where the tip is (the handle's keyframes are interpolated, so through the pivot the
+        // tip's depth along the stroke varies a little about the script's 0.2 mm).
         const double x = t.pose.hinge_W.x();
-        const double d = a * std::sin(2.0 * M_PI * x / lambda) + depth;
+        const double d = a * std::sin(2.0 * M_PI * x / lambda) - t.pose.hinge_W.y();
         const V f = tip_force(t);
         if (d <= 0.0) {
           worst = std::max(worst, f.norm());
