@@ -57,8 +57,9 @@ struct TipWaypoint {
 };
 
 /// The keyframes that lead `side`'s tool tip (0 left, 1 right) of the scene along the
-/// waypoints: each handle on the line from the tip through the port, a shaft's length from the
-/// tip, gripper open.
+/// waypoints, in straight lines between them (a keyframe every millimetre of the tip's travel):
+/// each handle on the line from the tip through the port, a shaft's length from the tip,
+/// gripper open.
 [[nodiscard]] hardware::ScriptedTrajectory tip_path_script(const Scene& scene, int side,
                                                            std::span<const TipWaypoint> path);
 

@@ -63,7 +63,7 @@ std::vector<TipWaypoint> press(double surface_y, double depth) {
 // unscaled). `tilt_rad`: how far the force may lean off the true normal (a tessellated sphere's
 // facet beside its pole vertex leans π/96).
 void expect_k_depth(const Scene& scene, double surface_y, ToolKind kind, double tilt_rad = 1e-9,
-                    double tolerance_n = 1e-9) {
+                    double tolerance_n = 1e-6) {
   const double depth = 0.002;
   V felt = V::Zero();
   V proxy_tip = V::Zero();
@@ -81,8 +81,9 @@ void expect_k_depth(const Scene& scene, double surface_y, ToolKind kind, double 
   EXPECT_LT(test::angle_between(felt, V::UnitY()), tilt_rad);
   EXPECT_NEAR(proxy_tip.y(), surface_y, 1e-4) << "the proxy stays on the surface";
   // The shaft is vertical: the lever passes the axial force to the handle 1:1.
-  ASSERT_FALSE(run.right->commands.empty());
-  const V sent = run.right->commands.back().force_W;
+  // (The last command is the zero sent when the session ends.)
+  ASSERT_GE(run.right->commands.size(), 2U);
+  const V sent = run.right->commands[run.right->commands.size() - 2].force_W;
   EXPECT_NEAR(sent.y(), felt.y(), 1e-6);
 }
 
@@ -160,8 +161,7 @@ TEST(ProbeSession, ATextureGivesKTimesTheTexturedDepth) {
       3.0, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
         if (tick < 1100) return;
         const ToolSnapshot& t = h.tools[1];
-        // Where the tip is (the handle's keyframes are interpolated, so through the pivot the
-        // tip's depth along the stroke varies a little about the script's 0.2 mm).
+        // Where the tip is (its keyframes keep it within microns of the script's 0.2 mm).
         const double x = t.pose.hinge_W.x();
         const double d = a * std::sin(2.0 * M_PI * x / lambda) - t.pose.hinge_W.y();
         const V f = tip_force(t);
