@@ -151,14 +151,15 @@ TEST(ProbeSession, ATextureGivesKTimesTheTexturedDepth) {
   int64_t free_ticks = 0;
   double worst = 0.0;
   double worst_angle = 0.0;
+  // Down at x = −1 cm, then across at 1 cm/s, a waypoint every 0.5 mm so that the tip keeps to
+  // the line.
+  std::vector<TipWaypoint> stroke = {{0.0, V(-0.01, 0.01, 0.0)}, {0.5, V(-0.01, 0.01, 0.0)}};
+  for (int i = 0; i <= 40; ++i) {
+    stroke.push_back({1.0 + 0.05 * i, V(-0.01 + 0.0005 * i, -depth, 0.0)});
+  }
   auto run = observed_session(
-      scene,
-      {parked(),
-       {{0.0, V(-0.01, 0.01, 0.0)},
-        {0.5, V(-0.01, 0.01, 0.0)},
-        {1.0, V(-0.01, -depth, 0.0)},
-        {3.0, V(0.01, -depth, 0.0)}}},
-      3.0, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
+      scene, {parked(), stroke}, 3.0,
+      [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
         if (tick < 1100) return;
         const ToolSnapshot& t = h.tools[1];
         // Where the tip is (its keyframes keep it within microns of the script's 0.2 mm).
