@@ -61,7 +61,7 @@ std::vector<TipWaypoint> press(double surface_y, double depth) {
 
 // Pressed 2 mm (0.8 N: below the default device's 0.88 N sustained force, so the handle gets it
 // unscaled). `tilt_rad`: how far the force may lean off the true normal (a tessellated sphere's
-// facet beside its pole vertex leans π/96).
+// facet beside its pole vertex leans less than the first ring's polar angle, π/48).
 void expect_k_depth(const Scene& scene, double surface_y, ToolKind kind, double tilt_rad = 1e-9,
                     double tolerance_n = 1e-6) {
   const double depth = 0.002;
@@ -95,7 +95,7 @@ TEST(ProbeSession, APointProbePressingAPlaneFeelsKTimesDepth) {
 TEST(ProbeSession, APointProbePressingASphereFeelsKTimesDepth) {
   const test::TempDir dir;
   // The facets under the pole lie within r (1 − cos(π/48)) = 0.06 mm of the sphere: 2 %.
-  expect_k_depth(probe_scene(dir, true, "probe"), 0.03, ToolKind::kPointProbe, M_PI / 96.0 + 1e-9,
+  expect_k_depth(probe_scene(dir, true, "probe"), 0.03, ToolKind::kPointProbe, M_PI / 48.0,
                  0.02 * kK * 0.002);
 }
 
