@@ -9,10 +9,10 @@ namespace lap::models {
 
 /// How an object responds to contact.
 enum class ModelKind {
-  kRigid,       ///< moves as a rigid body, does not deform (§6.4)
+  kRigid,       ///< does not deform: anchored, or a free rigid body given dynamics (§6.4)
   kLocal,       ///< local deformation within an influence radius (§6.5)
   kModalShell,  ///< modal-reduced shell finite elements, for the cystic duct (§7.7(2))
-  kMassSpring,  ///< mass-spring-damper chain, for the catheter (§7.7(3))
+  kMassSpring,  ///< mass-spring-damper chain: the catheter's (§7.7(3)), refused for an organ
 };
 
 /// Scenario spelling of each kind: rigid, local, modal-shell, mass-spring.

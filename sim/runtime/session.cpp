@@ -20,6 +20,9 @@ constexpr uint64_t kFnvPrime = 1099511628211ULL;
 /// The couplings' passivity reservoir leaks with this time constant (estimate: a few cycles of
 /// the hand's own 5–25 Hz modes on a grasp; long against a tick, short against a pull).
 constexpr double kCouplingLeakS = 0.2;
+/// A probe's "jaws" for the grasp models: open past every release angle (models/catheter_grasp.h,
+/// models/duct_grasp.h release above 0.45 rad), so a probe never grasps.
+constexpr double kProbeOpeningRad = 1.0;
 
 // Whether p is inside a closed surface: the nearest point's primitive's (angle-weighted
 // pseudo-)normal points away from p (Baerentzen and Aanaes, IEEE TVCG 2005). Real time.
@@ -145,6 +148,10 @@ Result<std::unique_ptr<Session>> Session::create(
                         " tool's device has other limits than the session model was built for");
     }
     tool.gripper = haptics::LaparoscopicGripper(m.tool(side).gripper);
+    if (m.tool(side).kind != ToolKind::kGripper) {
+      tool.probe =
+          std::make_unique<ProbeTool>(m.tool(side).kind, m.tool(side).gripper.shaft_length_m);
+    }
     tool.limiter = hardware::CommandLimiter(have);
     tool.passivity = hardware::PassivityController(hardware::PassivityController::kMaxDampingNsPerM,
                                                    rs.passivity_control);
@@ -168,6 +175,7 @@ Result<std::unique_ptr<Session>> Session::create(
   }
   s->objects_ = m.objects();
   s->surfaces_to_haptic_.read()->point(s->objects_);
+  s->bodies_.init(m.bodies(), m.organ_count());
   for (Tool& tool : s->tools_) tool.objects_holding_duct = s->objects_;
 
   // The task engine: its state, and room for what each modelling step hands it.
@@ -240,11 +248,30 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   const ModelSnapshot& model = take_up_model(tick, lateness_s);
   HapticSnapshot& snap = to_model_.write_slot();
   snap.tick = tick;
+  bodies_.pose_objects(objects_);  // where the free bodies are this tick (§6.4)
   std::array<hardware::DeviceCommand, 2> wanted{};
   for (size_t i = 0; i < 2; ++i) {
     ToolKinematics k;
     if (!read_tool(i, tick, &k)) continue;  // keep the tool where it was
-    wanted[i] = tool_command(i, k, model, &snap.tools[i], tick);
+    wanted[i] = tools_[i].probe ? probe_command(i, k, &snap.tools[i], tick)
+                                : tool_command(i, k, model, &snap.tools[i], tick);
+    // The tool's contacts push the free bodies (moving_bodies.h: this tick, right after the
+    // proxies, so the coupling creates no energy).
+    const ToolSnapshot& ts = snap.tools[i];
+    for (int32_t c = 0; c < ts.organ_contact_count; ++c) {
+      const ToolContact& tc = ts.organ_contacts[static_cast<size_t>(c)];
+      bodies_.push(tc.organ, tc.force_on_organ_W, tc.point_W);
+    }
+  }
+  if (bodies_.count() > 0) {
+    if (!bodies_.step(model.catheter_on_bodies, model_->timing().dt_s)) {
+      trip(tick, -1, WatchdogReason::kNonFinite);
+    }
+    bodies_.write(&snap.bodies);
+    for (int32_t b = 0; b < snap.bodies.count; ++b) {
+      const Eigen::Isometry3d& pose = snap.bodies.bodies[static_cast<size_t>(b)].pose_W;
+      hash_bytes(&hash_, pose.matrix().data(), 16 * sizeof(double));
+    }
   }
   send_commands(tick, wanted, snap);
   publish_haptic(snap, lateness_s);
@@ -320,7 +347,35 @@ bool Session::read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept {
   tool.handle_read = true;
   *k = tool_kinematics(model_->tool(i).trocar, sample, tool.axis_W);
   tool.axis_W = k->axis_W;
+  // A probe has no jaws: held open, it never grasps the catheter or the duct.
+  if (tool.probe) k->pose.opening_rad = kProbeOpeningRad;
   return true;
+}
+
+// A probe (tools[].kind probe or ray-probe): its one proxy against the organs, the command at
+// the handle through the fulcrum; its contacts for the tissue models and the free bodies.
+hardware::DeviceCommand Session::probe_command(size_t i, const ToolKinematics& k, ToolSnapshot* ts,
+                                               int64_t tick) noexcept {
+  Tool& tool = tools_[i];
+  const ProbeOutput out = tool.probe->step(objects_, k.pose, model_->timing().dt_s);
+  Eigen::Vector3d force = out.force_W;
+  Eigen::Vector3d torque = out.torque_W;
+  if (out.fault || !force.allFinite() || !torque.allFinite()) {
+    trip(tick, static_cast<int32_t>(i), WatchdogReason::kNonFinite);
+    force.setZero();
+    torque.setZero();
+  }
+  ts->pose = k.pose;
+  ts->kind = tool.probe->kind();
+  ts->proxy_tip_W = out.proxy_tip_W;
+  ts->contacts = out.contact_count;
+  ts->organ_contact_count = tool.probe->contacts(ts->organ_contacts);
+  StiffnessBudget budget(k);
+  tool.probe->add_to_budget(objects_, &budget);
+  tool.coupling_wanted_W.setZero();  // a probe holds nothing: no coupling
+  hardware::DeviceCommand command = handle_command(k, force, torque, 0.0);
+  command.stiffness_n_per_m = budget.at_handle_n_per_m();
+  return command;
 }
 
 // The tool's proxies against the organs, the virtual couplings to what its jaws hold, and the
@@ -572,6 +627,11 @@ void Session::model_tick(int64_t tick) noexcept {
     world_->inject_non_finite(injected_fault_);
     --injected_fault_steps_;
   }
+  // The free bodies where the haptic loop has them: the catheter meets them there.
+  for (int32_t b = 0; b < h.bodies.count; ++b) {
+    const BodySnapshot& body = h.bodies.bodies[static_cast<size_t>(b)];
+    world_->set_organ_pose(body.organ, body.pose_W);
+  }
   const ModelFault fault = world_->step(model_input_, model_->timing().model_dt_s);
   ++model_steps_;
   step_task_engine(tick, h);
@@ -589,6 +649,15 @@ void Session::model_tick(int64_t tick) noexcept {
     m.deepest_dent_m = world_->deepest_dent_m();
     world_->write_deformations(&m.organs);  // sized at set-up: no allocation
     m.fault = fault;
+    m.catheter_on_bodies.clear();
+    for (int32_t b = 0; b < h.bodies.count; ++b) {
+      const BodySnapshot& body = h.bodies.bodies[static_cast<size_t>(b)];
+      // The snapshot lists the bodies in the model's order (MovingBodies::write).
+      const models::RigidBodyModel& bm = model_->bodies()[static_cast<size_t>(b)].model;
+      world_->catheter_wrench(body.organ, body.pose_W * bm.com_B,
+                              &m.catheter_on_bodies.force_W[static_cast<size_t>(b)],
+                              &m.catheter_on_bodies.torque_W[static_cast<size_t>(b)]);
+    }
     if (buf == &model_to_haptic_) {
       // The proxies' next copy of the surfaces takes up the same deformations here, on this
       // thread, so the haptic step only switches to it.

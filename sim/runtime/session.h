@@ -5,7 +5,8 @@
 /// device through its trocar, the watchdog, and the recording of every device input.
 ///
 /// - Haptic loop (default 1 kHz): read both devices, tool kinematics through the trocars, the
-///   three-segment gripper proxies against the organs, the virtual coupling to a grasped
+///   three-segment gripper proxies (or a probe's one proxy, probe_tool.h) against the organs,
+///   the free rigid bodies pushed and stepped (moving_bodies.h), the virtual coupling to a grasped
 ///   catheter and duct, the wrench back through the fulcrum, limits, the passivity controller at
 ///   the handle (hardware/passivity_controller.h), write both devices. No allocation,
 ///   lock or exception after start-up.
@@ -55,6 +56,8 @@
 #include "sim/runtime/deformed_surface.h"
 #include "sim/runtime/haptic_surfaces.h"
 #include "sim/runtime/loop_stats.h"
+#include "sim/runtime/moving_bodies.h"
+#include "sim/runtime/probe_tool.h"
 #include "sim/runtime/session_recorder.h"
 #include "sim/runtime/task_engine.h"
 #include "sim/runtime/tissue_world.h"
@@ -89,6 +92,10 @@ struct ToolSnapshot {
   /// Its contacts with the organs (the first kMaxContacts), for the tissue models.
   int32_t organ_contact_count = 0;
   std::array<ToolContact, ToolModelInput::kMaxContacts> organ_contacts{};
+  /// What the haptic loop renders of it (a gripper, or a probe: tools[].kind), and for a probe
+  /// where its proxy holds the tip (the IHIP of a point probe, the ideal ray's tip), for drawing.
+  ToolKind kind = ToolKind::kGripper;
+  Eigen::Vector3d proxy_tip_W = Eigen::Vector3d::Zero();
 };
 
 struct HapticSnapshot {
@@ -101,6 +108,9 @@ struct HapticSnapshot {
   int64_t late_ticks = 0;         ///< ticks the watchdog zeroed for starting late, so far
   WatchdogReason last_reason = WatchdogReason::kStall;  ///< of the latest event, if any
   ModelFault last_model_fault;  ///< the latest event's model, when it was a model fault
+  /// The free rigid bodies where this tick left them (§6.4; moving_bodies.h): for drawing, and
+  /// for the modelling loop's catheter contacts.
+  BodySnapshots bodies;
 };
 
 struct ModelSnapshot {
@@ -117,6 +127,9 @@ struct ModelSnapshot {
   /// The model that met a non-finite value in this step, if any: the haptic loop trips its
   /// watchdog on every tick that sees it (a fault lasting several steps is one event).
   ModelFault fault;
+  /// The catheter's push on each free body at this step, which the haptic loop holds on it
+  /// until the next (in the order of HapticSnapshot::bodies).
+  BodyPushes catheter_on_bodies;
 };
 
 struct SessionMetrics {
@@ -206,6 +219,8 @@ class Session {
   }
 
   [[nodiscard]] const SessionModel& model() const { return *model_; }
+  /// The free bodies (haptic thread's state: read after run(), or in fast mode between ticks).
+  [[nodiscard]] const MovingBodies& bodies() const { return bodies_; }
 
   /// The graphics loop (one reader): the newest haptic and model snapshots.
   const HapticSnapshot& graphics_haptic() { return to_graphics_.latest(); }
@@ -240,6 +255,8 @@ class Session {
   void check_timing(int64_t tick, double lateness_s) noexcept;
   [[nodiscard]] double injected_lateness(int64_t tick) const noexcept;
   bool read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept;
+  hardware::DeviceCommand probe_command(size_t i, const ToolKinematics& k, ToolSnapshot* ts,
+                                        int64_t tick) noexcept;
   hardware::DeviceCommand tool_command(size_t i, const ToolKinematics& k,
                                        const ModelSnapshot& model, ToolSnapshot* ts,
                                        int64_t tick) noexcept;
@@ -265,6 +282,7 @@ class Session {
   struct Tool {
     std::unique_ptr<hardware::HapticDevice> device;
     haptics::LaparoscopicGripper gripper;
+    std::unique_ptr<ProbeTool> probe;  ///< a probe's proxy instead of the gripper's; null: gripper
     hardware::CommandLimiter limiter;
     /// Keeps the port passive: the energy given to the hand within what it put in.
     hardware::PassivityController passivity;
@@ -291,6 +309,7 @@ class Session {
   // surfaces' newest copy) and the tools.
   std::vector<haptics::HapticObject> objects_;
   std::array<Tool, 2> tools_;
+  MovingBodies bodies_;  ///< the free rigid bodies, stepped every haptic tick (§6.4)
 
   // Models' state (the modelling thread's own).
   std::unique_ptr<TissueWorld> world_;

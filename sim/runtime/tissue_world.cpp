@@ -40,6 +40,7 @@ std::unique_ptr<TissueWorld> TissueWorld::create(std::shared_ptr<const TissueMod
       w->duct_all_nodes_[v] = static_cast<int32_t>(v);
     }
   }
+  w->organ_pose_W_.assign(static_cast<size_t>(m.organ_count()), Eigen::Isometry3d::Identity());
   for (int32_t i = 0; i < m.organ_count(); ++i) {
     const OrganTissue& t = m.organ(i);
     OrganState s;
@@ -141,7 +142,7 @@ void TissueWorld::find_catheter_contacts() noexcept {
     OrganState& s = organs_[static_cast<size_t>(i)];
     const OrganTissue& t = model_->organ(i);
     s.reaction_count = models::update_surface_contacts(
-        contact_surface(i), Eigen::Isometry3d::Identity(), t.contact, s.tracking.get(),
+        contact_surface(i), organ_pose_W_[static_cast<size_t>(i)], t.contact, s.tracking.get(),
         catheter_.get(), s.reactions, t.open_faces);
     catheter_contacts_ += s.reaction_count;
     if (t.kind == TissueKind::kDuct) set_duct_wall_velocities(s);
@@ -262,6 +263,21 @@ bool TissueWorld::step_duct(int32_t organ, const std::array<ToolModelInput, 2>& 
     duct_wall_->set_positions(duct_positions_W_, duct_all_nodes_, duct_scratch_.get());
   }
   return ok;
+}
+
+void TissueWorld::catheter_wrench(int32_t organ, const Eigen::Vector3d& com_W,
+                                  Eigen::Vector3d* force_W,
+                                  Eigen::Vector3d* torque_W) const noexcept {
+  force_W->setZero();
+  torque_W->setZero();
+  if (organ < 0 || static_cast<size_t>(organ) >= organs_.size()) return;
+  const OrganState& s = organs_[static_cast<size_t>(organ)];
+  const Eigen::Isometry3d& pose = organ_pose_W_[static_cast<size_t>(organ)];
+  for (int32_t k = 0; k < s.reaction_count; ++k) {
+    const models::SurfaceReaction& r = s.reactions[static_cast<size_t>(k)];
+    *force_W += r.force_on_surface_W;
+    *torque_W += (pose * r.point_O - com_W).cross(r.force_on_surface_W);
+  }
 }
 
 std::vector<SurfaceDeformation> TissueWorld::make_deformations() const {

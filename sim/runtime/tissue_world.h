@@ -139,6 +139,19 @@ class TissueWorld {
   /// Largest displacement of any surface vertex from rest, at the last step [m].
   [[nodiscard]] double deepest_dent_m() const { return deepest_dent_; }
 
+  /// Where a free rigid organ is now (its body's pose, sim/runtime/moving_bodies.h): the
+  /// catheter meets its rest surface there from the next step on. Fixed organs stay at the
+  /// identity.
+  void set_organ_pose(int32_t organ, const Eigen::Isometry3d& pose_W) noexcept {
+    if (organ >= 0 && static_cast<size_t>(organ) < organ_pose_W_.size()) {
+      organ_pose_W_[static_cast<size_t>(organ)] = pose_W;
+    }
+  }
+  /// The catheter's push on organ i at the last step: its contacts' reactions summed, and their
+  /// torque about com_W [N], [N m].
+  void catheter_wrench(int32_t organ, const Eigen::Vector3d& com_W, Eigen::Vector3d* force_W,
+                       Eigen::Vector3d* torque_W) const noexcept;
+
   /// Tests: the next step puts a non-finite value into this model's input (the catheter's
   /// velocity, a dent on the first locally deformed organ, a force on the duct), as a numerical
   /// blow-up would.
@@ -166,6 +179,7 @@ class TissueWorld {
 
   std::shared_ptr<const TissueModel> model_;
   std::vector<OrganState> organs_;
+  std::vector<Eigen::Isometry3d> organ_pose_W_;  // per organ: a free body's pose, else identity
   std::unique_ptr<models::CatheterState> catheter_;
   std::array<models::GraspState, 2> catheter_grasps_{};
   std::array<models::DuctGraspState, 2> duct_grasps_{};

@@ -89,6 +89,17 @@ struct IncisionSpec {
   int line = 0;  ///< where it is in the file, for later messages
 };
 
+/// A `rigid` organ's dynamics (thesis §6.4): given, the organ is a free rigid body of this mass,
+/// uniformly dense (its centre of mass and inertia from its closed mesh, models/mass_properties.h),
+/// pushed by the tools; absent, it is fixed where it is placed (an anchored obstacle).
+struct DynamicsSpec {
+  bool present = false;
+  double mass_kg = 0.0;
+  double linear_damping_per_s = 0.0;   ///< momentum decay rate (drag) [1/s]
+  double angular_damping_per_s = 0.0;  ///< angular momentum decay rate [1/s]
+  int line = 0;                        ///< where it is in the file, for later messages
+};
+
 /// One organ: a mesh placed in the world with a material and a model kind.
 struct OrganSpec {
   std::string name;
@@ -101,6 +112,7 @@ struct OrganSpec {
   models::ModelKind model = models::ModelKind::kRigid;
   MaterialSpec material;
   IncisionSpec incision;  ///< modal-shell organs only
+  DynamicsSpec dynamics;  ///< rigid organs only: a free body when present
   int line = 0;           ///< where the organ starts in the file, for later messages
 
   /// Mesh frame to world frame.
@@ -119,7 +131,10 @@ struct ToolSpec {
   std::string name;
   Side side = Side::kLeft;
   std::string trocar;
-  std::string kind = "grasper";  ///< grasper, dissector, clip-applier, scissors
+  /// grasper, dissector, clip-applier, scissors (the gripper's three segments), or a probe:
+  /// `probe` (its tip rendered by the point proxy, chapter 4) or `ray-probe` (its shaft rendered
+  /// as one line segment by the ray-based proxy, chapter 5).
+  std::string kind = "grasper";
   double shaft_length_m = 0.36;
   double shaft_radius_m = 0.0025;
   double jaw_length_m = 0.02;

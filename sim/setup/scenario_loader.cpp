@@ -96,7 +96,7 @@ class ScenarioParser {
       const YAML::Node o = n[i];
       if (!fields_.expect_map(o, f,
                               {"name", "mesh", "scale", "repair", "transform", "color", "model",
-                               "material", "incision"})) {
+                               "material", "incision", "dynamics"})) {
         continue;
       }
       OrganSpec organ;
@@ -117,6 +117,7 @@ class ScenarioParser {
         parse_material(fields_, files_, o["material"], f + ".material", organ.material);
       }
       if (o["incision"]) parse_incision(o["incision"], f + ".incision", organ);
+      if (o["dynamics"]) parse_dynamics(o["dynamics"], f + ".dynamics", organ);
       s_.organs.push_back(std::move(organ));
     }
   }
@@ -136,6 +137,26 @@ class ScenarioParser {
     }
     fields_.optional_number(n, "length_m", f, c.length_m, 1e-4, 0.05, "from 1e-4 to 0.05 (m)");
     fields_.optional_number(n, "width_m", f, c.width_m, 1e-4, 0.05, "from 1e-4 to 0.05 (m)");
+  }
+
+  // A rigid organ's mass and drag make it a free body (§6.4); only a rigid organ moves whole.
+  void parse_dynamics(const YAML::Node& n, const std::string& f, OrganSpec& organ) {
+    if (!fields_.expect_map(n, f, {"mass_kg", "linear_damping_per_s", "angular_damping_per_s"})) {
+      return;
+    }
+    DynamicsSpec& d = organ.dynamics;
+    d.present = true;
+    d.line = yaml_line(n);
+    if (organ.model != models::ModelKind::kRigid) {
+      fields_.problem(n, f, "only a rigid organ moves as a body: expected model: rigid");
+    }
+    if (fields_.require(n, "mass_kg", f)) {
+      fields_.optional_number(n, "mass_kg", f, d.mass_kg, 1e-4, 100.0, "from 1e-4 to 100 (kg)");
+    }
+    fields_.optional_number(n, "linear_damping_per_s", f, d.linear_damping_per_s, 0.0, 1000.0,
+                            "from 0 to 1000 (1/s)");
+    fields_.optional_number(n, "angular_damping_per_s", f, d.angular_damping_per_s, 0.0, 1000.0,
+                            "from 0 to 1000 (1/s)");
   }
 
   // The name is kept even when it breaks a rule, so a task naming it gets no second problem.
@@ -178,11 +199,18 @@ class ScenarioParser {
     }
     if (o["model"]) {
       if (auto v = fields_.string(o["model"], f + ".model")) {
-        if (auto k = models::parse_model_kind(*v)) {
+        const std::optional<models::ModelKind> k = models::parse_model_kind(*v);
+        if (k && *k != models::ModelKind::kMassSpring) {
           organ.model = *k;
+        } else if (k) {
+          // The mass-spring chain is the catheter's model (catheter:), not an organ's: an organ
+          // given it would silently be rigid, so it is refused.
+          fields_.problem(o["model"], f + ".model",
+                          "mass-spring is the catheter's model (the catheter section), not an "
+                          "organ's: expected rigid, local or modal-shell");
         } else {
           fields_.problem(o["model"], f + ".model",
-                          "expected rigid, local, modal-shell or mass-spring, got '" + *v + "'");
+                          "expected rigid, local or modal-shell, got '" + *v + "'");
         }
       }
     }
@@ -228,8 +256,9 @@ class ScenarioParser {
       if (fields_.require(t, "side", f)) parse_tool_side(t["side"], f + ".side", sides, tool);
       if (fields_.require(t, "trocar", f)) parse_tool_trocar(t["trocar"], f + ".trocar", tool);
       if (t["kind"]) {
-        if (auto v = fields_.word(t["kind"], f + ".kind",
-                                  {"grasper", "dissector", "clip-applier", "scissors"})) {
+        if (auto v = fields_.word(
+                t["kind"], f + ".kind",
+                {"grasper", "dissector", "clip-applier", "scissors", "probe", "ray-probe"})) {
           tool.kind = *v;
         }
       }

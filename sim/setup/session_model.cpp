@@ -63,6 +63,9 @@ Result<std::shared_ptr<const SessionModel>> SessionModel::build(
   Result<TaskModel> task = TaskModel::build(scene.scenario, *m->tissue_);
   if (!task.ok()) return task.diagnostics();
   m->task_ = std::move(task).value();
+  Result<std::vector<RigidBodyOfOrgan>> bodies = build_rigid_bodies(scene);
+  if (!bodies.ok()) return bodies.diagnostics();
+  m->bodies_ = std::move(bodies).value();
   m->build_surfaces(scene);
   m->duct_wall_stiffness_n_per_m_ = duct_wall_stiffness(m->tissue_->duct());
   m->note_stiffness_budget(scene);
@@ -104,6 +107,7 @@ Status SessionModel::build_tools(const Scene& scene,
                         "' is not among the trocars");
     }
     ToolModel& tool = tools_[static_cast<size_t>(side)];
+    tool.kind = tool_kind(it->kind);
     tool.trocar.port_W = port->position_m;
     tool.trocar.shaft_length_m = it->shaft_length_m;
     tool.gripper.jaw_length_m = it->jaw_length_m;

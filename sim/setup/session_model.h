@@ -23,6 +23,7 @@
 #include "haptics/mesh_database.h"
 #include "haptics/segment_database.h"
 #include "sim/setup/organ_surface.h"
+#include "sim/setup/rigid_body_models.h"
 #include "sim/setup/runtime_settings.h"
 #include "sim/setup/scene.h"
 #include "sim/setup/task_model.h"
@@ -83,6 +84,9 @@ class SessionModel {
   [[nodiscard]] const std::string& scenario_file() const { return scenario_file_; }
   /// The scenario's expert benchmarks for the training metrics, if it has them.
   [[nodiscard]] const std::optional<ProficiencySpec>& proficiency() const { return proficiency_; }
+  /// The free rigid bodies (`rigid` organs with `dynamics`, §6.4); the haptic loop moves them
+  /// (sim/runtime/moving_bodies.h).
+  [[nodiscard]] const std::vector<RigidBodyOfOrgan>& bodies() const { return bodies_; }
   /// Each organ's name, as the scenario gives it.
   [[nodiscard]] const std::vector<std::string>& organ_names() const { return organ_names_; }
 
@@ -107,6 +111,7 @@ class SessionModel {
   std::vector<haptics::HapticObject> objects_;
   std::vector<std::string> notes_;
   std::vector<std::string> organ_names_;
+  std::vector<RigidBodyOfOrgan> bodies_;
   double duct_wall_stiffness_n_per_m_ = 0.0;
 };
 

@@ -8,9 +8,9 @@
 /// catheter's model from it, both through a `const` reference, as MuJoCo's mjModel is shared by
 /// its mjData.
 ///
-/// `rigid` organs stay put (they are obstacles; the rigid-body dynamics of models/rigid_body.h
-/// are for loose objects, none in the scenarios yet); `mass-spring` organs are treated as rigid
-/// here (the catheter is the one mass-spring model).
+/// `rigid` organs are kFixed here: anchored ones never move, free ones (with `dynamics`) are
+/// moved by the haptic loop (sim/runtime/moving_bodies.h), the catheter meeting them where they
+/// are (TissueWorld::set_organ_pose). `mass-spring` is refused for an organ at load.
 
 #include <cstdint>
 #include <filesystem>

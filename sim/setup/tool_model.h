@@ -5,6 +5,7 @@
 /// kinematics through the port run in the haptic loop (sim/runtime/trocar_tool.h).
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <string>
 
 #include "haptics/laparoscopic_gripper.h"
@@ -29,8 +30,22 @@ struct DeviceDescription {
   return {std::string(device.name()), device.limits()};
 }
 
+/// What the haptic loop renders of a tool (scenarios/README.md, tools[].kind).
+enum class ToolKind : uint8_t {
+  kGripper,     ///< shaft and two jaws, three segment proxies (§7.6.2)
+  kPointProbe,  ///< the tip alone, the point proxy (Neighborhood Watch, chapter 4)
+  kRayProbe,    ///< the shaft as one line segment, the ray-based proxy (chapter 5)
+};
+/// The kind a scenario's tools[].kind names: probe, ray-probe, or a gripper.
+[[nodiscard]] inline ToolKind tool_kind(const std::string& scenario_kind) {
+  if (scenario_kind == "probe") return ToolKind::kPointProbe;
+  if (scenario_kind == "ray-probe") return ToolKind::kRayProbe;
+  return ToolKind::kGripper;
+}
+
 /// One tool, fixed for the session.
 struct ToolModel {
+  ToolKind kind = ToolKind::kGripper;
   TrocarToolSettings trocar;
   haptics::GripperGeometry gripper;
   DeviceDescription device;

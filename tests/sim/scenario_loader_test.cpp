@@ -166,7 +166,7 @@ TEST_F(ScenarioFixture, Bad09_DynamicFrictionAboveStatic) {
 
 TEST_F(ScenarioFixture, Bad10_UnknownModelKind) {
   expect_one(load_with(8, "    model: jelly"),
-             "8: organs[0].model: expected rigid, local, modal-shell or mass-spring, got 'jelly'");
+             "8: organs[0].model: expected rigid, local or modal-shell, got 'jelly'");
 }
 
 TEST_F(ScenarioFixture, Bad11_ColourOutOfRange) {
