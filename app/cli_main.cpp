@@ -92,10 +92,13 @@ const char* const kUsage =
     "  devices\n"
     "      list the actuated USB grippers plugged in (serial, bus path), to name each tool's\n"
     "      with DEV+gripper:SERIAL or DEV+gripper@BUS-PORTS\n"
-    "  report --session DIR [--format json|csv|pdf] [--out FILE]\n"
+    "  report --session DIR [--format json|csv|pdf] [--out FILE] [--scenario FILE]\n"
+    "         [--allow-path DIR]...\n"
     "      replay a session recorded by run --record and print its task and training metrics,\n"
     "      recomputed from the recorded inputs (json: as run prints them, with the series;\n"
-    "      csv: one metric,value row per metric; pdf: the plots and the metrics, needs --out)\n"
+    "      csv: one metric,value row per metric; pdf: the plots and the metrics, needs --out);\n"
+    "      the scenario the session names is read only from DIR or the shipped scenarios'\n"
+    "      folders: --scenario FILE replays with FILE instead, --allow-path DIR allows DIR\n"
     "  generate-assets --out DIR [--anatomy PRESET|all]\n"
     "      write the project's generated stand-in organ meshes (OBJ) into DIR; with --anatomy,\n"
     "      the generated anatomy instead (glTF 2.0): DIR/PRESET/ per preset (default, easy,\n"
@@ -470,11 +473,12 @@ int cmd_run(int argc, char** argv) {
     // The trainee's sessions are theirs: the folder and its files for its owner only.
     fs::create_directories(dir, ec);
     fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace, ec);
-    const auto header = lap::sim::session_record_json(args.get("--scenario"), rs);
-    lap::Status ready = header.ok()
-                            ? lap::sim::write_session_record(dir, args.get("--scenario"), rs)
-                            : lap::Status(header.diagnostics());
-    if (ready.ok()) ready = session->record_to(dir / "session.lrec", header.value());
+    // session.json now, once (atomically, never rewritten), with the digest of the scenario's
+    // bytes as loaded: a scenario changed while the session runs replays with a note.
+    const std::string header =
+        lap::sim::session_record_json(args.get("--scenario"), r.value().scenario.digest, rs);
+    lap::Status ready = lap::sim::write_session_record(dir, header);
+    if (ready.ok()) ready = session->record_to(dir / "session.lrec", header);
     if (!ready.ok()) {
       std::cerr << "laptrainer-cli run: " << ready.message() << "\n";
       return kExitProblems;
@@ -492,9 +496,15 @@ int cmd_run(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   });
-  const lap::sim::SessionMetrics m = session->run();
+  lap::sim::SessionMetrics m = session->run();
   ran.store(true);
   watcher.join();
+  // The scenario file changed on disk while it ran: said in the warnings (and metrics.json); the
+  // session ran what was loaded, session.json keeps that digest, and a report notes the change.
+  if (std::optional<std::string> changed =
+          lap::sim::scenario_change_warning(r.value().scenario.file, r.value().scenario.digest)) {
+    m.warnings.push_back(std::move(*changed));
+  }
   for (const std::string& w : m.warnings) std::cerr << "laptrainer-cli run: warning: " << w << "\n";
   if (m.paused) {
     std::cerr << "laptrainer-cli run: the watchdog paused the session (forces zeroed):";
@@ -542,7 +552,7 @@ int cmd_devices(int argc, char** argv) {
 
 int cmd_report(int argc, char** argv) {
   Args args(argc, argv, {});
-  const bool ok = args.only({"--session", "--format", "--out"});
+  const bool ok = args.only({"--session", "--format", "--out", "--scenario", "--allow-path"});
   if (!args.has("--session")) args.errors.push_back("report needs --session");
   const std::string format = args.get("--format", "json");
   if (format != "json" && format != "csv" && format != "pdf") {
@@ -564,7 +574,10 @@ int cmd_report(int argc, char** argv) {
       return kExitProblems;
     }
   }
-  const auto replayed = lap::sim::replay_session(args.get("--session"));
+  lap::sim::ReplaySettings replay;
+  if (args.has("--scenario")) replay.scenario = fs::path(args.get("--scenario"));
+  for (const auto& p : args.all("--allow-path")) replay.allowed_paths.emplace_back(p);
+  const auto replayed = lap::sim::replay_session(args.get("--session"), replay);
   if (!replayed.ok()) return print_problems(replayed.diagnostics());
   const lap::sim::ReplayedSession& r = replayed.value();
   for (const std::string& n : r.notes) std::cerr << "laptrainer-cli report: note: " << n << "\n";

@@ -1,8 +1,11 @@
 #include "hardware/device_recording.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+
+#include "core/bounded_file.h"
 
 namespace lap::hardware {
 namespace {
@@ -64,30 +67,36 @@ Result<DeviceRecording> read_device_recording(const std::filesystem::path& file)
                   const std::string& field = "") -> Result<DeviceRecording> {
     return file_diagnostic(file.string(), 0, field, what);
   };
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return fail("cannot open the device recording");
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const Result<std::string> read =
+      read_bounded_file(file, kMaxDeviceRecordingBytes, "a device recording (.lapdev)",
+                        "hardware/device_recording.h");
+  if (!read.ok()) return read.diagnostics();
+  const std::string& bytes = read.value();
   if (bytes.size() < kDeviceRecordingHeaderBytes ||
       std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    return fail("not a laptrainer device recording (expected the header 'LAPDEV01')");
+    return fail("at byte 0: not a laptrainer device recording (expected the header 'LAPDEV01')");
   }
   const auto version = get<uint32_t>(bytes.data() + 8);
   const auto record = get<uint32_t>(bytes.data() + 12);
   if (version != kVersion) {
-    return fail("version " + std::to_string(version) + ": expected version 1");
+    return fail("at byte 8: version " + std::to_string(version) + ": expected version 1");
   }
   if (record != kDeviceRecordingRecordBytes) {
-    return fail("record size " + std::to_string(record) + ": expected 112 bytes");
+    return fail("at byte 12: record size " + std::to_string(record) + ": expected 112 bytes");
   }
   DeviceRecording rec;
   rec.period_s = get<double>(bytes.data() + 16);
   if (!std::isfinite(rec.period_s) || !(rec.period_s > 0.0)) {
-    return fail("expected a positive period", "period_s");
+    char got[32];
+    std::snprintf(got, sizeof(got), "%g", rec.period_s);
+    return fail(std::string("at byte 16: expected a positive period, got ") + got, "period_s");
   }
   const size_t body = bytes.size() - kDeviceRecordingHeaderBytes;
   if (body % kDeviceRecordingRecordBytes != 0) {
-    return fail("ends inside record " + std::to_string(body / kDeviceRecordingRecordBytes) + " (" +
-                std::to_string(body % kDeviceRecordingRecordBytes) +
+    const size_t last = body / kDeviceRecordingRecordBytes;
+    return fail("ends inside record " + std::to_string(last) + " (at byte " +
+                std::to_string(kDeviceRecordingHeaderBytes + last * kDeviceRecordingRecordBytes) +
+                ", " + std::to_string(body % kDeviceRecordingRecordBytes) +
                 " stray bytes): the file is truncated");
   }
   const size_t n = body / kDeviceRecordingRecordBytes;
@@ -106,7 +115,9 @@ Result<DeviceRecording> read_device_recording(const std::filesystem::path& file)
     s.gripper_angle_rad = d[11];
     s.buttons = get<uint32_t>(p + 104);
     const auto status = get<uint32_t>(p + 108);
-    const std::string where = "record " + std::to_string(i) + ": ";
+    const std::string where =
+        "record " + std::to_string(i) + " (at byte " +
+        std::to_string(kDeviceRecordingHeaderBytes + i * kDeviceRecordingRecordBytes) + "): ";
     if (r.tick != static_cast<int64_t>(i)) {
       return fail(where + "tick " + std::to_string(r.tick) + ": expected tick " +
                   std::to_string(i) + " (records are one per tick, in order)");

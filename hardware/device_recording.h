@@ -34,13 +34,18 @@ struct DeviceRecording {
 
 inline constexpr size_t kDeviceRecordingHeaderBytes = 32;
 inline constexpr size_t kDeviceRecordingRecordBytes = 112;
+/// The largest recording read: three hours at 1 kHz is 1.2 GB (a window's session records its
+/// first ten minutes, 67 MB); anything larger, and anything but a regular file (/dev/zero, a
+/// FIFO), is refused unread.
+inline constexpr uint64_t kMaxDeviceRecordingBytes = uint64_t{2} << 30;
 
 /// Writes the recording; a diagnostic naming the file on failure.
 [[nodiscard]] Status write_device_recording(const std::filesystem::path& file,
                                             const DeviceRecording& recording);
 
-/// Reads a recording and checks it: header, whole records, ticks 0, 1, 2, ... in order, finite
-/// values, known status codes. Diagnostics name the file and the record.
+/// Reads a recording and checks it: a regular file of at most kMaxDeviceRecordingBytes, header,
+/// whole records, ticks 0, 1, 2, ... in order, finite values, known status codes. Diagnostics
+/// name the file and the record.
 [[nodiscard]] Result<DeviceRecording> read_device_recording(const std::filesystem::path& file);
 
 }  // namespace lap::hardware

@@ -54,6 +54,7 @@ TransferResult GripperEmulator::read(std::span<uint8_t> buffer, int timeout_ms, 
 TransferResult GripperEmulator::write(std::span<const uint8_t> bytes, int /*timeout_ms*/) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!controls_.plugged || !open_) return TransferResult::kNoDevice;
+  if (controls_.stall_out) return TransferResult::kStall;  // nothing reaches the motor
   if (const Result<gripper::CommandReport> c = gripper::decode_command(bytes); c.ok()) {
     last_command_ = c.value();
   }
@@ -64,6 +65,7 @@ TransferResult GripperEmulator::clear_stall(uint8_t endpoint) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!controls_.plugged || !open_) return TransferResult::kNoDevice;
   if (endpoint == gripper::kEndpointIn) controls_.stall_in = false;
+  if (endpoint == gripper::kEndpointOut && !controls_.out_stuck) controls_.stall_out = false;
   return TransferResult::kOk;
 }
 

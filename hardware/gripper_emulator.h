@@ -22,6 +22,8 @@ class GripperEmulator final : public UsbTransport {
     int32_t encoder_counts = 0;
     int malformed_reports = 0;  ///< the next n reports are corrupted
     bool stall_in = false;      ///< the IN endpoint halts until cleared
+    bool stall_out = false;     ///< the OUT endpoint halts until cleared
+    bool out_stuck = false;     ///< ... and clearing it does not help (it halts again at once)
     int timeouts = 0;           ///< the next n reads time out
   };
 

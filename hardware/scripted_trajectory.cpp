@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/bounded_file.h"
+
 namespace lap::hardware {
 namespace {
 
@@ -144,19 +146,10 @@ Result<ScriptedTrajectory> parse_scripted_trajectory(const std::string& text,
 }
 
 Result<ScriptedTrajectory> load_scripted_trajectory(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (const uintmax_t bytes = std::filesystem::file_size(file, ec);
-      !ec && bytes > kMaxScriptFileBytes) {
-    return file_diagnostic(
-        file.string(), 0, "",
-        "file of " + std::to_string(bytes) + " bytes is larger than the limit of " +
-            std::to_string(kMaxScriptFileBytes) + " (hardware/scripted_trajectory.h)");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return file_diagnostic(file.string(), 0, "", "cannot open the trajectory file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_scripted_trajectory(ss.str(), file.string());
+  const Result<std::string> text = read_bounded_file(
+      file, kMaxScriptFileBytes, "a keyframe script (CSV)", "hardware/scripted_trajectory.h");
+  if (!text.ok()) return text.diagnostics();
+  return parse_scripted_trajectory(text.value(), file.string());
 }
 
 }  // namespace lap::hardware

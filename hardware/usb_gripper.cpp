@@ -140,7 +140,10 @@ bool UsbGripper::take_report(std::span<const uint8_t> bytes, int* bad_run) {
     set_error(DeviceStatus::kError, "the motor is too hot");
   } else {
     opening_.publish(gripper::opening_rad(settings_.calibration, report->encoder_counts));
-    status_.store(static_cast<uint8_t>(DeviceStatus::kOk));
+    // A report does not undo a squeeze that cannot be sent (send_squeeze).
+    if (failed_writes_ < settings_.max_failed_writes) {
+      status_.store(static_cast<uint8_t>(DeviceStatus::kOk));
+    }
   }
   ++reports_;  // after the status, so start() sees the report's verdict
   return true;
@@ -152,13 +155,25 @@ bool UsbGripper::send_squeeze(uint16_t* sequence) {
   c.sequence = ++*sequence;
   c.squeeze_mn = gripper::squeeze_mn(settings_.calibration, squeeze_.latest());
   const TransferResult w = transport_->write(gripper::encode(c), settings_.write_timeout_ms);
-  if (w == TransferResult::kStall) {
-    ++stalls_;
-    (void)transport_->clear_stall(gripper::kEndpointOut);
-  } else if (w == TransferResult::kNoDevice) {
+  if (w == TransferResult::kNoDevice) {
     set_error(DeviceStatus::kDisconnected, "unplugged");
     transport_->close();
     return false;
+  }
+  if (w == TransferResult::kOk) {
+    failed_writes_ = 0;
+    return true;
+  }
+  if (w == TransferResult::kStall) {
+    ++stalls_;
+    (void)transport_->clear_stall(gripper::kEndpointOut);
+  }
+  if (++failed_writes_ == settings_.max_failed_writes) {
+    set_error(DeviceStatus::kError,
+              std::to_string(failed_writes_) + " squeeze commands in a row not sent (" +
+                  (w == TransferResult::kStall ? "the OUT endpoint stays stalled"
+                                               : "OUT transfers failing") +
+                  "): the motor may be holding its last squeeze");
   }
   return true;
 }

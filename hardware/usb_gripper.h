@@ -6,7 +6,10 @@
 /// the device, the emulator for tests.
 ///
 /// - A malformed report is dropped and counted; more than `max_bad_reports` in a row is an error.
-/// - A stalled endpoint is cleared and the transfer retried.
+/// - A stalled endpoint is cleared and the transfer retried. Squeeze commands that cannot be sent
+///   `max_failed_writes` times in a row (an OUT endpoint that halts again however often it is
+///   cleared) are an error, which stays while they fail: the motor may be holding the last
+///   squeeze it got, so the session must pause (its watchdog) rather than go on feeling nothing.
 /// - No report for `stale_after_ms` is a lost device; so is an unplug. The I/O thread then
 ///   tries to reopen it every `reconnect_interval_ms` (hot-plug by polling, which works on every
 ///   libusb back end) and reports kOk again once a valid report arrives.
@@ -33,6 +36,7 @@ struct UsbGripperSettings {
   int stale_after_ms = 20;
   int reconnect_interval_ms = 100;
   int max_bad_reports = 10;
+  int max_failed_writes = 20;  ///< about 20 ms of commands at the reports' 1 kHz
   int start_timeout_ms = 200;  ///< start() waits this long for the first valid report
 };
 
@@ -73,6 +77,7 @@ class UsbGripper {
   /// squeeze command sent (false when the device is gone).
   bool take_report(std::span<const uint8_t> bytes, int* bad_run);
   bool send_squeeze(uint16_t* sequence);
+  int failed_writes_ = 0;  ///< in a row; the I/O thread's own
   void set_error(DeviceStatus status, const std::string& why);
 
   std::unique_ptr<UsbTransport> transport_;

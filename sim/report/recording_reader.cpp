@@ -2,9 +2,9 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
+
+#include "core/bounded_file.h"
 
 namespace lap::sim {
 
@@ -78,17 +78,20 @@ class Reader {
  private:
   size_t header() {
     if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
-      header_problem_ = "not a laptrainer session recording (expected it to start with LAPREC01)";
+      header_problem_ =
+          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC01)";
       return 0;
     }
     const auto n = get<uint32_t>(b_, 8);
     if (n > kMaxHeaderBytes || 12 + static_cast<size_t>(n) + 4 > b_.size()) {
-      header_problem_ = "its header's length (" + std::to_string(n) + " bytes) runs past the file";
+      header_problem_ =
+          "at byte 8: its header's length (" + std::to_string(n) + " bytes) runs past the file";
       return 0;
     }
     s_.header_json = b_.substr(12, n);
     if (crc32(s_.header_json.data(), n) != get<uint32_t>(b_, 12 + n)) {
-      header_problem_ = "its header's checksum does not match (the file is damaged)";
+      header_problem_ = "at byte " + std::to_string(12 + static_cast<size_t>(n)) +
+                        ": its header's checksum does not match (the file is damaged)";
       return 0;
     }
     return 12 + static_cast<size_t>(n) + 4;
@@ -213,20 +216,11 @@ class Reader {
 }  // namespace
 
 Result<RecordedSession> read_session_recording(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    return file_diagnostic(file.string(), 0, "", "expected a regular file (a session's recording)");
-  }
-  const std::uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec || size > kMaxRecordingBytes) {
-    return file_diagnostic(file.string(), 0, "",
-                           "is larger than a recording may be (" +
-                               std::to_string(kMaxRecordingBytes >> 20) + " MB: 3 hours)");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return file_diagnostic(file.string(), 0, "", "cannot read the recording");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return Reader(file, std::move(bytes)).read();
+  // Three hours at most; a regular file only (a FIFO would block, /dev/zero never end).
+  Result<std::string> bytes = read_bounded_file(
+      file, kMaxRecordingBytes, "a session's recording (session.lrec: 3 hours at most)");
+  if (!bytes.ok()) return bytes.diagnostics();
+  return Reader(file, std::move(bytes).value()).read();
 }
 
 }  // namespace lap::sim

@@ -1,17 +1,25 @@
 #include "sim/report/session_replay.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
+#include <cstdlib>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "core/bounded_file.h"
 #include "hardware/device_spec.h"
 #include "hardware/replay_device.h"
 #include "sim/report/recording_reader.h"
 #include "sim/setup/device_factory.h"
+#include "sim/setup/gltf_references.h"
+#include "sim/setup/json_lines.h"
+#include "sim/setup/scenario_loader.h"
 #include "sim/setup/scene.h"
 
 namespace lap::sim {
@@ -33,62 +41,60 @@ std::string hex64(uint64_t v) {
 constexpr double kMaxDurationS = 86400.0;
 constexpr double kMaxRateHz = 10000.0;
 
+/// session.json's text, for naming a field's line: where the field's key is, or where the
+/// object starts for a field that is missing.
+struct RecordText {
+  std::string file;
+  JsonLines lines;
+  int object_line = 1;
+  [[nodiscard]] Diagnostic problem(const std::string& field, const std::string& what) const {
+    return file_diagnostic(file, lines.line(field, object_line), field, what);
+  }
+};
+
 /// A number field, finite, positive and at most `most`.
-Result<double> positive_field(const nlohmann::json& j, const std::string& file, const char* field,
+Result<double> positive_field(const nlohmann::json& j, const RecordText& at, const char* field,
                               double most) {
   const auto it = j.find(field);
-  if (it == j.end() || !it->is_number()) {
-    return file_diagnostic(file, 0, field, "expected a number");
-  }
+  if (it == j.end() || !it->is_number()) return at.problem(field, "expected a number");
   const double v = it->get<double>();
   if (!std::isfinite(v) || v <= 0.0 || v > most) {
     char range[64];
     std::snprintf(range, sizeof(range), "%g", most);
-    return file_diagnostic(file, 0, field,
-                           std::string("expected a number above 0 and at most ") + range);
+    return at.problem(field, std::string("expected a number above 0 and at most ") + range);
   }
   return v;
 }
 
-Result<std::string> string_field(const nlohmann::json& j, const std::string& file,
-                                 const char* field) {
+Result<std::string> string_field(const nlohmann::json& j, const RecordText& at, const char* field) {
   const auto it = j.find(field);
-  if (it == j.end() || !it->is_string()) {
-    return file_diagnostic(file, 0, field, "expected a string");
-  }
+  if (it == j.end() || !it->is_string()) return at.problem(field, "expected a string");
   return it->get<std::string>();
+}
+
+/// Writes all of `text` to `fd`; false with errno set on failure.
+bool write_all(int fd, const std::string& text) {
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<size_t>(n);
+  }
+  return true;
 }
 
 }  // namespace
 
-Result<uint64_t> file_digest(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    return file_diagnostic(file.string(), 0, "", "expected a regular file");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return file_diagnostic(file.string(), 0, "", "cannot read the file");
-  uint64_t h = 1469598103934665603ULL;
-  char buf[65536];
-  while (in.read(buf, sizeof(buf)) || in.gcount() > 0) {
-    for (std::streamsize i = 0; i < in.gcount(); ++i) {
-      h = (h ^ static_cast<unsigned char>(buf[i])) * 1099511628211ULL;
-    }
-  }
-  return h;
-}
-
-Result<std::string> session_record_json(const std::filesystem::path& scenario,
-                                        const RuntimeSettings& settings) {
+std::string session_record_json(const std::filesystem::path& scenario, uint64_t digest,
+                                const RuntimeSettings& settings) {
   std::error_code ec;
   const std::filesystem::path absolute = std::filesystem::absolute(scenario, ec);
-  const Result<uint64_t> digest = file_digest(scenario);
-  if (!digest.ok()) return digest.diagnostics();
   nlohmann::ordered_json j;
   j["format"] = kFormat;
   j["version"] = kVersion;
   j["scenario"] = (ec ? scenario : absolute).lexically_normal().string();
-  j["scenario_digest"] = hex64(digest.value());
+  j["scenario_digest"] = hex64(digest);
   j["mode"] = settings.fast ? "fast" : "realtime";
   j["duration_s"] = settings.duration_s;
   j["haptic_rate_hz"] = settings.haptic_rate_hz;
@@ -97,44 +103,101 @@ Result<std::string> session_record_json(const std::filesystem::path& scenario,
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
-Status write_session_record(const std::filesystem::path& dir, const std::filesystem::path& scenario,
-                            const RuntimeSettings& settings) {
-  const Result<std::string> text = session_record_json(scenario, settings);
-  if (!text.ok()) return text.diagnostics();
+Result<std::string> session_record_json(const std::filesystem::path& scenario,
+                                        const RuntimeSettings& settings) {
+  const Result<uint64_t> digest = file_digest(scenario, kMaxScenarioFileBytes);
+  if (!digest.ok()) return digest.diagnostics();
+  return session_record_json(scenario, digest.value(), settings);
+}
+
+Status write_session_record(const std::filesystem::path& dir, const std::string& text) {
   const std::filesystem::path file = dir / "session.json";
-  std::ofstream f(file);
-  f << text.value();
-  f.flush();
-  if (!f) return file_diagnostic(file.string(), 0, "", "cannot write the session's record");
+  auto failed = [&](const std::string& what) -> Status {
+    return file_diagnostic(
+        file.string(), 0, "",
+        "cannot write the session's record: " + what + " (" + std::strerror(errno) + ")");
+  };
+  // A temporary file of this process's own beside it (0600, as mkstemp makes it), whole and on
+  // the disk before it gets the record's name.
+  std::string temporary = (dir / ".session.json.XXXXXX").string();
+  const int fd = ::mkstemp(temporary.data());
+  if (fd < 0) return failed("cannot create a file in " + dir.string());
+  const bool written = write_all(fd, text) && ::fsync(fd) == 0;
+  const int saved_errno = errno;
+  if (::close(fd) != 0 || !written) {
+    errno = written ? errno : saved_errno;
+    const Status s = failed("writing " + temporary + " failed");
+    ::unlink(temporary.c_str());
+    return s;
+  }
+  // Into place, never over a record already there (RENAME_NOREPLACE; a file system without it
+  // gets a check and a plain rename).
+  int moved = ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_NOREPLACE);
+  if (moved != 0 && errno == EINVAL) {
+    std::error_code ec;
+    if (std::filesystem::exists(std::filesystem::symlink_status(file, ec))) {
+      errno = EEXIST;
+    } else {
+      moved = ::rename(temporary.c_str(), file.c_str());
+    }
+  }
+  if (moved != 0) {
+    const Status s =
+        errno == EEXIST
+            ? Status(file_diagnostic(file.string(), 0, "",
+                                     "already exists: a session's record is written once"))
+            : failed("renaming " + temporary + " failed");
+    ::unlink(temporary.c_str());
+    return s;
+  }
+  // The folder's entry on the disk too.
+  if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    (void)::fsync(dfd);
+    ::close(dfd);
+  }
   return {};
+}
+
+std::optional<std::string> scenario_change_warning(const std::filesystem::path& scenario,
+                                                   uint64_t digest) {
+  const Result<uint64_t> now = file_digest(scenario, kMaxScenarioFileBytes);
+  if (now.ok() && now.value() == digest) return std::nullopt;
+  return "the scenario " + scenario.string() + " changed on disk while the session ran (" +
+         (now.ok() ? "digest " + hex64(digest) + " when loaded, " + hex64(now.value()) + " now"
+                   : now.message()) +
+         "): the session ran the scenario as it was loaded, and a replay uses the file as it is "
+         "then";
 }
 
 Result<SessionRecord> read_session_record(const std::filesystem::path& dir) {
   const std::filesystem::path path = dir / "session.json";
   const std::string file = path.string();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    return file_diagnostic(file, 0, "", "missing or not a regular file (a session's record)");
+  const Result<std::string> read =
+      read_bounded_file(path, kMaxRecordBytes, "a session's record (session.json)");
+  if (!read.ok()) return read.diagnostics();
+  const std::string& text = read.value();
+  RecordText at{file, JsonLines::scan(text, 1), 1};
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  at.object_line += static_cast<int>(std::count(
+      text.begin(),
+      text.begin() + static_cast<ptrdiff_t>(first == std::string::npos ? text.size() : first),
+      '\n'));
+  if (!at.lines.parsed()) {
+    return file_diagnostic(file, at.lines.error_line(), "",
+                           "expected a JSON object (a session's record): " + at.lines.error());
   }
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec)
-    return file_diagnostic(file, 0, "", "cannot read the session's record (" + ec.message() + ")");
-  if (size > kMaxRecordBytes) {
-    return file_diagnostic(file, 0, "",
-                           "is " + std::to_string(size) + " bytes; a session's record is at most " +
-                               std::to_string(kMaxRecordBytes));
-  }
-  std::ifstream in(path);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) {
-    return file_diagnostic(file, 0, "", "expected a JSON object (a session's record)");
+    return file_diagnostic(
+        file, at.object_line, "",
+        "expected a JSON object (a session's record), got " +
+            (j.is_discarded() ? std::string("something else") : std::string(j.type_name())));
   }
-  if (j.value("format", std::string()) != kFormat) {
-    return file_diagnostic(file, 0, "format", std::string("expected \"") + kFormat + "\"");
+  if (!j.contains("format") || j["format"] != kFormat) {
+    return at.problem("format", std::string("expected \"") + kFormat + "\"");
   }
   if (!j.contains("version") || !j["version"].is_number_integer() || j["version"] != kVersion) {
-    return file_diagnostic(file, 0, "version", "expected " + std::to_string(kVersion));
+    return at.problem("version", "expected " + std::to_string(kVersion));
   }
   SessionRecord r;
   std::vector<Diagnostic> problems;
@@ -146,58 +209,103 @@ Result<SessionRecord> read_session_record(const std::filesystem::path& dir) {
     }
   };
   std::string scenario, digest, mode, hand;
-  take(string_field(j, file, "scenario"), &scenario);
-  take(string_field(j, file, "scenario_digest"), &digest);
-  take(string_field(j, file, "mode"), &mode);
-  take(string_field(j, file, "dominant_hand"), &hand);
-  take(positive_field(j, file, "duration_s", kMaxDurationS), &r.settings.duration_s);
-  take(positive_field(j, file, "haptic_rate_hz", kMaxRateHz), &r.settings.haptic_rate_hz);
-  take(positive_field(j, file, "model_rate_hz", kMaxRateHz), &r.settings.model_rate_hz);
+  take(string_field(j, at, "scenario"), &scenario);
+  take(string_field(j, at, "scenario_digest"), &digest);
+  take(string_field(j, at, "mode"), &mode);
+  take(string_field(j, at, "dominant_hand"), &hand);
+  take(positive_field(j, at, "duration_s", kMaxDurationS), &r.settings.duration_s);
+  take(positive_field(j, at, "haptic_rate_hz", kMaxRateHz), &r.settings.haptic_rate_hz);
+  take(positive_field(j, at, "model_rate_hz", kMaxRateHz), &r.settings.model_rate_hz);
   if (!problems.empty()) return problems;
   if (r.settings.model_rate_hz > r.settings.haptic_rate_hz) {
-    return file_diagnostic(file, 0, "model_rate_hz", "expected at most haptic_rate_hz");
+    return at.problem("model_rate_hz", "expected at most haptic_rate_hz");
   }
   if (mode != "fast" && mode != "realtime") {
-    return file_diagnostic(file, 0, "mode",
-                           "expected \"fast\" or \"realtime\", got \"" + mode + "\"");
+    return at.problem("mode", "expected \"fast\" or \"realtime\", got " + quote_excerpt(mode));
   }
   if (hand != "left" && hand != "right") {
-    return file_diagnostic(file, 0, "dominant_hand",
-                           "expected \"left\" or \"right\", got \"" + hand + "\"");
+    return at.problem("dominant_hand",
+                      "expected \"left\" or \"right\", got " + quote_excerpt(hand));
   }
   char* end = nullptr;
   r.scenario_digest = std::strtoull(digest.c_str(), &end, 16);
-  if (digest.size() != 16 || end != digest.c_str() + digest.size()) {
-    return file_diagnostic(file, 0, "scenario_digest", "expected 16 hexadecimal digits");
+  if (digest.size() != 16 || end != digest.c_str() + digest.size() ||
+      digest.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) {
+    return at.problem("scenario_digest", "expected 16 hexadecimal digits");
   }
-  r.scenario = scenario;
+  if (scenario.find('\0') != std::string::npos) {
+    return at.problem("scenario", "expected a path, got a string holding a NUL byte");
+  }
+  r.scenario_line = at.lines.line("scenario", at.object_line);
+  // A relative path is the recording folder's: a folder that carries its scenario can move.
+  r.scenario = std::filesystem::path(scenario).is_absolute() ? std::filesystem::path(scenario)
+                                                             : (dir / scenario).lexically_normal();
   r.settings.fast = mode == "fast";
   r.settings.dominant_tool = hand == "left" ? 0 : 1;
   return r;
 }
 
-Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
+std::vector<std::filesystem::path> replay_scenario_folders(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> folders = {dir};
+  for (const std::filesystem::path& f : shipped_scenario_folders()) folders.push_back(f);
+  return folders;
+}
+
+Result<ReplayedSession> replay_session(const std::filesystem::path& dir,
+                                       const ReplaySettings& settings) {
   Result<SessionRecord> record = read_session_record(dir);
   if (!record.ok()) return record.diagnostics();
   ReplayedSession out;
   out.record = std::move(record).value();
-  const Result<uint64_t> digest = file_digest(out.record.scenario);
-  if (!digest.ok()) {
-    return file_diagnostic((dir / "session.json").string(), 0, "scenario",
-                           "the scenario it names cannot be read: " + digest.message());
-  }
-  if (digest.value() != out.record.scenario_digest) {
-    out.notes.push_back(out.record.scenario.string() +
-                        " has changed since the session was recorded: the replay runs the "
-                        "scenario as it is now, and its figures may differ from the session's");
+  ScenarioLoadSettings load;
+  load.allowed_paths = settings.allowed_paths;
+  if (settings.scenario) {
+    // The reviewer named the scenario: the recorded path is not followed.
+    if (std::filesystem::absolute(*settings.scenario).lexically_normal() !=
+        out.record.scenario.lexically_normal()) {
+      out.notes.push_back("replayed with " + settings.scenario->string() +
+                          " (--scenario) instead of the scenario the session names, " +
+                          out.record.scenario.string());
+    }
+    out.record.scenario = *settings.scenario;
+  } else {
+    // The recording is untrusted: the scenario it names must be where recordings' scenarios are,
+    // or where the reviewer allows (issue 25: "scenario": "/etc/passwd" had the report read
+    // that file and print it whole in its error).
+    const auto inside_any = [&](const std::vector<std::filesystem::path>& folders) {
+      return std::any_of(folders.begin(), folders.end(), [&](const std::filesystem::path& f) {
+        return inside_folder(f, out.record.scenario);
+      });
+    };
+    const bool trusted =
+        inside_any(shipped_scenario_folders()) || inside_any(settings.allowed_paths);
+    if (!trusted && inside_folder(dir, out.record.scenario)) {
+      // A scenario that came with the recording: its own allowed_paths may not reach beyond its
+      // folder and the reviewer's.
+      load.confine_allowed_paths = settings.allowed_paths;
+    } else if (!trusted) {
+      // (The folders are replay_scenario_folders(dir); README.md names them.)
+      return file_diagnostic((dir / "session.json").string(), out.record.scenario_line, "scenario",
+                             quote_excerpt(out.record.scenario.string(), 200) +
+                                 " is outside the recording's folder and the shipped scenarios' "
+                                 "folders; to replay it from there, give --scenario FILE or "
+                                 "--allow-path DIR");
+    }
   }
   if (!out.record.settings.fast) {
     out.notes.push_back(
         "recorded in real time: the replay steps the loops in lockstep, so the watchdog's "
         "late-tick pauses of the live session are not in it and its figures may differ");
   }
-  const SceneLoadResult scene = load_scene_file(out.record.scenario);
+  const SceneLoadResult scene = load_scene_file(out.record.scenario, load);
   if (!scene.ok()) return scene.diagnostics();
+  // Compared on the very bytes loaded.
+  if (scene.value().scenario.digest != out.record.scenario_digest) {
+    out.notes.insert(out.notes.begin(),
+                     out.record.scenario.string() +
+                         " has changed since the session was recorded: the replay runs the "
+                         "scenario as it is now, and its figures may differ from the session's");
+  }
   out.scenario_name = scene.value().scenario.name;
   out.task = scene.value().scenario.task;
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;

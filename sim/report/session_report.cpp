@@ -1,5 +1,6 @@
 #include "sim/report/session_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -176,12 +177,28 @@ Status save_session(const Session& session, const SessionMetrics& m, const std::
   const std::filesystem::path metrics = std::filesystem::path(dir) / "metrics.json";
   std::ofstream f(metrics);
   nlohmann::ordered_json j = metrics_to_json(m, scenario, fast);
+  // A scenario changed on disk while the session ran is said in the metrics it leaves (`run`
+  // says it in m.warnings already).
+  if (const std::optional<std::string> changed = scenario_change_warning(
+          session.model().scenario_file(), session.model().scenario_digest());
+      changed && std::find(m.warnings.begin(), m.warnings.end(), *changed) == m.warnings.end()) {
+    j["warnings"].push_back(*changed);
+  }
   j["series"] = series_to_json(m.series);
   f << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
   f.flush();
   if (!f) return Diagnostic{metrics.string(), 0, "", "cannot write the metrics"};
-  // What it was run with, for `report` to replay it (session_replay.h).
-  return write_session_record(dir, scenario, session.model().settings());
+  // What it was run with, for `report` to replay it (session_replay.h): written when the session
+  // started (`run --record`), and then never again; else now (the window's saved sessions), with
+  // the digest of the scenario as it was loaded.
+  std::error_code ec;
+  if (std::filesystem::exists(
+          std::filesystem::symlink_status(std::filesystem::path(dir) / "session.json", ec))) {
+    return {};
+  }
+  return write_session_record(
+      dir, session_record_json(session.model().scenario_file(), session.model().scenario_digest(),
+                               session.model().settings()));
 }
 
 }  // namespace lap::sim

@@ -433,6 +433,10 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
     torque.setZero();
   }
   ts->pose = k.pose;
+  for (size_t s = 0; s < 3; ++s) {
+    ts->proxy_a_W[s] = out.segments[s].ideal_a_W;
+    ts->proxy_b_W[s] = out.segments[s].ideal_b_W;
+  }
   ts->contacts =
       out.segments[0].contact_count + out.segments[1].contact_count + out.segments[2].contact_count;
   // The tools' contacts for the tissue models: where each segment presses on which organ.

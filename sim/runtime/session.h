@@ -88,7 +88,13 @@ struct WatchdogEvent {
 
 struct ToolSnapshot {
   haptics::GripperPose pose;  ///< the tool as the device put it
-  int32_t contacts = 0;       ///< over its three segments
+  /// Its three segments' proxies (shaft, jaw 0, jaw 1; haptics/laparoscopic_gripper.h): the
+  /// ideal ends a and b, on the organs' surfaces or outside them, never inside (the soak checks).
+  std::array<Eigen::Vector3d, 3> proxy_a_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 3> proxy_b_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d::Zero()};
+  int32_t contacts = 0;  ///< over its three segments
   /// Its contacts with the organs (the first kMaxContacts), for the tissue models.
   int32_t organ_contact_count = 0;
   std::array<ToolContact, ToolModelInput::kMaxContacts> organ_contacts{};

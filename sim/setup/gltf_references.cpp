@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "sim/setup/json_lines.h"
 #include "sim/setup/mesh_limits.h"
 
 namespace lap::sim {
@@ -87,12 +88,15 @@ std::string gltf_json_text(const std::vector<unsigned char>& bytes, bool binary)
   return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<ptrdiff_t>(length));
 }
 
-Status check_gltf_references(const fs::path& file, const std::string& json_text) {
+Status check_gltf_references(const fs::path& file, const std::string& json_text, bool binary) {
   const nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (doc.is_discarded() || !doc.is_object()) return {};
   std::vector<Diagnostic> problems;
+  std::optional<JsonLines> lines;  // read again for the lines only when there is a problem
   auto problem = [&](const std::string& field, const std::string& what) {
-    problems.push_back(file_diagnostic(file.string(), 0, field, what));
+    if (!binary && !lines) lines = JsonLines::scan(json_text);
+    problems.push_back(
+        file_diagnostic(file.string(), binary ? 0 : lines->line(field), field, what));
   };
   for (const auto& [key, limit] :
        {std::pair<const char*, int64_t>{"buffers", kMaxGltfBuffers}, {"images", kMaxGltfImages}}) {

@@ -21,10 +21,11 @@ namespace lap::sim {
 [[nodiscard]] std::string gltf_json_text(const std::vector<unsigned char>& bytes, bool binary);
 
 /// The references and counts of a glTF document (its JSON text) against the limits, each problem
-/// as `file: buffers[0].uri: '../../etc/passwd' leaves the scene's folder`. Text that is not JSON
-/// passes (tinygltf reports it).
+/// as `file:line: buffers[0].uri: '../../etc/passwd' leaves the scene's folder` (the line of the
+/// field in a text .gltf; a .glb's JSON chunk, `binary`, has no lines of the file's). Text that is
+/// not JSON passes (tinygltf reports it).
 [[nodiscard]] Status check_gltf_references(const std::filesystem::path& file,
-                                           const std::string& json_text);
+                                           const std::string& json_text, bool binary = false);
 
 /// Whether `path` lies in `folder` or below it once symbolic links and `..` are resolved.
 [[nodiscard]] bool inside_folder(const std::filesystem::path& folder,

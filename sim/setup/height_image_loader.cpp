@@ -3,12 +3,11 @@
 #include <stb_image.h>
 
 #include <cstdlib>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/bounded_file.h"
 #include "sim/setup/load_error.h"
 
 namespace lap::sim {
@@ -101,18 +100,12 @@ Header jpeg_header(const std::filesystem::path& file, const std::vector<uint8_t>
 }
 
 haptics::HeightImage read_height_image(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) fail(file, "height map not found");
-  if (std::filesystem::is_directory(file, ec)) fail(file, "expected an image file, got a folder");
-  const auto size = std::filesystem::file_size(file, ec);
-  if (ec) fail(file, "cannot read the height map (" + ec.message() + ")");
-  if (size > static_cast<uintmax_t>(kMaxHeightMapPixels) * 4U) {
-    fail(file, "file of " + std::to_string(size) + " bytes is too large for a height map");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "cannot open the height map for reading");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
+  // The largest PNG of the most pixels allowed, 16 bits each, barely compressed.
+  const Result<std::string> read =
+      read_bounded_file(file, static_cast<uintmax_t>(kMaxHeightMapPixels) * 4U,
+                        "a PNG or JPEG height map", "sim/setup/height_image_loader.h");
+  if (!read.ok()) throw LoadError(read.diagnostics().front());
+  const std::vector<uint8_t> bytes(read.value().begin(), read.value().end());
   if (bytes.empty()) fail(file, "empty file; expected a PNG or JPEG height map");
   static const uint8_t kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
   Header h;

@@ -11,8 +11,10 @@
 #include <iterator>
 #include <sstream>
 
+#include "core/bounded_file.h"
 #include "haptics/setup/mesh_repair.h"
 #include "sim/setup/gltf_references.h"
+#include "sim/setup/json_lines.h"
 #include "sim/setup/load_error.h"
 #include "sim/setup/mesh_limits.h"
 #include "sim/setup/mesh_text_check.h"
@@ -375,13 +377,23 @@ bool confined_read(std::vector<unsigned char>* out, std::string* err, const std:
     *err = "'" + path + "' is outside the scene's folder";
     return false;
   }
-  std::error_code ec;
-  if (std::filesystem::file_size(path, ec) > kMaxGltfBufferBytes && !ec) {
-    *err = "'" + path + "' is larger than the limit of " + std::to_string(kMaxGltfBufferBytes) +
-           " bytes";
+  // A regular file within the limit only: a FIFO or /dev/zero linked into the folder would
+  // block or never end.
+  const Result<std::string> bytes =
+      read_bounded_file(path, kMaxGltfBufferBytes, "a glTF buffer", "sim/setup/mesh_limits.h");
+  if (!bytes.ok()) {
+    *err = bytes.message();
     return false;
   }
-  return tinygltf::ReadWholeFile(out, err, path, nullptr);
+  out->assign(bytes.value().begin(), bytes.value().end());
+  return true;
+}
+// Whether a referenced file is there, by its status: tinygltf's own opens it to see, and opening
+// a FIFO blocks until someone writes to it. What is there is then read through confined_read,
+// which names what is wrong with it (outside the folder, not a regular file, too large).
+bool confined_exists(const std::string& path, void* /*folder*/) {
+  std::error_code ec;
+  return std::filesystem::exists(std::filesystem::status(path, ec));
 }
 bool no_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
   *err = "writing is not allowed";
@@ -401,12 +413,13 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  if (Status refs = check_gltf_references(file, gltf_json_text(bytes, binary)); !refs.ok()) {
+  if (Status refs = check_gltf_references(file, gltf_json_text(bytes, binary), binary);
+      !refs.ok()) {
     throw LoadError(refs.diagnostics().front());
   }
   std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
   tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks({&tinygltf::FileExists, &unexpanded, &confined_read, &no_write, &folder});
+  loader.SetFsCallbacks({&confined_exists, &unexpanded, &confined_read, &no_write, &folder});
   loader.SetImageLoader(&skip_image, nullptr);
   tinygltf::Model model;
   std::string err;
@@ -427,7 +440,8 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
   if (!model.scenes.empty()) {
     const int s = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (s >= static_cast<int>(model.scenes.size())) {  // found by fuzzing: an uncaught throw
-      throw LoadError(Diagnostic{file.string(), 0, "scene",
+      const int line = binary ? 0 : JsonLines::scan(gltf_json_text(bytes, binary)).line("scene");
+      throw LoadError(Diagnostic{file.string(), line, "scene",
                                  "scene " + std::to_string(s) + " does not exist (the file has " +
                                      std::to_string(model.scenes.size()) + ")"});
     }
@@ -498,18 +512,14 @@ void check_loaded(const std::filesystem::path& file, const TriangleMesh& mesh) {
 }
 
 TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings& settings) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    throw LoadError(file, "mesh file not found (expected a readable file)");
+  // A regular file within the limit (a FIFO or /dev/zero would block or never end).
+  if (Status ok =
+          check_regular_file(file, kMaxMeshFileBytes, "a mesh file", "sim/setup/mesh_limits.h");
+      !ok.ok()) {
+    throw LoadError(ok.diagnostics().front());
   }
   if (!(settings.scale > 0.0) || !std::isfinite(settings.scale)) {
     throw LoadError(file, "scale must be a positive finite number");
-  }
-  if (const uintmax_t bytes = std::filesystem::file_size(file, ec);
-      !ec && bytes > kMaxMeshFileBytes) {
-    throw LoadError(file, "file of " + std::to_string(bytes) +
-                              " bytes is larger than the limit of " +
-                              std::to_string(kMaxMeshFileBytes) + " (sim/setup/mesh_limits.h)");
   }
   const std::string ext = lower_extension(file);
   TriangleMesh mesh;

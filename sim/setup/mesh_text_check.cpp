@@ -17,6 +17,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/bounded_file.h"
+#include "sim/setup/gltf_references.h"
 #include "sim/setup/mesh_limits.h"
 
 namespace lap::sim {
@@ -95,6 +97,14 @@ class LineReader {
   [[nodiscard]] const std::vector<std::string_view>& tokens() const { return tokens_; }
   [[nodiscard]] std::string_view operator[](size_t i) const { return tokens_[i]; }
   [[nodiscard]] size_t size() const { return tokens_.size(); }
+  /// The line after its first token, comments and all, without the spaces around it.
+  [[nodiscard]] std::string_view rest() const {
+    std::string_view v(text_);
+    v.remove_prefix(static_cast<size_t>(tokens_[0].data() + tokens_[0].size() - text_.data()));
+    while (!v.empty() && is_space(v.front())) v.remove_prefix(1);
+    while (!v.empty() && (is_space(v.back()) || v.back() == '\n')) v.remove_suffix(1);
+    return v;
+  }
   /// The problem at the current line.
   [[nodiscard]] Status fail(const std::string& field, const std::string& what) const {
     return file_diagnostic(file_, number_, field, what);
@@ -129,6 +139,25 @@ Problem obj_index_problem(std::string_view token, int64_t defined, const std::st
   return std::nullopt;
 }
 
+// A material library (`mtllib NAME`) is opened by OpenMesh's reader as the OBJ's folder followed
+// by the rest of the line: it must lie in that folder, and be a regular file if it is there at
+// all (a FIFO would block the reader; a missing one OpenMesh only warns about).
+Problem material_library_problem(const fs::path& obj, std::string_view name) {
+  const std::string folder = obj.parent_path().empty() ? "./" : obj.parent_path().string() + "/";
+  const fs::path library = folder + std::string(name);
+  if (name.empty()) return std::nullopt;  // OpenMesh opens the folder itself, and reads nothing
+  if (!inside_folder(folder, library)) {
+    return quote_excerpt(name) + " leaves the mesh's folder (expected a file beside the OBJ)";
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(library, ec);
+  if (status.type() == fs::file_type::not_found) return std::nullopt;
+  if (Status ok = check_regular_file(library, kMaxMeshFileBytes, "a material library"); !ok.ok()) {
+    return quote_excerpt(name) + ": " + ok.diagnostics().front().to_string();
+  }
+  return std::nullopt;
+}
+
 Status check_obj(const fs::path& file) {
   LineReader r(file, '#');
   int64_t vertices = 0;
@@ -155,6 +184,8 @@ Status check_obj(const fs::path& file) {
       if (++count > kMaxMeshVertices) {
         return r.fail(field, over_limit(count, "entries", kMaxMeshVertices));
       }
+    } else if (key == "mtllib") {
+      if (Problem p = material_library_problem(file, r.rest())) return r.fail("mtllib", *p);
     } else if (key == "f") {
       if (r.size() < 4) {
         return r.fail("face", "expected at least 3 vertices, got " + std::to_string(r.size() - 1));

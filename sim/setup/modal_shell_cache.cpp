@@ -4,12 +4,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
 
+#include "core/bounded_file.h"
+
 namespace lap::sim {
+namespace {
+/// A duct's shell of a few thousand nodes and some sixty modes is a few megabytes.
+constexpr std::uintmax_t kMaxModeCacheBytes = std::uintmax_t{1} << 30;
+}  // namespace
 
 std::filesystem::path default_mode_cache_dir() {
   if (const char* d = std::getenv("LAPTRAINER_CACHE_DIR"); d != nullptr && *d != '\0') {
@@ -35,17 +40,22 @@ Result<ModalShellLoad> load_or_build_modal_shell(const models::ShellMesh& mesh,
   const std::filesystem::path file = dir / name;
   std::string note;
   std::error_code ec;
-  if (std::filesystem::exists(file, ec)) {
-    std::ifstream in(file, std::ios::binary);
-    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                     std::istreambuf_iterator<char>());
-    try {
-      ModalShellLoad r{models::ModalShellModel::from_bytes(bytes, key, settings), true, "", 0.0,
-                       file};
-      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return r;
-    } catch (const std::invalid_argument& e) {
-      note = file.string() + ": " + e.what() + "; rebuilt";
+  if (std::filesystem::exists(std::filesystem::symlink_status(file, ec))) {
+    // The cache is the program's own, but in the user's folders: anything there that is not a
+    // regular file of a sane size (a FIFO would block the read for ever) is rebuilt over.
+    const Result<std::string> read = read_bounded_file(file, kMaxModeCacheBytes, "a mode cache");
+    if (!read.ok()) {
+      note = read.message() + "; rebuilt";
+    } else {
+      const std::vector<uint8_t> bytes(read.value().begin(), read.value().end());
+      try {
+        ModalShellLoad r{models::ModalShellModel::from_bytes(bytes, key, settings), true, "", 0.0,
+                         file};
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return r;
+      } catch (const std::invalid_argument& e) {
+        note = file.string() + ": " + e.what() + "; rebuilt";
+      }
     }
   }
   std::optional<models::ModalShellModel> built;

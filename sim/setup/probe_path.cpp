@@ -1,17 +1,19 @@
 #include "sim/setup/probe_path.h"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <string>
+
+#include "core/bounded_file.h"
 
 namespace lap::sim {
 
 Result<std::vector<Eigen::Matrix<double, 6, 1>>> load_probe_path(const std::filesystem::path& file,
                                                                  int columns) {
-  std::ifstream in(file);
-  if (!in)
-    return Diagnostic{file.string(), 0, "", "cannot read the path file (expected a CSV file)"};
+  const Result<std::string> text =
+      read_bounded_file(file, kMaxProbePathBytes, "a probe path (CSV)", "sim/setup/probe_path.h");
+  if (!text.ok()) return text.diagnostics();
+  std::istringstream in(text.value());
   const std::string expected =
       columns == 3 ? "3 numbers x,y,z in metres" : "6 numbers x1,y1,z1,x2,y2,z2 in metres";
   std::vector<Eigen::Matrix<double, 6, 1>> rows;
@@ -36,9 +38,8 @@ Result<std::vector<Eigen::Matrix<double, 6, 1>>> load_probe_path(const std::file
     }
     if (!numeric) {
       if (rows.empty() && n == 1 && static_cast<int>(cells.size()) == columns) continue;  // header
-      std::string message = "expected " + expected;
-      message.append(", got '").append(line).append("'");
-      return Diagnostic{file.string(), n, "", message};
+      return Diagnostic{file.string(), n, "",
+                        "expected " + expected + ", got " + quote_excerpt(line)};
     }
     rows.push_back(row);
   }

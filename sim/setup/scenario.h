@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -220,6 +221,9 @@ struct ProficiencySpec {
 /// A whole scenario file.
 struct Scenario {
   std::filesystem::path file;  ///< the scenario file itself
+  /// FNV-1a 64 of the bytes parsed (sim/setup/content_digest.h): what a recorded session keeps,
+  /// and what the file's digest at the session's end is compared with.
+  uint64_t digest = 0;
   int version = 1;
   std::string name;
   std::string description;

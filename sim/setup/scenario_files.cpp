@@ -1,6 +1,10 @@
 #include "sim/setup/scenario_files.h"
 
+#include <algorithm>
 #include <system_error>
+
+#include "core/bounded_file.h"
+#include "sim/setup/gltf_references.h"
 
 namespace lap::sim {
 namespace fs = std::filesystem;
@@ -21,9 +25,18 @@ void ScenarioFiles::read_allowed_paths(const YAML::Node& list) {
     if (!text) continue;
     const fs::path resolved = resolve(*text);
     std::error_code ec;
-    if (settings_.check_files && !fs::is_directory(resolved, ec)) {
+    if (settings_.confine_allowed_paths && !inside_folder(dir_, resolved) &&
+        std::none_of(settings_.confine_allowed_paths->begin(),
+                     settings_.confine_allowed_paths->end(),
+                     [&](const fs::path& root) { return inside_folder(root, resolved); })) {
       fields_.problem(list[i], f,
-                      "directory '" + *text + "' not found (looked for " + resolved.string() + ")");
+                      "directory " + quote_excerpt(*text) +
+                          " is outside the scenario's folder, and this scenario may not open "
+                          "others (it came with a recording: allow a folder with --allow-path)");
+    } else if (settings_.check_files && !fs::is_directory(resolved, ec)) {
+      fields_.problem(list[i], f,
+                      "directory " + quote_excerpt(*text) + " not found (looked for " +
+                          resolved.string() + ")");
     } else {
       scenario_roots_.push_back(resolved);
     }
@@ -36,15 +49,25 @@ std::optional<fs::path> ScenarioFiles::file(const YAML::Node& n, const std::stri
   const fs::path resolved = resolve(*text);
   if (!inside_allowed(resolved)) {
     fields_.problem(n, field,
-                    "path '" + *text + "' leaves the scenario's folder (expected a file under " +
-                        dir_.string() + " or under a directory listed in allowed_paths)");
+                    "path " + quote_excerpt(*text) +
+                        " leaves the scenario's folder (expected a file under " + dir_.string() +
+                        " or under a directory listed in allowed_paths)");
     return std::nullopt;
   }
   if (settings_.check_files) {
     std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec)) {
+    const fs::file_type type = fs::status(resolved, ec).type();
+    if (type == fs::file_type::not_found || (ec && type == fs::file_type::none)) {
+      fields_.problem(
+          n, field,
+          "file " + quote_excerpt(*text) + " not found (looked for " + resolved.string() + ")");
+      return std::nullopt;
+    }
+    if (type != fs::file_type::regular) {
+      // A FIFO would block its reader, /dev/zero never end (core/bounded_file.h).
       fields_.problem(n, field,
-                      "file '" + *text + "' not found (looked for " + resolved.string() + ")");
+                      quote_excerpt(*text) + " is " + describe_file_type(type) +
+                          "; expected a regular file (looked at " + resolved.string() + ")");
       return std::nullopt;
     }
   }

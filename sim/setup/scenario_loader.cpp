@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <regex>
 #include <set>
-#include <sstream>
 #include <utility>
 
+#include "core/bounded_file.h"
+#include "sim/setup/content_digest.h"
 #include "sim/setup/metric_names.h"
 #include "sim/setup/scenario_files.h"
 #include "sim/setup/scenario_material.h"
@@ -164,14 +163,20 @@ class ScenarioParser {
                         OrganSpec& organ) {
     const std::optional<std::string> v = fields_.string(n, f);
     if (!v) return;
-    static const std::regex kName("[a-z][a-z0-9_]*");
-    if (!std::regex_match(*v, kName)) {
+    // [a-z][a-z0-9_]*, by hand: std::regex_match recurses once per character, and a name of a
+    // few hundred kilobytes overflowed the stack.
+    const auto lower = [](char c) { return c >= 'a' && c <= 'z'; };
+    const bool well_formed = lower(v->front()) && std::all_of(v->begin(), v->end(), [&](char c) {
+                               return lower(c) || (c >= '0' && c <= '9') || c == '_';
+                             });
+    if (!well_formed) {
       fields_.problem(n, f,
                       "expected lower-case letters, digits and underscores starting with a "
-                      "letter, got '" +
-                          *v + "'");
+                      "letter, got " +
+                          quote_excerpt(*v));
     } else if (!names.insert(*v).second) {
-      fields_.problem(n, f, "duplicate organ name '" + *v + "' (names must be unique)");
+      fields_.problem(n, f,
+                      "duplicate organ name " + quote_excerpt(*v) + " (names must be unique)");
     }
     organ.name = *v;
   }
@@ -210,7 +215,7 @@ class ScenarioParser {
                           "organ's: expected rigid, local or modal-shell");
         } else {
           fields_.problem(o["model"], f + ".model",
-                          "expected rigid, local or modal-shell, got '" + *v + "'");
+                          "expected rigid, local or modal-shell, got " + quote_excerpt(*v));
         }
       }
     }
@@ -227,7 +232,8 @@ class ScenarioParser {
         if (auto v = fields_.string(n[i]["name"], f + ".name")) {
           t.name = *v;
           if (!names.insert(*v).second) {
-            fields_.problem(n[i]["name"], f + ".name", "duplicate trocar name '" + *v + "'");
+            fields_.problem(n[i]["name"], f + ".name",
+                            "duplicate trocar name " + quote_excerpt(*v));
           }
         }
       }
@@ -287,7 +293,8 @@ class ScenarioParser {
     if (!v) return;
     tool.trocar = *v;
     if (s_.trocar(*v) == nullptr) {
-      fields_.problem(n, f, "no trocar named '" + *v + "' (expected a name from trocars)");
+      fields_.problem(n, f,
+                      "no trocar named " + quote_excerpt(*v) + " (expected a name from trocars)");
     }
   }
 
@@ -305,8 +312,9 @@ class ScenarioParser {
       if (auto v = fields_.string(n["port"], "catheter.port")) {
         c.port = *v;
         if (s_.trocar(*v) == nullptr) {
-          fields_.problem(n["port"], "catheter.port",
-                          "no trocar named '" + *v + "' (expected a name from trocars)");
+          fields_.problem(
+              n["port"], "catheter.port",
+              "no trocar named " + quote_excerpt(*v) + " (expected a name from trocars)");
         }
       }
     }
@@ -378,8 +386,9 @@ class ScenarioParser {
     if (fields_.require(n, "kind", "task")) {
       if (auto v = fields_.string(n["kind"], "task.kind")) {
         if (*v != "catheter-insertion" && *v != "free-exploration") {
-          fields_.problem(n["kind"], "task.kind",
-                          "expected catheter-insertion or free-exploration, got '" + *v + "'");
+          fields_.problem(
+              n["kind"], "task.kind",
+              "expected catheter-insertion or free-exploration, got " + quote_excerpt(*v));
         }
         t.kind = *v;
       }
@@ -493,12 +502,14 @@ class ScenarioParser {
       const std::optional<std::string> v = fields_.string(n[i], f);
       if (!v) continue;
       if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
-        fields_.problem(n[i], f, "no organ named '" + *v + "' (expected a name from organs)");
+        fields_.problem(n[i], f,
+                        "no organ named " + quote_excerpt(*v) + " (expected a name from organs)");
       } else if (*v == t.target) {
-        fields_.problem(n[i], f, "'" + *v + "' is the task's target (the instruments work on it)");
+        fields_.problem(n[i], f,
+                        quote_excerpt(*v) + " is the task's target (the instruments work on it)");
       } else if (std::find(t.forbidden_organs.begin(), t.forbidden_organs.end(), *v) !=
                  t.forbidden_organs.end()) {
-        fields_.problem(n[i], f, "'" + *v + "' is listed twice");
+        fields_.problem(n[i], f, quote_excerpt(*v) + " is listed twice");
       } else {
         t.forbidden_organs.push_back(*v);
       }
@@ -511,10 +522,10 @@ class ScenarioParser {
     const auto& os = s_.organs;
     if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
       fields_.problem(n, "task.common_bile_duct",
-                      "no organ named '" + *v + "' (expected a name from organs)");
+                      "no organ named " + quote_excerpt(*v) + " (expected a name from organs)");
     } else if (*v == t.target) {
       fields_.problem(n, "task.common_bile_duct",
-                      "'" + *v + "' is the task's target (the catheter goes into it)");
+                      quote_excerpt(*v) + " is the task's target (the catheter goes into it)");
     } else {
       t.common_bile_duct = *v;
     }
@@ -533,7 +544,7 @@ class ScenarioParser {
     const auto& os = s_.organs;
     if (std::none_of(os.begin(), os.end(), [&](const OrganSpec& o) { return o.name == *v; })) {
       fields_.problem(n["target"], "task.target",
-                      "no organ named '" + *v + "' (expected a name from organs)");
+                      "no organ named " + quote_excerpt(*v) + " (expected a name from organs)");
     }
   }
 
@@ -548,7 +559,18 @@ ScenarioLoadResult parse_scenario(std::string_view text, const fs::path& file,
                                   const ScenarioLoadSettings& settings) {
   Scenario scenario;
   scenario.file = fs::absolute(file);
+  scenario.digest = content_digest(text);
   YamlFields fields(file.string());
+  // A NUL byte is no YAML's (yaml-cpp's own words for it mislead: "unknown escape character"):
+  // a binary file, or a text damaged, named at its line.
+  if (const size_t nul = text.find('\0'); nul != std::string_view::npos) {
+    const auto line =
+        1 + std::count(text.begin(), text.begin() + static_cast<ptrdiff_t>(nul), '\n');
+    fields.problem(static_cast<int>(line), "(file)",
+                   "a NUL byte at byte " + std::to_string(nul) +
+                       ": expected a YAML text file, not a binary one");
+    return fields.take_problems();
+  }
   if (const std::optional<YAML::Node> root = fields.load(text)) {
     try {
       ScenarioParser(fields, file, settings, scenario).parse(*root);
@@ -563,30 +585,29 @@ ScenarioLoadResult parse_scenario(std::string_view text, const fs::path& file,
 }
 
 ScenarioLoadResult load_scenario(const fs::path& file, const ScenarioLoadSettings& settings) {
-  std::ifstream in(file, std::ios::binary);
+  const Result<std::string> text = read_bounded_file(
+      file, kMaxScenarioFileBytes, "a YAML scenario file", "sim/setup/scenario_loader.h");
+  if (!text.ok()) return text.diagnostics();
+  return parse_scenario(text.value(), file, settings);
+}
+
+std::vector<fs::path> shipped_scenario_folders() {
+  // Installed: beside the binary, PREFIX/bin/../share/laptrainer (the package's layout, wherever
+  // it was unpacked); else the source tree the binary was built from; else the system's.
+  std::vector<fs::path> folders;
   std::error_code ec;
-  if (!in || fs::is_directory(file, ec)) {
-    return Diagnostic{file.string(), 0, "(file)",
-                      "cannot read the scenario file (expected a readable YAML file)"};
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scenario(text.str(), file, settings);
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) folders.push_back(exe.parent_path().parent_path() / "share/laptrainer/scenarios");
+  folders.emplace_back(fs::path(LAP_SOURCE_DIR) / "scenarios");
+  folders.emplace_back("/usr/share/laptrainer/scenarios");
+  folders.emplace_back("/usr/local/share/laptrainer/scenarios");
+  return folders;
 }
 
 fs::path default_scenario_path() {
-  // Installed: beside the binary, PREFIX/bin/../share/laptrainer (the package's layout, wherever
-  // it was unpacked); else the source tree the binary was built from; else the system's.
   std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path installed =
-      ec ? fs::path() : exe.parent_path().parent_path() / "share/laptrainer/scenarios/default.yaml";
-  for (const fs::path& candidate :
-       {installed, fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml",
-        fs::path("/usr/share/laptrainer/scenarios/default.yaml"),
-        fs::path("/usr/local/share/laptrainer/scenarios/default.yaml")}) {
-    if (candidate.empty()) continue;
-    if (fs::is_regular_file(candidate, ec)) return candidate;
+  for (const fs::path& folder : shipped_scenario_folders()) {
+    if (fs::is_regular_file(folder / "default.yaml", ec)) return folder / "default.yaml";
   }
   return fs::path(LAP_SOURCE_DIR) / "scenarios/default.yaml";
 }

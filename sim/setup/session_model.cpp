@@ -55,6 +55,7 @@ Result<std::shared_ptr<const SessionModel>> SessionModel::build(
   std::shared_ptr<SessionModel> m(new SessionModel());
   m->settings_ = settings;
   m->scenario_file_ = scene.scenario.file.string();
+  m->scenario_digest_ = scene.scenario.digest;
   m->proficiency_ = scene.scenario.proficiency;
   for (const Organ& organ : scene.organs) m->organ_names_.push_back(organ.name);
   if (Status timing = m->build_timing(); !timing.ok()) return timing.diagnostics();

@@ -82,6 +82,8 @@ class SessionModel {
   /// without a duct.
   [[nodiscard]] double duct_wall_stiffness_n_per_m() const { return duct_wall_stiffness_n_per_m_; }
   [[nodiscard]] const std::string& scenario_file() const { return scenario_file_; }
+  /// The digest of the scenario's bytes as they were loaded (Scenario::digest).
+  [[nodiscard]] uint64_t scenario_digest() const { return scenario_digest_; }
   /// The scenario's expert benchmarks for the training metrics, if it has them.
   [[nodiscard]] const std::optional<ProficiencySpec>& proficiency() const { return proficiency_; }
   /// The free rigid bodies (`rigid` organs with `dynamics`, §6.4); the haptic loop moves them
@@ -101,6 +103,7 @@ class SessionModel {
   RuntimeSettings settings_;
   SessionTiming timing_;
   std::string scenario_file_;
+  uint64_t scenario_digest_ = 0;
   std::optional<ProficiencySpec> proficiency_;
   std::array<ToolModel, 2> tools_;
   std::shared_ptr<const TissueModel> tissue_;

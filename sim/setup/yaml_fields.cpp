@@ -14,7 +14,7 @@ std::string describe_yaml(const YAML::Node& n) {
     case YAML::NodeType::Null:
       return "nothing";
     case YAML::NodeType::Scalar:
-      return "'" + n.Scalar() + "'";
+      return quote_excerpt(n.Scalar());
     case YAML::NodeType::Sequence:
       return "a list";
     case YAML::NodeType::Map:
@@ -54,14 +54,16 @@ bool YamlFields::expect_map(const YAML::Node& n, const std::string& field,
   }
   std::set<std::string> seen;
   for (const auto& kv : n) {
-    const std::string key = kv.first.Scalar();
+    const std::string& key = kv.first.Scalar();
+    // The key as a field's name in a message: a mutated file can make one of a megabyte.
+    const std::string shown = key.size() <= 60 ? key : quote_excerpt(key);
     if (!seen.insert(key).second) {
-      problem(kv.first, join_field(field, key), "field given twice (expected each field once)");
+      problem(kv.first, join_field(field, shown), "field given twice (expected each field once)");
     }
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      problem(kv.first, join_field(field, key), "unknown field (expected one of: " + list + ")");
+      problem(kv.first, join_field(field, shown), "unknown field (expected one of: " + list + ")");
     }
   }
   return true;
@@ -103,7 +105,7 @@ std::optional<std::string> YamlFields::word(const YAML::Node& n, const std::stri
     if (i > 0) names += i + 1 == choices.size() ? " or " : ", ";
     names += choices[i];
   }
-  problem(n, field, "expected " + names + ", got '" + *v + "'");
+  problem(n, field, "expected " + names + ", got " + quote_excerpt(*v));
   return std::nullopt;
 }
 
@@ -117,7 +119,8 @@ std::optional<double> YamlFields::number(const YAML::Node& n, const std::string&
   if (v < lo || v > hi) {
     // The text as written, not v re-printed, so the user recognises it.
     std::ostringstream s;
-    s << "expected a number " << range_text << ", got " << n.Scalar();
+    s << "expected a number " << range_text << ", got "
+      << (n.Scalar().size() <= 60 ? n.Scalar() : quote_excerpt(n.Scalar()));
     problem(n, field, s.str());
     return std::nullopt;
   }

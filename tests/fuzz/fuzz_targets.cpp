@@ -15,9 +15,11 @@
 #include "hardware/gripper_protocol.h"
 #include "hardware/scripted_trajectory.h"
 #include "sim/report/recording_reader.h"
+#include "sim/report/session_replay.h"
 #include "sim/setup/height_image_loader.h"
 #include "sim/setup/mesh_loader.h"
 #include "sim/setup/scenario_loader.h"
+#include "sim/setup/scene.h"
 
 namespace lap::fuzz {
 namespace {
@@ -75,7 +77,29 @@ bool fuzz_scenario(std::span<const uint8_t> data) {
     return true;
   }();
   (void)meshes_made;
-  return sim::parse_scenario(as_text(data), scratch_dir() / "scenario.yaml").ok();
+  // The whole loader, as `validate` runs it: the file read (its limits), the YAML checked, the
+  // meshes and height maps it names loaded and validated.
+  return sim::load_scene_file(as_file(data, "yaml")).ok();
+}
+
+// A recorded session's record, as `report --session` reads it (sim/report/session_replay.h).
+bool fuzz_session_record(std::span<const uint8_t> data) {
+  static const std::filesystem::path dir = [] {
+    std::filesystem::path d = scratch_dir() / "session";
+    std::filesystem::create_directory(d);
+    return d;
+  }();
+  std::filesystem::rename(as_file(data, "json"), dir / "session.json");
+  const Result<sim::SessionRecord> r = sim::read_session_record(dir);
+  if (!r.ok()) return false;
+  // What the replay relies on: rates and a duration within the record's limits, the modelling
+  // loop no faster than the haptic one, an absolute path to the scenario.
+  const sim::RuntimeSettings& s = r.value().settings;
+  require(s.haptic_rate_hz > 0.0 && s.haptic_rate_hz <= 10000.0);
+  require(s.model_rate_hz > 0.0 && s.model_rate_hz <= s.haptic_rate_hz);
+  require(s.duration_s > 0.0 && s.duration_s <= 86400.0);
+  require(r.value().scenario.is_absolute());
+  return true;
 }
 
 // As `laptrainer-cli mesh-info --repair` does: read, validate, measure, repair, validate again.
@@ -176,6 +200,7 @@ constexpr std::array kTargets = {
     FuzzTarget{"keyframes", &fuzz_keyframes},
     FuzzTarget{"device_recording", &fuzz_device_recording},
     FuzzTarget{"session_recording", &fuzz_session_recording},
+    FuzzTarget{"session_record", &fuzz_session_record},
     FuzzTarget{"gripper_report", &fuzz_gripper_report},
 };
 

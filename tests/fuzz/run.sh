@@ -30,12 +30,12 @@ for t in "${targets[@]}"; do
   [ -x "$bin/fuzz_$t" ] || { echo "run.sh: no $bin/fuzz_$t (cmake --preset fuzz && cmake --build --preset fuzz)" >&2; exit 2; }
 done
 
-# The bad-input corpus folder that holds the target's format, if any.
+# The bad-input corpus folders that hold the target's format, if any.
 bad_inputs_of() {
   case "$1" in
-    scenario) echo scenario ;; mesh_obj) echo obj ;; mesh_stl) echo stl ;; mesh_ply) echo ply ;;
+    scenario) echo scenario scenario-yaml ;; mesh_obj) echo obj ;; mesh_stl) echo stl ;; mesh_ply) echo ply ;;
     mesh_off) echo off ;; mesh_gltf|mesh_glb) echo gltf ;; height_image) echo height-map ;;
-    keyframes) echo keyframes ;;
+    keyframes) echo keyframes ;; device_recording) echo lapdev ;;
   esac
 }
 
@@ -46,8 +46,7 @@ run_one() {
   local seeds=("$root/tests/fuzz/corpus/$t")
   [ -d "$root/tests/fuzz/regressions/$t" ] && seeds+=("$root/tests/fuzz/regressions/$t")
   local bad
-  bad="$(bad_inputs_of "$t")"
-  [ -n "$bad" ] && seeds+=("$root/tests/bad-inputs/$bad")
+  for bad in $(bad_inputs_of "$t"); do seeds+=("$root/tests/bad-inputs/$bad"); done
   # -close_fd_mask=3: the readers' own messages are not printed (libFuzzer's still are).
   set +e
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

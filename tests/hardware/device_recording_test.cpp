@@ -75,13 +75,16 @@ TEST(DeviceRecording, TruncatedAndForeignFilesAreClearErrors) {
   Result<DeviceRecording> loaded = read_device_recording(f);
   EXPECT_FALSE(loaded.ok());
   EXPECT_EQ(loaded.message(),
-            f.string() + ": ends inside record 3 (5 stray bytes): the file is truncated");
+            f.string() +
+                ": ends inside record 3 (at byte 368, 5 stray bytes): the file is "
+                "truncated");
 
   { std::ofstream(f, std::ios::binary | std::ios::trunc) << "hello, not a recording at all....."; }
   loaded = read_device_recording(f);
   EXPECT_FALSE(loaded.ok());
   EXPECT_EQ(loaded.message(),
-            f.string() + ": not a laptrainer device recording (expected the header 'LAPDEV01')");
+            f.string() +
+                ": at byte 0: not a laptrainer device recording (expected the header 'LAPDEV01')");
 
   // Records out of order.
   DeviceRecording r = make_recording(4);
@@ -91,7 +94,8 @@ TEST(DeviceRecording, TruncatedAndForeignFilesAreClearErrors) {
   EXPECT_FALSE(loaded.ok());
   EXPECT_EQ(
       loaded.message(),
-      f.string() + ": record 2: tick 7: expected tick 2 (records are one per tick, in order)");
+      f.string() +
+          ": record 2 (at byte 256): tick 7: expected tick 2 (records are one per tick, in order)");
 
   // A non-finite value.
   r = make_recording(4);
@@ -99,12 +103,15 @@ TEST(DeviceRecording, TruncatedAndForeignFilesAreClearErrors) {
   ASSERT_TRUE(write_device_recording(f, r).ok());
   loaded = read_device_recording(f);
   EXPECT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.message().find("record 1: expected finite values"), std::string::npos)
+  EXPECT_NE(loaded.message().find("record 1 (at byte 144): expected finite values"),
+            std::string::npos)
       << loaded.message();
 
   loaded = read_device_recording(temp_file("missing.lapdev"));
   EXPECT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.message().find("cannot open the device recording"), std::string::npos);
+  EXPECT_NE(loaded.message().find("missing.lapdev: not found (expected a device recording"),
+            std::string::npos)
+      << loaded.message();
   fs::remove(f);
 }
 

@@ -104,7 +104,8 @@ TEST(ScriptedTrajectory, BadFilesNameTheLineAndTheField) {
   EXPECT_EQ(parse_error("# nothing\n"), "bad.csv:1: expected at least one keyframe");
   const Result<ScriptedTrajectory> missing = load_scripted_trajectory("/nonexistent/path.csv");
   EXPECT_FALSE(missing.ok());
-  EXPECT_EQ(missing.message(), "/nonexistent/path.csv: cannot open the trajectory file");
+  EXPECT_EQ(missing.message(),
+            "/nonexistent/path.csv: not found (expected a keyframe script (CSV))");
 }
 
 // Issue 25: limits on an untrusted script (hardware/scripted_trajectory.h).
@@ -127,7 +128,8 @@ TEST(ScriptedTrajectory, AFileLargerThanTheLimitIsRefusedUnread) {
   ASSERT_FALSE(t.ok());
   EXPECT_EQ(t.message(), file.string() +
                              ": file of 268435457 bytes is larger than the limit of "
-                             "268435456 (hardware/scripted_trajectory.h)");
+                             "268435456 for a keyframe script (CSV) "
+                             "(hardware/scripted_trajectory.h)");
 }
 
 }  // namespace

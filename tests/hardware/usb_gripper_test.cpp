@@ -162,6 +162,66 @@ TEST(UsbGripper, ClearsAStalledEndpointAndGoesOn) {
   EXPECT_EQ(rig.gripper->read(&opening), DeviceStatus::kOk);
 }
 
+// Issue 25's fault injection, the other way: the OUT endpoint (squeeze commands) halts. Cleared,
+// the next command gets through; one that halts again however often it is cleared is an error
+// (the motor may be holding the last squeeze it got), which lasts while the commands fail and
+// goes once they get through again.
+TEST(UsbGripper, ClearsAStalledOutEndpointAndTheSqueezeGetsThrough) {
+  Rig rig;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
+  rig.gripper->write(1.0);
+  EXPECT_TRUE(eventually([&] {
+    const auto cmd = rig.emu->last_command();
+    return cmd && cmd->squeeze_mn == 1000;
+  }));
+  GripperEmulator::Controls c = rig.emu->controls();
+  c.stall_out = true;
+  rig.emu->set(c);
+  rig.gripper->write(2.0);
+  EXPECT_TRUE(eventually([&] { return rig.gripper->counters().stalls >= 1; }));
+  EXPECT_TRUE(eventually([&] {
+    const auto cmd = rig.emu->last_command();
+    return cmd && cmd->squeeze_mn == 2000;
+  }));
+  double opening = 0.0;
+  EXPECT_EQ(rig.gripper->read(&opening), DeviceStatus::kOk);
+  EXPECT_FALSE(rig.emu->controls().stall_out);
+}
+
+TEST(UsbGripper, AnOutEndpointThatStaysStalledIsAnErrorWhileItLasts) {
+  Rig rig;
+  const Status started = rig.gripper->start();
+  ASSERT_TRUE(started.ok()) << started.message();
+  rig.gripper->write(1.5);
+  EXPECT_TRUE(eventually([&] {
+    const auto cmd = rig.emu->last_command();
+    return cmd && cmd->squeeze_mn == 1500;
+  }));
+  GripperEmulator::Controls c = rig.emu->controls();
+  c.stall_out = true;
+  c.out_stuck = true;
+  rig.emu->set(c);
+  rig.gripper->write(0.0);  // the hand lets go: this zero never reaches the motor
+  double opening = 0.0;
+  EXPECT_TRUE(eventually([&] { return rig.gripper->read(&opening) == DeviceStatus::kError; }));
+  EXPECT_NE(rig.gripper->last_error().find("20 squeeze commands in a row not sent (the OUT "
+                                           "endpoint stays stalled)"),
+            std::string::npos)
+      << rig.gripper->last_error();
+  // Reports still arrive, and do not clear the error while the commands fail.
+  const int64_t reports = rig.gripper->counters().reports;
+  EXPECT_TRUE(eventually([&] { return rig.gripper->counters().reports > reports + 20; }));
+  EXPECT_EQ(rig.gripper->read(&opening), DeviceStatus::kError);
+  EXPECT_EQ(rig.emu->last_command()->squeeze_mn, 1500);
+  // The endpoint recovers: the zero gets through and the device is ok again.
+  c = rig.emu->controls();
+  c.out_stuck = false;
+  rig.emu->set(c);
+  EXPECT_TRUE(eventually([&] { return rig.emu->last_command()->squeeze_mn == 0; }));
+  EXPECT_TRUE(eventually([&] { return rig.gripper->read(&opening) == DeviceStatus::kOk; }));
+}
+
 TEST(UsbGripper, UnpluggedMidSessionIsLostThenReconnects) {
   Rig rig;
   const Status started = rig.gripper->start();

@@ -44,22 +44,25 @@ std::vector<Case> read_cases() {
 }
 
 // The command that reads the case's file, by its extension: a mesh through mesh-info, a scenario
-// through validate, a keyframe script as the left tool's scripted device.
+// through validate, a keyframe script as the left tool's scripted device, a device recording as
+// its replay device; a folder is a recorded session, through report.
 std::string command_for(const std::filesystem::path& file) {
   const std::string cli = "'" + (bin_dir() / "laptrainer-cli").string() + "'";
   const std::string ext = file.extension().string();
   const std::string quoted = "'" + file.string() + "'";
+  if (std::filesystem::is_directory(file)) return cli + " report --session " + quoted;
   if (ext == ".yaml") return cli + " validate --scenario " + quoted;
-  if (ext == ".csv") {
+  if (ext == ".csv" || ext == ".lapdev") {
     return cli + " run --scenario '" + (source_dir() / "scenarios/default.yaml").string() +
-           "' --left scripted:" + quoted + " --right simulated --fast --duration 0.01";
+           "' --left " + (ext == ".csv" ? "scripted:" : "replay:") + quoted +
+           " --right simulated --fast --duration 0.01";
   }
   return cli + " mesh-info --mesh " + quoted;
 }
 
 TEST(BadInputs, EveryCaseExitsTwoWithItsExactMessage) {
   const std::vector<Case> cases = read_cases();
-  EXPECT_GE(cases.size(), 100U);  // none lost by accident
+  EXPECT_GE(cases.size(), 170U);  // none lost by accident
   for (const Case& c : cases) {
     SCOPED_TRACE("cases.txt:" + std::to_string(c.line) + ": " + c.file);
     const std::filesystem::path file = corpus() / c.file;

@@ -3,9 +3,11 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "sim/report/recording_reader.h"
+#include "sim/setup/content_digest.h"
 #include "tests/test_support.h"
 
 namespace lap::test {
@@ -737,6 +740,266 @@ TEST(AppHeadless, BadScenarioIsReportedNotCrashed) {
   EXPECT_NE(r.err.find(f.string() + ":1: version: expected a whole number from 1 to 1, got '3'"),
             std::string::npos)
       << r.err;
+}
+
+// Issue 25, the recording as untrusted input: session.json's "scenario" was followed anywhere
+// (with /etc/passwd there, `report` read it and printed it whole in its error). Now it is read
+// only from the recording's folder or the shipped scenarios' folders, or where the reviewer says
+// (--scenario FILE, --allow-path DIR); and no message quotes more than a short excerpt of a file.
+TEST(CliReport, TheScenarioARecordingNamesIsReadOnlyFromTheAllowedFolders) {
+  TempDir dir;
+  const std::filesystem::path rec = dir.path() / "rec";
+  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const CommandResult run = run_command(cli() + " run --scenario " + scenario +
+                                        " --left simulated --right simulated --fast --duration "
+                                        "0.05 --record " +
+                                        rec.string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string original = slurp(rec / "session.json");
+  auto name_scenario = [&](const std::string& path) {
+    auto j = nlohmann::ordered_json::parse(original);
+    j["scenario"] = path;
+    std::ofstream(rec / "session.json", std::ios::trunc) << j.dump(2);
+  };
+  // A secret beside the recording, and one of the system's.
+  const std::string secret = "top-secret-first-line\n" + std::string(5000, 'x') + "\n";
+  const std::filesystem::path secret_file = dir.write("secret.yaml", secret);
+  for (const std::string& target : {secret_file.string(), std::string("/etc/passwd")}) {
+    name_scenario(target);
+    const CommandResult r = run_command(cli() + " report --session " + rec.string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find((rec / "session.json").string() + ":4: scenario: '" + target +
+                         "' is outside the recording's folder and the shipped scenarios' folders"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("give --scenario FILE or --allow-path DIR"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("top-secret"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("root:"), std::string::npos) << r.err;
+  }
+  // A symbolic link in the recording's folder, named by a relative path: followed, then refused.
+  std::filesystem::create_symlink(secret_file, rec / "linked.yaml");
+  name_scenario("linked.yaml");
+  const CommandResult linked = run_command(cli() + " report --session " + rec.string());
+  EXPECT_EQ(linked.exit_code, 2) << linked.err;
+  EXPECT_NE(linked.err.find("is outside the recording's folder"), std::string::npos) << linked.err;
+  EXPECT_EQ(linked.err.find("top-secret"), std::string::npos) << linked.err;
+  // Allowed by the reviewer, the file is read, and its error quotes a short excerpt of it only.
+  name_scenario(secret_file.string());
+  const CommandResult allowed = run_command(cli() + " report --session " + rec.string() +
+                                            " --allow-path " + dir.path().string());
+  EXPECT_EQ(allowed.exit_code, 2) << allowed.err;
+  EXPECT_NE(allowed.err.find(secret_file.string() +
+                             ":1: (document): expected a mapping with version, name and organs, "
+                             "got 'top-secret-first-line xxxxxxxxxx"),
+            std::string::npos)
+      << allowed.err;
+  EXPECT_NE(allowed.err.find("...' (5022 bytes)"), std::string::npos) << allowed.err;
+  EXPECT_LT(allowed.err.size(), 400U) << allowed.err;
+  // --scenario FILE replays with FILE: the recorded path is not followed, and it says so.
+  const CommandResult named =
+      run_command(cli() + " report --session " + rec.string() + " --scenario " + scenario);
+  EXPECT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_NE(named.err.find("replayed with " + scenario +
+                           " (--scenario) instead of the scenario "
+                           "the session names, " +
+                           secret_file.string()),
+            std::string::npos)
+      << named.err;
+  // A scenario that came with the recording may not open other folders through its own
+  // allowed_paths.
+  const std::filesystem::path carried = rec / "carried.yaml";
+  std::ofstream(carried) << "version: 1\nname: carried\nallowed_paths: [/]\norgans:\n"
+                            "  - name: liver\n    mesh: /etc/passwd.obj\n";
+  name_scenario("carried.yaml");
+  const CommandResult carried_run = run_command(cli() + " report --session " + rec.string());
+  EXPECT_EQ(carried_run.exit_code, 2) << carried_run.err;
+  EXPECT_NE(carried_run.err.find(carried.string() +
+                                 ":3: allowed_paths[0]: directory '/' is outside the scenario's "
+                                 "folder, and this scenario may not open others"),
+            std::string::npos)
+      << carried_run.err;
+}
+
+// Issue 25: a scenario changed on disk while a recorded session ran. session.json was rewritten
+// at the end with the digest of the file as it was then, so the replay ran the changed scenario
+// without a word. Now session.json is written once, at the start (atomically: no temporary file
+// is left), with the digest of the bytes loaded; the run says the file changed, in its warnings
+// and metrics.json; and the report notes that the scenario is not the one recorded.
+TEST(CliRun, AScenarioChangedWhileARecordedRunRunsIsSaidAndItsRecordKept) {
+  TempDir dir;
+  const std::filesystem::path scenario = default_scenario_copy(dir, [](std::string&) {});
+  const std::string loaded = slurp(scenario);
+  const std::filesystem::path rec = dir.path() / "rec";
+  const pid_t pid =
+      spawn_cli({"run", "--scenario", scenario.string(), "--left", "simulated", "--right",
+                 "simulated", "--duration", "1.5", "--record", rec.string()},
+                dir.path() / "out.json", dir.path() / "err.txt");
+  ASSERT_GT(pid, 0);
+  // session.json appears once the scenario is loaded and the session is about to start.
+  for (int i = 0; i < 2000 && !std::filesystem::exists(rec / "session.json"); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const std::string record = slurp(rec / "session.json");
+  { std::ofstream(scenario, std::ios::app) << "# edited while the session ran\n"; }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  const std::string err = slurp(dir.path() / "err.txt");
+  ASSERT_TRUE(WIFEXITED(status)) << err;
+  ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+  const std::string warning =
+      "the scenario " + scenario.string() + " changed on disk while the session ran";
+  EXPECT_NE(err.find("laptrainer-cli run: warning: " + warning), std::string::npos) << err;
+  // The record is as it was written at the start, with the digest of what was loaded.
+  EXPECT_EQ(slurp(rec / "session.json"), record);
+  const auto j = nlohmann::json::parse(record);
+  char digest[32];
+  std::snprintf(digest, sizeof digest, "%016llx",
+                static_cast<unsigned long long>(lap::sim::content_digest(loaded)));
+  EXPECT_EQ(j["scenario_digest"], digest);
+  const auto metrics = nlohmann::json::parse(slurp(rec / "metrics.json"));
+  ASSERT_TRUE(metrics["warnings"].is_array());
+  EXPECT_TRUE(std::any_of(
+      metrics["warnings"].begin(), metrics["warnings"].end(),
+      [&](const nlohmann::json& w) { return w.get<std::string>().rfind(warning, 0) == 0; }))
+      << metrics["warnings"].dump();
+  for (const auto& e : std::filesystem::directory_iterator(rec)) {
+    EXPECT_NE(e.path().filename().string().rfind(".session.json", 0), 0U) << e.path();
+  }
+  const CommandResult report = run_command(cli() + " report --session " + rec.string() +
+                                           " --allow-path " + dir.path().string());
+  EXPECT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_NE(
+      report.err.find("note: " + scenario.string() + " has changed since the session was recorded"),
+      std::string::npos)
+      << report.err;
+}
+
+// Issue 25: no size or file-type checks: `validate --scenario /dev/zero` read until memory ran
+// out (std::bad_alloc, exit 1), a FIFO blocked for ever. Every file a user names is now a regular
+// file within its limit, or a clear error naming it, exit 2. (`timeout` keeps a regression from
+// hanging the suite.)
+TEST(CliLimits, DevicesFifosAndFoldersAreRefusedUnreadWithExitTwo) {
+  TempDir dir;
+  const std::string fifo = (dir.path() / "pipe").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string folder = (dir.path() / "folder").string();
+  std::filesystem::create_directory(folder);
+  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string run = cli() + " run --scenario " + scenario + " --right simulated --fast " +
+                          "--duration 0.01 --left ";
+  struct Case {
+    std::string command;
+    std::string expected;  // the first line on standard error
+  };
+  const std::vector<Case> cases = {
+      {cli() + " validate --scenario /dev/zero",
+       "/dev/zero: is a character device; expected a YAML scenario file, a regular file"},
+      {cli() + " validate --scenario " + fifo,
+       fifo + ": is a FIFO (named pipe); expected a YAML scenario file, a regular file"},
+      {cli() + " validate --scenario " + folder,
+       folder + ": is a folder; expected a YAML scenario file, a regular file"},
+      {run + "scripted:/dev/zero",
+       "laptrainer-cli run: --left: /dev/zero: is a character "
+       "device; expected a keyframe script (CSV), a regular file"},
+      {run + "scripted:" + fifo, "laptrainer-cli run: --left: " + fifo +
+                                     ": is a FIFO (named pipe); expected a keyframe script "
+                                     "(CSV), a regular file"},
+      {run + "replay:/dev/zero",
+       "laptrainer-cli run: --left: /dev/zero: is a character device; "
+       "expected a device recording (.lapdev), a regular file"},
+      {run + "replay:" + fifo, "laptrainer-cli run: --left: " + fifo +
+                                   ": is a FIFO (named pipe); expected a device recording "
+                                   "(.lapdev), a regular file"},
+      {run + "replay:" + folder, "laptrainer-cli run: --left: " + folder +
+                                     ": is a folder; expected a device recording (.lapdev), a "
+                                     "regular file"},
+      {cli() + " mesh-info --mesh /dev/zero",
+       "/dev/zero: is a character device; expected a mesh file, a regular file"},
+      {cli() + " mesh-info --mesh " + fifo,
+       fifo + ": is a FIFO (named pipe); expected a mesh file, a regular file"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.command);
+    const CommandResult r = run_command("timeout 20 " + c.command);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.err.substr(0, r.err.find('\n')), c.expected);
+  }
+  // A probe path; an OBJ's material library; a scenario's height map; a glTF's buffer: each a
+  // FIFO where a file was expected.
+  const std::filesystem::path box = dir.write("box.obj",
+                                              "mtllib pipe\nv 0 0 0\nv 1 0 0\n"
+                                              "v 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n"
+                                              "f 1 4 3\nf 2 3 4\n");
+  const CommandResult probe =
+      run_command("timeout 20 " + cli() + " probe --mesh " +
+                  (source_dir() / "assets/meshes/liver.obj").string() + " --path " + fifo);
+  EXPECT_EQ(probe.exit_code, 2) << probe.err;
+  EXPECT_NE(probe.err.find(fifo + ": is a FIFO (named pipe); expected a probe path (CSV)"),
+            std::string::npos)
+      << probe.err;
+  const CommandResult mtl =
+      run_command("timeout 20 " + cli() + " mesh-info --mesh " + box.string());
+  EXPECT_EQ(mtl.exit_code, 2) << mtl.err;
+  EXPECT_NE(mtl.err.find(box.string() + ":1: mtllib: 'pipe': " + fifo +
+                         ": is a FIFO (named pipe); expected a material library, a regular file"),
+            std::string::npos)
+      << mtl.err;
+  const std::filesystem::path gltf = dir.write("scene.gltf",
+                                               R"({"asset": {"version": "2.0"},
+"buffers": [{"uri": "pipe", "byteLength": 36}],
+"bufferViews": [{"buffer": 0, "byteLength": 36}],
+"accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+"meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+"nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}
+)");
+  const CommandResult buffer =
+      run_command("timeout 20 " + cli() + " mesh-info --mesh " + gltf.string());
+  EXPECT_EQ(buffer.exit_code, 2) << buffer.err;
+  EXPECT_NE(buffer.err.find(gltf.string() + ": not a valid glTF 2.0 file"), std::string::npos)
+      << buffer.err;
+  const auto textured = default_scenario_copy(dir, [&](std::string& t) {
+    const std::string at = "material:\n";
+    const size_t m = t.find(at);
+    ASSERT_NE(m, std::string::npos);
+    const size_t indent = m - t.rfind('\n', m) - 1;
+    t.insert(m + at.size(), std::string(indent + 2, ' ') + "texture: {kind: image, image: " + fifo +
+                                ", amplitude_m: 0.0002}\n");
+  });
+  const CommandResult image =
+      run_command("timeout 20 " + cli() + " validate --scenario " + textured.string() +
+                  " --allow-path " + dir.path().string());
+  EXPECT_EQ(image.exit_code, 2) << image.err;
+  EXPECT_NE(image.err.find("texture.image: '" + fifo +
+                           "' is a FIFO (named pipe); expected a "
+                           "regular file"),
+            std::string::npos)
+      << image.err;
+  // A recording whose record or stream is a FIFO.
+  const std::filesystem::path rec = dir.path() / "rec";
+  ASSERT_EQ(run_command(cli() + " run --scenario " + scenario +
+                        " --left simulated --right "
+                        "simulated --fast --duration 0.05 --record " +
+                        rec.string())
+                .exit_code,
+            0);
+  std::filesystem::remove(rec / "session.lrec");
+  ASSERT_EQ(mkfifo((rec / "session.lrec").c_str(), 0600), 0);
+  const CommandResult lrec =
+      run_command("timeout 20 " + cli() + " report --session " + rec.string());
+  EXPECT_EQ(lrec.exit_code, 2) << lrec.err;
+  EXPECT_NE(lrec.err.find((rec / "session.lrec").string() +
+                          ": is a FIFO (named pipe); expected a session's recording"),
+            std::string::npos)
+      << lrec.err;
+  std::filesystem::remove(rec / "session.json");
+  ASSERT_EQ(mkfifo((rec / "session.json").c_str(), 0600), 0);
+  const CommandResult record =
+      run_command("timeout 20 " + cli() + " report --session " + rec.string());
+  EXPECT_EQ(record.exit_code, 2) << record.err;
+  EXPECT_NE(record.err.find((rec / "session.json").string() +
+                            ": is a FIFO (named pipe); expected a session's record"),
+            std::string::npos)
+      << record.err;
 }
 
 }  // namespace

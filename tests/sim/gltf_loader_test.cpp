@@ -7,6 +7,7 @@
 
 #include "haptics/setup/mesh_validation.h"
 #include "sim/setup/gltf_references.h"
+#include "sim/setup/json_lines.h"
 #include "sim/setup/mesh_limits.h"
 #include "sim/setup/mesh_loader.h"
 #include "tests/test_support.h"
@@ -267,7 +268,7 @@ TEST(GltfLoaderConfinement, BufferUriLeavingTheFolderIsRefusedWithoutReadingIt) 
   const Result<TriangleMesh> r = load_mesh(f);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message(),
-            f.string() + ": buffers[0].uri: '../secret.bin' leaves the scene's folder");
+            f.string() + ":19: buffers[0].uri: '../secret.bin' leaves the scene's folder");
 }
 
 TEST(GltfLoaderConfinement, PercentEncodedDotsAndAbsolutePathsAreRefused) {
@@ -315,7 +316,7 @@ TEST(GltfLoaderConfinement, ImageUriLeavingTheFolderIsRefused) {
   const Result<TriangleMesh> r = load_mesh(f);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message(),
-            f.string() + ": images[0].uri: '../../../../etc/passwd' leaves the scene's folder");
+            f.string() + ":39: images[0].uri: '../../../../etc/passwd' leaves the scene's folder");
 }
 
 TEST(GltfLoaderLimits, ADataUriLongerThanTheLimitIsRefused) {
@@ -324,13 +325,48 @@ TEST(GltfLoaderLimits, ADataUriLongerThanTheLimitIsRefused) {
   const std::string json = R"({"buffers": [{"byteLength": 4, "uri": ")" + uri + "\"}]}";
   const Status s = check_gltf_references("scene.gltf", json);
   ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.message(),
-            "scene.gltf: buffers[0].uri: data URI of 67108865 characters is longer than the limit "
-            "of 67108864 (sim/setup/mesh_limits.h); put the data in a .bin file beside the glTF");
+  EXPECT_EQ(
+      s.message(),
+      "scene.gltf:1: buffers[0].uri: data URI of 67108865 characters is longer than the limit "
+      "of 67108864 (sim/setup/mesh_limits.h); put the data in a .bin file beside the glTF");
   uri.resize(kMaxGltfDataUriChars);
   EXPECT_TRUE(check_gltf_references("scene.gltf",
                                     R"({"buffers": [{"byteLength": 4, "uri": ")" + uri + "\"}]}")
                   .ok());
+}
+
+// A text .gltf's problems name the line of the field (sim/setup/json_lines.h): the key's line
+// for a member, the element's first byte for an array's element, and where a text stops being
+// JSON.
+TEST(JsonLines, NameTheLineOfEachShallowFieldAndOfAParseError) {
+  const std::string text =
+      "{\n  \"asset\": {\"version\": \"2.0\"},\n  \"buffers\": [\n    {\"byteLength\": 4,\n"
+      "     \"uri\": \"a.bin\"},\n    {\"uri\":\n \"b.bin\"}\n  ],\n  \"scene\": 0\n}\n";
+  const JsonLines lines = JsonLines::scan(text);
+  EXPECT_TRUE(lines.parsed());
+  EXPECT_EQ(lines.line("asset"), 2);
+  EXPECT_EQ(lines.line("asset.version"), 2);
+  EXPECT_EQ(lines.line("buffers"), 3);
+  EXPECT_EQ(lines.line("buffers[0]"), 4);
+  EXPECT_EQ(lines.line("buffers[0].byteLength"), 4);
+  EXPECT_EQ(lines.line("buffers[0].uri"), 5);
+  EXPECT_EQ(lines.line("buffers[1].uri"), 6);
+  EXPECT_EQ(lines.line("scene"), 9);
+  EXPECT_EQ(lines.line("nodes", -1), -1);
+  // Deeper than the levels recorded: not kept.
+  EXPECT_EQ(JsonLines::scan(text, 2).line("buffers[0].uri"), 0);
+  const JsonLines broken = JsonLines::scan("{\n  \"a\": 1,\n  \"b\": tru\n}\n");
+  EXPECT_FALSE(broken.parsed());
+  EXPECT_EQ(broken.error_line(), 3);
+  EXPECT_NE(broken.error().find("invalid literal"), std::string::npos) << broken.error();
+  EXPECT_EQ(broken.line("a"), 2);
+  // A document of a million entries keeps no more than it is asked to.
+  std::string big = "{\"x\": [";
+  for (int i = 0; i < 1000000; ++i) big += i == 0 ? "0" : ",0";
+  big += "]}";
+  const JsonLines many = JsonLines::scan(big, 3, 100);
+  EXPECT_EQ(many.line("x[98]"), 1);
+  EXPECT_EQ(many.line("x[99]"), 0);
 }
 
 TEST(GltfLoaderConfinement, InsideFolderResolvesDotsAndLinks) {
@@ -352,7 +388,7 @@ TEST(GltfLoaderLimits, AHugeBufferLengthIsRefusedBeforeReading) {
   const Result<TriangleMesh> r = load_mesh(f);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message(), f.string() +
-                             ": buffers[0].byteLength: 1000000000000 bytes is more than the "
+                             ":19: buffers[0].byteLength: 1000000000000 bytes is more than the "
                              "limit of 536870912 (sim/setup/mesh_limits.h)");
 }
 

@@ -168,9 +168,8 @@ void expect_load_error(const std::filesystem::path& file, const std::string& exp
 
 TEST(MeshLoaderErrors, MissingFile) {
   TempDir dir;
-  expect_load_error(
-      dir.path() / "nope.obj",
-      (dir.path() / "nope.obj").string() + ": mesh file not found (expected a readable file)");
+  expect_load_error(dir.path() / "nope.obj",
+                    (dir.path() / "nope.obj").string() + ": not found (expected a mesh file)");
 }
 
 TEST(MeshLoaderErrors, UnsupportedExtension) {
@@ -357,7 +356,7 @@ TEST(MeshLoaderLimits, AFileLargerThanTheLimitIsRefusedUnread) {
   std::filesystem::resize_file(f, kMaxMeshFileBytes + 1);  // sparse: nothing is written
   expect_load_error(f, f.string() +
                            ": file of 536870913 bytes is larger than the limit of "
-                           "536870912 (sim/setup/mesh_limits.h)");
+                           "536870912 for a mesh file (sim/setup/mesh_limits.h)");
 }
 
 }  // namespace

@@ -526,8 +526,7 @@ TEST(ScenarioLoader, UnreadableFile) {
   const ScenarioLoadResult r = load_scenario("/nonexistent/dir/s.yaml");
   ASSERT_EQ(r.diagnostics().size(), 1U);
   EXPECT_EQ(r.diagnostics()[0].to_string(),
-            "/nonexistent/dir/s.yaml: (file): cannot read the scenario file (expected a readable "
-            "YAML file)");
+            "/nonexistent/dir/s.yaml: not found (expected a YAML scenario file)");
 }
 
 TEST(ScenarioLoader, DefaultScenarioIsValid) {

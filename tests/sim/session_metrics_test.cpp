@@ -5,8 +5,10 @@
 // the field it cannot use.
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -180,6 +182,56 @@ TEST(SessionMetrics, ABadSessionRecordNamesItsField) {
   ASSERT_EQ(r.value().notes.size(), 1u);
   EXPECT_NE(r.value().notes[0].find("has changed since the session was recorded"),
             std::string::npos);
+}
+
+// session.json is written once (issue 25): whole or not at all (a temporary file synced, then
+// renamed), never over a record already there, for its owner only, leaving nothing else behind.
+TEST(SessionRecord, IsWrittenOnceWholeAndNeverOverAnother) {
+  const test::TempDir dir;
+  const fs::path file = dir.path() / "session.json";
+  RuntimeSettings rs;
+  const std::string text =
+      session_record_json(test::source_dir() / "scenarios/default.yaml", 0x0123456789abcdefULL, rs);
+  ASSERT_TRUE(write_session_record(dir.path(), text).ok());
+  EXPECT_EQ(file_text(file), text);
+  EXPECT_EQ(fs::status(file).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  const Status again = write_session_record(dir.path(), "{}");
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.message(),
+            file.string() + ": already exists: a session's record is written once");
+  EXPECT_EQ(file_text(file), text);
+  size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) entries += e.exists() ? 1 : 0;
+  EXPECT_EQ(entries, 1U);  // no temporary file left
+  const Status nowhere = write_session_record(dir.path() / "missing", text);
+  ASSERT_FALSE(nowhere.ok());
+  EXPECT_NE(nowhere.message().find("missing/session.json: cannot write the session's record"),
+            std::string::npos)
+      << nowhere.message();
+  // Read back: what was written.
+  const Result<SessionRecord> r = read_session_record(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r.value().scenario_digest, 0x0123456789abcdefULL);
+  EXPECT_EQ(r.value().scenario, test::source_dir() / "scenarios/default.yaml");
+  // A full disk (RLIMIT_FSIZE, as the recording's own test has it): an error naming the file,
+  // and neither a half-written record nor a temporary file left.
+  const test::TempDir full;
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto previous = signal(SIGXFSZ, SIG_IGN);  // the write fails with EFBIG instead
+  rlimit small = old;
+  small.rlim_cur = 64;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const Status on_full_disk = write_session_record(full.path(), text);
+  setrlimit(RLIMIT_FSIZE, &old);
+  signal(SIGXFSZ, previous);
+  ASSERT_FALSE(on_full_disk.ok());
+  EXPECT_NE(on_full_disk.message().find((full.path() / "session.json").string() +
+                                        ": cannot write the session's record: writing"),
+            std::string::npos)
+      << on_full_disk.message();
+  EXPECT_TRUE(fs::is_empty(full.path()));
 }
 
 // Within two SDs of the experts' mean on the side that counts: lower is better for the time

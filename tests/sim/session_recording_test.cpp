@@ -135,7 +135,8 @@ TEST(SessionRecording, CutAnywhereItReadsUpToItsLastWholeChunk) {
   // Not a file at all, and an existing recording never overwritten.
   const Result<RecordedSession> folder = read_session_recording(dir.path());
   ASSERT_FALSE(folder.ok());
-  EXPECT_NE(folder.message().find("expected a regular file"), std::string::npos);
+  EXPECT_NE(folder.message().find("is a folder; expected a session's recording"), std::string::npos)
+      << folder.message();
   EXPECT_FALSE(expert_session()->record_to(dir.path() / "session.lrec", "{}").ok());
   write_bytes(dir.path() / "short.lrec", b.substr(0, 10));
   const Result<RecordedSession> none = read_session_recording(dir.path() / "short.lrec");
