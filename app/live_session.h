@@ -60,6 +60,8 @@ class LiveSession {
   [[nodiscard]] const haptics::TriangleMesh& organ_surface(int32_t organ) const {
     return session_->organ_surface(organ);
   }
+  /// Everything fixed about the running session (its organs' surfaces, tools, catheter, task).
+  [[nodiscard]] const sim::SessionModel& session_model() const { return session_->model(); }
   /// The tools' shaft and jaw lengths, as the session renders them.
   [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
     return session_->tool_geometry(tool);

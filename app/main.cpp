@@ -6,10 +6,12 @@
 #include <vtkAutoInit.h>
 
 #include <QApplication>
+#include <QSize>
 #include <QSurfaceFormat>
 #include <QTimer>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -35,6 +37,7 @@ constexpr int kExitUsage = 64;
 const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
     "                  [--quit-after S] [--screenshot PNG --frames N] [--stats FILE]\n"
+    "                  [--size WxH]\n"
     "  --scenario FILE   scenario to open (default: scenarios/default.yaml)\n"
     "  --left DEV, --right DEV  the tools' devices: simulated (default, keyboard and mouse),\n"
     "                    scripted:FILE, replay:FILE (a saved session), phantom:NAME\n"
@@ -43,6 +46,7 @@ const char* const kUsage =
     "                    there: left.lapdev, right.lapdev, metrics.json\n"
     "  --screenshot PNG  render N frames, write the last one to PNG and exit\n"
     "  --frames N        frames to render before the screenshot (default 10)\n"
+    "  --size WxH        the operative field's size in pixels (the window grows round it)\n"
     "  --stats FILE      at exit, write how fast the loops ran as JSON: graphics frame rate\n"
     "                    (mean, 5th percentile), start to first frame, haptic rate and its\n"
     "                    p99.9 lateness, modelling rate\n";
@@ -55,6 +59,8 @@ struct Options {
   std::array<lap::hardware::DeviceSpec, 2> devices{};
   double quit_after_s = 0.0;
   int frames = 10;
+  int width_px = 0;  ///< --size: the operative field's, 0: the window's default
+  int height_px = 0;
 };
 
 bool parse(int argc, char** argv, Options& o) {
@@ -106,6 +112,20 @@ bool parse(int argc, char** argv, Options& o) {
         return false;
       }
       o.frames = static_cast<int>(n);
+    } else if (a == "--size") {
+      if (!value(v)) return false;
+      int w = 0;
+      int h = 0;
+      char tail = '\0';
+      if (std::sscanf(v.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 320 || h < 240 || w > 8192 ||
+          h > 8192) {
+        std::cerr << "laptrainer: --size expects WIDTHxHEIGHT in pixels, from 320x240 to "
+                     "8192x8192, got '"
+                  << v << "'\n";
+        return false;
+      }
+      o.width_px = w;
+      o.height_px = h;
     } else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       std::exit(0);
@@ -183,6 +203,17 @@ int main(int argc, char** argv) {
     if (!opt.screenshot.empty()) return kExitProblems;
   }
   window.show();
+  if (opt.width_px > 0) {
+    // The operative field at exactly the size asked for: the window grows by the difference.
+    QApplication::processEvents();
+    const QSize field = window.view()->size();
+    window.resize(window.size() + QSize(opt.width_px, opt.height_px) - field);
+    QApplication::processEvents();
+    if (window.view()->size() != QSize(opt.width_px, opt.height_px)) {
+      std::cerr << "laptrainer: --size: the operative field is " << window.view()->width() << "x"
+                << window.view()->height() << " (the screen is too small for the size asked)\n";
+    }
+  }
 
   if (!opt.screenshot.empty()) {
     // Render the requested number of frames through the event loop, then write the last one.

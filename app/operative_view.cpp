@@ -2,8 +2,6 @@
 
 #include <vtkActor.h>
 #include <vtkActorCollection.h>
-#include <vtkLight.h>
-#include <vtkNew.h>
 #include <vtkProperty.h>
 
 #include <QElapsedTimer>
@@ -12,6 +10,7 @@
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "app/mesh_actor.h"
@@ -36,6 +35,8 @@ OperativeView::OperativeView(QWidget* parent) : QWidget(parent) {
   connect(view_, &VtkView::tool_moved, this, [this](double dx, double dy, double dz) {
     session_.nudge(active_tool_, Eigen::Vector3d(dx, dy, dz), 0.0);
   });
+  connect(view_, &VtkView::scope_command, this, &OperativeView::move_scope);
+  connect(view_, &VtkView::about_to_render, this, &OperativeView::draw_scene);
 
   auto mouse = hardware::SpaceMouse::open();
   if (mouse.ok()) space_mouse_ = std::move(mouse).value();
@@ -59,12 +60,7 @@ Status OperativeView::start(const sim::Scene& scene,
   session_.stop();
   vtkRenderer* ren = view_->renderer();
   ren->RemoveAllViewProps();
-  // A headlight, like the laparoscope's own light source.
-  ren->RemoveAllLights();
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToHeadlight();
-  light->SetIntensity(1.0);
-  ren->AddLight(light);
+  // The scenario's camera, shown as is when it cannot be a scope through its port.
   CameraPose pose;
   const sim::CameraSpec& c = scene.scenario.camera;
   for (int i = 0; i < 3; ++i) {
@@ -73,30 +69,75 @@ Status OperativeView::start(const sim::Scene& scene,
     pose.view_up[i] = c.view_up[i];
   }
   pose.view_angle_deg = c.view_angle_deg;
+  Result<sim::LaparoscopeModel> scope = sim::LaparoscopeModel::build(c, scene.scenario.file);
+  scope_model_.reset();
+  view_->set_scope_driven(false);
+  if (scope.ok()) {
+    scope_model_ = std::move(scope).value();
+    scope_ = scope_model_->home;
+    assistant_.reset();
+    camera_.attach(ren, scope_model_->focal_distance_m);
+    view_->set_scope_driven(true);
+  } else {
+    camera_.attach(ren, (c.focal_point_m - c.position_m).norm());
+  }
   view_->set_home_camera(pose);
-  std::vector<Eigen::Vector3d> colours;
-  for (const sim::Organ& o : scene.organs) colours.push_back(o.color);
   const Status started = session_.start(scene, devices);
+  hud_.reset();
   if (started.ok()) {
-    // The organs as the session has them (the duct: its shell), deformed as the loops go.
-    std::vector<const haptics::TriangleMesh*> surfaces;
-    for (int32_t i = 0; i < session_.organ_count(); ++i) {
-      surfaces.push_back(&session_.organ_surface(i));
-    }
-    actors_.add_organs(ren, surfaces, colours);
-    actors_.add_to(ren, {session_.tool_geometry(0), session_.tool_geometry(1)},
-                   static_cast<int>(session_.model().catheter.size()));
+    // The organs as the session has them (the duct: its shell), deformed as the loops go, the
+    // instruments and the catheter.
+    actors_.add(ren, session_drawing(scene, session_.session_model()));
+    hud_ = std::make_unique<HudModel>(scene.scenario, session_.organ_names());
   } else {
     for (const sim::Organ& o : scene.organs) {
       const double rgb[3] = {o.color.x(), o.color.y(), o.color.z()};
       ren->AddActor(make_mesh_actor(o.mesh, rgb));
     }
   }
+  overlay_.attach(ren);
+  overlay_.set_visible(hud_ != nullptr);
   set_wireframe(wireframe_);
   last_haptic_tick_ = -1;
   last_model_steps_ = 0;
+  last_draw_s_ = -1.0;
   update_figures();
   return started;
+}
+
+void OperativeView::move_scope(const ScopeCommand& command) {
+  if (!scope_model_) return;
+  const sim::LaparoscopeModel& m = *scope_model_;
+  switch (command.move) {
+    case ScopeMove::kPivot:
+      sim::pivot_laparoscope(m, &scope_, command.a, command.b);
+      break;
+    case ScopeMove::kInsert:
+      sim::insert_laparoscope(m, &scope_, command.a);
+      break;
+    case ScopeMove::kRoll:
+      sim::roll_laparoscope(&scope_, command.a);
+      break;
+    case ScopeMove::kHorizon:
+      sim::turn_laparoscope_horizon(&scope_, command.a);
+      break;
+    case ScopeMove::kZoom:
+      sim::zoom_laparoscope(m, &scope_, command.a);
+      break;
+    case ScopeMove::kReset:
+      scope_ = m.home;
+      assistant_.reset();
+      break;
+    case ScopeMove::kToggleAssistant:
+      set_camera_assistant(!assistant_on_);
+      break;
+  }
+}
+
+void OperativeView::set_camera_assistant(bool on) {
+  assistant_on_ = on;
+  assistant_.reset();
+  update_figures();
 }
 
 void OperativeView::stop() { session_.stop(); }
@@ -133,8 +174,41 @@ void OperativeView::graphics_frame() {
     }
   }
   last_frame_s_ = now_s;
-  if (session_.running()) actors_.update(session_.haptic(), session_.model());
   view_->render();
+}
+
+// Before each frame: the newest snapshots into the actors, the scope (the assistant following
+// the instruments' tips), its camera and light, and the heads-up display.
+void OperativeView::draw_scene() {
+  const double now_s = seconds_since_start();
+  const double dt = last_draw_s_ < 0.0 ? 0.0 : std::clamp(now_s - last_draw_s_, 0.0, 0.1);
+  last_draw_s_ = now_s;
+  if (session_.running()) {
+    const sim::HapticSnapshot& h = session_.haptic();
+    const sim::ModelSnapshot& m = session_.model();
+    actors_.update(h, m);
+    if (assistant_on_ && scope_model_ && h.tick >= 0) {
+      // The working point: the middle of each instrument's jaws.
+      std::array<Eigen::Vector3d, 2> tips;
+      for (int i = 0; i < 2; ++i) {
+        const InstrumentPose& p = actors_.instrument(i).pose();
+        tips[static_cast<size_t>(i)] = 0.5 * (p.hinge_W + 0.5 * (p.jaw_tip_W[0] + p.jaw_tip_W[1]));
+      }
+      assistant_.step(*scope_model_, &scope_, tips, dt);
+    }
+    if (hud_) {
+      ScopeFigures figures;
+      if (scope_model_) {
+        figures.optics_deg = scope_model_->optic_angle_rad * 180.0 / M_PI;
+        figures.zoom = std::tan(0.5 * scope_model_->home.view_angle_deg * M_PI / 180.0) /
+                       std::tan(0.5 * scope_.view_angle_deg * M_PI / 180.0);
+      }
+      figures.assistant = assistant_on_;
+      const int* size = view_->render_window()->GetSize();
+      overlay_.draw(hud_->update(h, m, figures, now_s), size[0], size[1]);
+    }
+  }
+  if (scope_model_) camera_.apply(sim::laparoscope_view(*scope_model_, scope_));
 }
 
 void OperativeView::update_figures() {
@@ -157,12 +231,13 @@ void OperativeView::update_figures() {
   last_haptic_tick_ = h.tick;
   last_model_steps_ = m.steps;
   // Late ticks: each sent zero force for one tick and the forces ramped back by themselves.
-  QString text = QString("haptic %1 Hz (worst late %2 us, %3 late ticks) | model %4 Hz | %5 tool")
+  QString text = QString("haptic %1 Hz (worst late %2 us, %3 late ticks) | model %4 Hz | %5 tool%6")
                      .arg(ticks)
                      .arg(h.worst_lateness_s * 1e6, 0, 'f', 0)
                      .arg(h.late_ticks)
                      .arg(steps)
-                     .arg(active_tool_ == 0 ? "left" : "right");
+                     .arg(active_tool_ == 0 ? "left" : "right")
+                     .arg(assistant_on_ ? " | camera assistant" : "");
   loops_tooltip_.clear();
   const std::vector<std::string> warnings = session_.scheduling_warnings();
   if (!warnings.empty()) {

@@ -2,9 +2,12 @@
 /// \file
 /// The operative field of a running session: the 3D view (VtkView), the session it shows
 /// (LiveSession: the haptic and modelling loops on their threads), what is drawn of it
-/// (SessionActors), and the graphics loop — a 60 Hz timer that takes the newest snapshots,
-/// updates the actors and renders. The keys and the 3D mouse that drive simulated tools are
-/// handled here, so that any page that shows a session behaves the same.
+/// (SessionActors: organs, instruments, catheter), the laparoscope it is seen through
+/// (sim/runtime/laparoscope.h: moved by the keys and the mouse, or by the camera assistant;
+/// LaparoscopeCamera), the heads-up display (HudModel, HudOverlay), and the graphics loop — a
+/// 60 Hz timer that renders; before each frame the newest snapshots are taken into the actors,
+/// the scope and the display. The keys and the 3D mouse that drive simulated tools are handled
+/// here, so that any page that shows a session behaves the same.
 ///
 /// The window around it (menus, status bar, the pages of a training session) only starts,
 /// stops and saves sessions through this widget, and reads its figures (loops_text()).
@@ -14,14 +17,20 @@
 #include <QWidget>
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "app/hud_overlay.h"
+#include "app/hud_state.h"
+#include "app/laparoscope_camera.h"
 #include "app/live_session.h"
-#include "app/tool_actors.h"
+#include "app/session_actors.h"
 #include "app/vtk_view.h"
 #include "core/result.h"
 #include "hardware/device_spec.h"
 #include "hardware/space_mouse.h"
+#include "sim/runtime/camera_assistant.h"
+#include "sim/runtime/laparoscope.h"
 #include "sim/setup/scene.h"
 
 namespace lap::app {
@@ -61,6 +70,22 @@ class OperativeView : public QWidget {
   /// Draws the organs as wireframes (true) or surfaces.
   void set_wireframe(bool on);
 
+  /// The laparoscope (null before a scene is shown, or when the scenario's camera cannot be a
+  /// scope through its port: the view then stays at the scenario's camera).
+  [[nodiscard]] const sim::LaparoscopeModel* scope_model() const {
+    return scope_model_ ? &*scope_model_ : nullptr;
+  }
+  [[nodiscard]] const sim::LaparoscopeState& scope_state() const { return scope_; }
+  /// Moves the scope as the keys and the mouse do.
+  void move_scope(const ScopeCommand& command);
+  /// The camera assistant keeps the instruments' tips in view (§7.8; key C).
+  void set_camera_assistant(bool on);
+  [[nodiscard]] bool camera_assistant() const { return assistant_on_; }
+  /// What the heads-up display shows (null before a session runs).
+  [[nodiscard]] const HudState* hud_state() const { return hud_ ? &hud_->state() : nullptr; }
+  [[nodiscard]] const HudOverlay& hud_overlay() const { return overlay_; }
+  [[nodiscard]] const SessionActors& actors() const { return actors_; }
+
  signals:
   /// Once a second: the frame rate and the loops' figures have been updated.
   void figures_updated();
@@ -70,11 +95,20 @@ class OperativeView : public QWidget {
 
  private:
   void graphics_frame();
+  void draw_scene();
   void update_figures();
 
   VtkView* view_ = nullptr;
   LiveSession session_;
   SessionActors actors_;
+  std::optional<sim::LaparoscopeModel> scope_model_;
+  sim::LaparoscopeState scope_;
+  sim::CameraAssistant assistant_;
+  bool assistant_on_ = false;
+  LaparoscopeCamera camera_;
+  std::unique_ptr<HudModel> hud_;
+  HudOverlay overlay_;
+  double last_draw_s_ = -1.0;
   int active_tool_ = 0;
   int64_t last_haptic_tick_ = -1;
   int64_t last_model_steps_ = 0;

@@ -4,7 +4,6 @@
 #include <vtkPNGWriter.h>
 #include <vtkWindowToImageFilter.h>
 
-#include <Eigen/Geometry>
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QWheelEvent>
@@ -53,6 +52,7 @@ void VtkView::render() {
   } else {
     attach();
   }
+  emit about_to_render();
   render_window_->Render();
   ++frames_;
   frame_times_s_.push_back(
@@ -66,6 +66,10 @@ void VtkView::set_home_camera(const CameraPose& pose) {
 }
 
 void VtkView::reset_camera() {
+  if (scope_driven_) {
+    scope(ScopeMove::kReset, 0.0);
+    return;
+  }
   vtkCamera* cam = renderer_->GetActiveCamera();
   cam->SetPosition(home_.position);
   cam->SetFocalPoint(home_.focal_point);
@@ -97,42 +101,8 @@ void VtkView::paintEvent(QPaintEvent*) { render(); }
 void VtkView::resizeEvent(QResizeEvent*) { render(); }
 void VtkView::showEvent(QShowEvent*) { render(); }
 
-void VtkView::orbit(double azimuth_deg, double elevation_deg) {
-  vtkCamera* cam = renderer_->GetActiveCamera();
-  cam->Azimuth(azimuth_deg);
-  cam->Elevation(elevation_deg);
-  cam->OrthogonalizeViewUp();
-  renderer_->ResetCameraClippingRange();
-  render();
-}
-
-void VtkView::pan(double dx_px, double dy_px) {
-  vtkCamera* cam = renderer_->GetActiveCamera();
-  double pos[3], fp[3], up[3];
-  cam->GetPosition(pos);
-  cam->GetFocalPoint(fp);
-  cam->GetViewUp(up);
-  const Eigen::Vector3d p(pos[0], pos[1], pos[2]);
-  const Eigen::Vector3d f(fp[0], fp[1], fp[2]);
-  const Eigen::Vector3d u = Eigen::Vector3d(up[0], up[1], up[2]).normalized();
-  const Eigen::Vector3d forward = (f - p).normalized();
-  const Eigen::Vector3d right = forward.cross(u).normalized();
-  // Metres per pixel at the focal distance, so the scene follows the cursor.
-  const double dist = (f - p).norm();
-  const double m_per_px =
-      2.0 * dist * std::tan(0.5 * cam->GetViewAngle() * M_PI / 180.0) / std::max(1, height());
-  const Eigen::Vector3d shift = (-dx_px * right + dy_px * u) * m_per_px;
-  const Eigen::Vector3d np = p + shift;
-  const Eigen::Vector3d nf = f + shift;
-  cam->SetPosition(np.x(), np.y(), np.z());
-  cam->SetFocalPoint(nf.x(), nf.y(), nf.z());
-  renderer_->ResetCameraClippingRange();
-  render();
-}
-
-void VtkView::zoom(double factor) {
-  renderer_->GetActiveCamera()->Dolly(factor);
-  renderer_->ResetCameraClippingRange();
+void VtkView::scope(ScopeMove move, double a, double b) {
+  emit scope_command({move, a, b});
   render();
 }
 
@@ -147,6 +117,7 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
   last_mouse_ = p;
   const bool shift = (e->modifiers() & Qt::ShiftModifier) != 0;
   const bool ctrl = (e->modifiers() & Qt::ControlModifier) != 0;
+  constexpr double kRadPerPixel = 0.0025;  // the scope pivots 0.14 degrees per pixel
   if ((buttons_ & Qt::LeftButton) && ctrl) {
     // The tool's handle follows the mouse in the view's plane, 0.2 mm per pixel.
     vtkCamera* cam = renderer_->GetActiveCamera();
@@ -162,11 +133,12 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
     emit tool_moved(sx * right[0] + sy * up[0], sx * right[1] + sy * up[1],
                     sx * right[2] + sy * up[2]);
   } else if ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift)) {
-    pan(d.x(), d.y());
+    scope(ScopeMove::kRoll, 2.0 * kRadPerPixel * d.x());
   } else if (buttons_ & Qt::LeftButton) {
-    orbit(-0.4 * d.x(), 0.4 * d.y());
+    // Drag the picture: the view turns the other way, as a grabbed scene would move.
+    scope(ScopeMove::kPivot, -kRadPerPixel * d.x(), kRadPerPixel * d.y());
   } else if (buttons_ & Qt::RightButton) {
-    zoom(std::pow(1.01, -d.y()));
+    scope(ScopeMove::kInsert, -0.0005 * d.y());  // up: in, 0.5 mm per pixel
   }
 }
 
@@ -182,41 +154,53 @@ void VtkView::wheelEvent(QWheelEvent* e) {
     emit tool_moved(s * dir[0], s * dir[1], s * dir[2]);
     return;
   }
-  zoom(std::pow(1.1, notches));
+  scope(ScopeMove::kZoom, std::pow(1.1, notches));
 }
 
 void VtkView::keyPressEvent(QKeyEvent* e) {
+  constexpr double kPivot = 2.0 * M_PI / 180.0;  // per press
+  constexpr double kTurn = 10.0 * M_PI / 180.0;
+  constexpr double kSlide = 0.005;  // m
   switch (e->key()) {
     case Qt::Key_Left:
-      orbit(5.0, 0.0);
+      scope(ScopeMove::kPivot, -kPivot, 0.0);
       break;
     case Qt::Key_Right:
-      orbit(-5.0, 0.0);
+      scope(ScopeMove::kPivot, kPivot, 0.0);
       break;
     case Qt::Key_Up:
-      orbit(0.0, 5.0);
+      scope(ScopeMove::kPivot, 0.0, kPivot);
       break;
     case Qt::Key_Down:
-      orbit(0.0, -5.0);
+      scope(ScopeMove::kPivot, 0.0, -kPivot);
       break;
     case Qt::Key_Plus:
     case Qt::Key_Equal:
-      zoom(1.1);
+      scope(ScopeMove::kZoom, 1.1);
       break;
     case Qt::Key_Minus:
-      zoom(1.0 / 1.1);
+      scope(ScopeMove::kZoom, 1.0 / 1.1);
       break;
     case Qt::Key_W:
-      pan(0.0, -20.0);
+      scope(ScopeMove::kInsert, kSlide);
       break;
     case Qt::Key_S:
-      pan(0.0, 20.0);
+      scope(ScopeMove::kInsert, -kSlide);
       break;
     case Qt::Key_A:
-      pan(-20.0, 0.0);
+      scope(ScopeMove::kRoll, -kTurn);
       break;
     case Qt::Key_D:
-      pan(20.0, 0.0);
+      scope(ScopeMove::kRoll, kTurn);
+      break;
+    case Qt::Key_Q:
+      scope(ScopeMove::kHorizon, kTurn);
+      break;
+    case Qt::Key_E:
+      scope(ScopeMove::kHorizon, -kTurn);
+      break;
+    case Qt::Key_C:
+      scope(ScopeMove::kToggleAssistant, 0.0);
       break;
     case Qt::Key_R:
       reset_camera();

@@ -17,7 +17,25 @@
 
 namespace lap::app {
 
-/// Camera pose the view can be reset to.
+/// A move of the laparoscope asked for by the keys or the mouse (OperativeView applies it to
+/// the scope: sim/runtime/laparoscope.h).
+enum class ScopeMove {
+  kPivot,            ///< a: to the right [rad], b: up [rad], about the port
+  kInsert,           ///< a: in (+) or out (−) [m]
+  kRoll,             ///< a: the scope (and an angled optic) about its axis [rad]
+  kHorizon,          ///< a: the camera head, turning the picture [rad]
+  kZoom,             ///< a: factor (> 1 closer)
+  kReset,            ///< back to the scenario's view
+  kToggleAssistant,  ///< the camera assistant on or off
+};
+struct ScopeCommand {
+  ScopeMove move = ScopeMove::kReset;
+  double a = 0.0;
+  double b = 0.0;
+};
+
+/// Camera pose the view shows when no laparoscope drives it (the organs alone, when a session
+/// could not start).
 struct CameraPose {
   double position[3] = {0.0, 0.25, 0.35};
   double focal_point[3] = {0.0, 0.03, 0.0};
@@ -25,9 +43,12 @@ struct CameraPose {
   double view_angle_deg = 30.0;
 };
 
-/// The 3D view: orbit with the left button, pan with the middle button or Shift+left, zoom with
-/// the right button or the wheel; arrow keys orbit, +/- zoom, W/A/S/D pan, R resets. With Ctrl
-/// held, the left button and the wheel move the active tool instead (tool_moved).
+/// The 3D view through the laparoscope. Keys and mouse move the scope (scope_command): arrows or
+/// left drag pivot it about its port, W/S or right drag slide it in and out, A/D or middle drag
+/// (Shift+left) turn it about its axis (an angled optic's view turns with it), Q/E turn the
+/// camera head (the picture's horizon), +/- or the wheel zoom, C switches the camera assistant,
+/// R resets. With Ctrl held, the left button and the wheel move the active tool instead
+/// (tool_moved). Before each frame it emits about_to_render, for whoever draws the scene.
 class VtkView : public QWidget {
   Q_OBJECT
 
@@ -38,9 +59,13 @@ class VtkView : public QWidget {
   vtkRenderer* renderer() { return renderer_; }
   vtkRenderWindow* render_window() { return render_window_; }
 
-  /// Sets the pose R returns to and applies it.
+  /// The pose shown while no laparoscope drives the view; applied now.
   void set_home_camera(const CameraPose& pose);
+  /// Back to the scenario's view: the scope's (scope_command kReset) when one drives the view,
+  /// else the home pose.
   void reset_camera();
+  /// Whether a laparoscope drives the camera (scope_command is connected and acted on).
+  void set_scope_driven(bool driven) { scope_driven_ = driven; }
   /// Renders now if the native window exists.
   void render();
   /// Writes the current frame as PNG; the diagnostic says why it could not.
@@ -54,6 +79,10 @@ class VtkView : public QWidget {
 
  signals:
   void frame_rendered();
+  /// Just before each frame is drawn (the scene is brought up to date here).
+  void about_to_render();
+  /// A move of the scope (keys, mouse).
+  void scope_command(const lap::app::ScopeCommand& command);
   /// Ctrl+left drag (in the view's plane) or Ctrl+wheel (along the view): a world displacement
   /// [m] for the active tool's handle.
   void tool_moved(double dx, double dy, double dz);
@@ -70,14 +99,13 @@ class VtkView : public QWidget {
 
  private:
   void attach();
-  void orbit(double azimuth_deg, double elevation_deg);
-  void pan(double dx_px, double dy_px);
-  void zoom(double factor);
+  void scope(ScopeMove move, double a, double b = 0.0);
 
   vtkNew<vtkRenderer> renderer_;
   vtkSmartPointer<vtkRenderWindow> render_window_;
   CameraPose home_;
   bool attached_ = false;
+  bool scope_driven_ = false;
   QPoint last_mouse_;
   Qt::MouseButtons buttons_ = Qt::NoButton;
   long frames_ = 0;

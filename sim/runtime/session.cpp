@@ -189,11 +189,13 @@ Result<std::unique_ptr<Session>> Session::create(
   s->metrics_model_ = MetricsModel::build(m.task(), grasp.grasp_below_rad, grasp.release_above_rad,
                                           m.timing().model_dt_s, rs.duration_s, rs.dominant_tool);
   s->metrics_ = MetricsState::create(s->metrics_model_);
+  write_task_progress(m.task(), s->task_, 0.0, {}, 0.0, &s->task_progress_);
 
   ModelSnapshot m0;
   m0.catheter = s->world_->catheter().positions;
   m0.catheter_velocities = s->world_->catheter().velocities;
   m0.organs = s->world_->make_deformations();
+  m0.task = s->task_progress_;
   s->model_to_haptic_.reset(m0);
   s->model_to_graphics_.reset(m0);
 
@@ -433,12 +435,29 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
     torque.setZero();
   }
   ts->pose = k.pose;
-  for (size_t s = 0; s < 3; ++s) {
-    ts->proxy_a_W[s] = out.segments[s].ideal_a_W;
-    ts->proxy_b_W[s] = out.segments[s].ideal_b_W;
-  }
   ts->contacts =
       out.segments[0].contact_count + out.segments[1].contact_count + out.segments[2].contact_count;
+  // Where the proxies are, for drawing the tool on the tissue rather than in it (§5).
+  for (size_t seg = 0; seg < 3; ++seg) {
+    const haptics::SegmentProxyOutput& so = out.segments[seg];
+    const bool fine = !out.fault && so.ideal_a_W.allFinite() && so.ideal_b_W.allFinite();
+    ts->proxy_a_W[seg] = fine ? so.ideal_a_W : Eigen::Vector3d::Zero();
+    ts->proxy_b_W[seg] = fine ? so.ideal_b_W : Eigen::Vector3d::Zero();
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (const haptics::SegmentContact& c : tool.gripper.proxy(static_cast<int>(seg)).contacts()) {
+      normal += c.normal_W;
+    }
+    ts->proxy_normal_W[seg] =
+        normal.norm() > 1e-9 && normal.allFinite() ? normal.normalized() : Eigen::Vector3d::Zero();
+  }
+  if (out.fault) {
+    // A faulted proxy was reset: the device's pose is the best there is.
+    std::array<Eigen::Vector3d, 3> a;
+    std::array<Eigen::Vector3d, 3> b;
+    tool.gripper.segments(k.pose, &a, &b);
+    ts->proxy_a_W = a;
+    ts->proxy_b_W = b;
+  }
   // The tools' contacts for the tissue models: where each segment presses on which organ.
   ts->organ_contact_count = 0;
   for (int seg = 0; seg < 3; ++seg) {
@@ -662,6 +681,7 @@ void Session::model_tick(int64_t tick) noexcept {
                               &m.catheter_on_bodies.force_W[static_cast<size_t>(b)],
                               &m.catheter_on_bodies.torque_W[static_cast<size_t>(b)]);
     }
+    m.task = task_progress_;
     if (buf == &model_to_haptic_) {
       // The proxies' next copy of the surfaces takes up the same deformations here, on this
       // thread, so the haptic step only switches to it.
@@ -683,6 +703,7 @@ void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
   TaskInput in;
   in.t_s = static_cast<double>(tick) * model_->timing().dt_s;
   in.catheter = world_->catheter().positions;
+  std::array<ToolForces, 2> forces{};  // each tool's, for the heads-up display
   for (size_t i = 0; i < 2; ++i) {
     in.catheter_held[i] = world_->catheter_grasps()[i].grasping();
     const ToolModelInput& tool = model_input_[i];
@@ -698,9 +719,16 @@ void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
     }
     for (size_t o = 0; o < organ_force_n_.size(); ++o) {
       double f = tool_push_W_[o].norm();
-      if (static_cast<int32_t>(o) == tm.duct_organ) f += world_->duct_grasp_force_n()[i];
+      if (static_cast<int32_t>(o) == tm.duct_organ) {
+        f += world_->duct_grasp_force_n()[i];
+        forces[i].on_duct_n = f;
+      } else if (f > forces[i].on_organ_n) {
+        forces[i].on_organ_n = f;
+        forces[i].organ = static_cast<int32_t>(o);
+      }
       organ_force_n_[o] = std::max(organ_force_n_[o], f);
     }
+    forces[i].duct_squeeze_n = world_->duct_squeeze_n()[i];
     in.duct_squeeze_n = std::max(in.duct_squeeze_n, world_->duct_squeeze_n()[i]);
   }
   if (cbd_rest_ != nullptr && !in.catheter.empty()) {
@@ -713,6 +741,9 @@ void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
   in.organ_force_n = organ_force_n_;
   in.organ_touched = organ_touched_;
   step_task(tm, in, &task_);
+  write_task_progress(tm, task_, in.t_s, forces,
+                      tm.duct_organ >= 0 ? world_->catheter_push_n(tm.duct_organ) : 0.0,
+                      &task_progress_);
   const std::array<double, 2> opening = {h.tools[0].pose.opening_rad, h.tools[1].pose.opening_rad};
   step_metrics(metrics_model_, tm, in, opening, task_, &metrics_);
   if (task_.done() && model_->settings().end_with_task) request_stop();

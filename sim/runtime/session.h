@@ -60,6 +60,7 @@
 #include "sim/runtime/probe_tool.h"
 #include "sim/runtime/session_recorder.h"
 #include "sim/runtime/task_engine.h"
+#include "sim/runtime/task_progress.h"
 #include "sim/runtime/tissue_world.h"
 #include "sim/runtime/training_metrics.h"
 #include "sim/runtime/trocar_tool.h"
@@ -88,13 +89,19 @@ struct WatchdogEvent {
 
 struct ToolSnapshot {
   haptics::GripperPose pose;  ///< the tool as the device put it
-  /// Its three segments' proxies (shaft, jaw 0, jaw 1; haptics/laparoscopic_gripper.h): the
-  /// ideal ends a and b, on the organs' surfaces or outside them, never inside (the soak checks).
+  int32_t contacts = 0;       ///< over its three segments
+  /// Where its three segment proxies are (shaft, jaw 0, jaw 1: ends a and b as
+  /// LaparoscopicGripper::segments orders them): the ideal segments, on the organs' surfaces
+  /// where the device's pose has gone into them (chapter 5), never inside (the soak checks), so
+  /// that a tool drawn there rests on the tissue instead of passing into it.
   std::array<Eigen::Vector3d, 3> proxy_a_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                            Eigen::Vector3d::Zero()};
   std::array<Eigen::Vector3d, 3> proxy_b_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                            Eigen::Vector3d::Zero()};
-  int32_t contacts = 0;  ///< over its three segments
+  /// Per segment: the unit mean of its contacts' normals (out of the organs), zero when it
+  /// touches nothing (a drawn segment of some thickness is lifted off the surface along it).
+  std::array<Eigen::Vector3d, 3> proxy_normal_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                                Eigen::Vector3d::Zero()};
   /// Its contacts with the organs (the first kMaxContacts), for the tissue models.
   int32_t organ_contact_count = 0;
   std::array<ToolContact, ToolModelInput::kMaxContacts> organ_contacts{};
@@ -136,6 +143,8 @@ struct ModelSnapshot {
   /// The catheter's push on each free body at this step, which the haptic loop holds on it
   /// until the next (in the order of HapticSnapshot::bodies).
   BodyPushes catheter_on_bodies;
+  /// The task as this step left it, for the heads-up display (task_progress.h).
+  TaskProgress task;
 };
 
 struct SessionMetrics {
@@ -332,6 +341,7 @@ class Session {
   std::vector<double> organ_force_n_;         ///< per organ [N]
   std::vector<uint8_t> organ_touched_;        ///< per organ
   std::vector<Eigen::Vector3d> tool_push_W_;  ///< per organ, one tool's contacts' sum [N]
+  TaskProgress task_progress_;                ///< after the last task step (modelling thread)
   /// The common bile duct's surface at rest (the model's), for the tip inside it; null: none.
   const haptics::MeshDatabase* cbd_rest_ = nullptr;
   // Scheduling warnings, published once each (bit 0: the haptic thread's priority, bit 1: the

@@ -17,22 +17,6 @@ uint32_t le32(const std::vector<unsigned char>& b, size_t at) {
          (static_cast<uint32_t>(b[at + 2]) << 16U) | (static_cast<uint32_t>(b[at + 3]) << 24U);
 }
 
-// %XX escapes decoded, as tinygltf decodes a URI before opening it.
-std::string percent_decoded(const std::string& uri) {
-  std::string out;
-  for (size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() &&
-        std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
-        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
-      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      out += uri[i];
-    }
-  }
-  return out;
-}
-
 // A URI shown in a message: printable and not too long (a data: URI can be megabytes).
 std::string shown(const std::string& uri) {
   std::string s;
@@ -78,6 +62,21 @@ std::optional<std::string> uri_problem(const std::string& uri) {
 }
 
 }  // namespace
+
+std::string percent_decoded(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
 
 std::string gltf_json_text(const std::vector<unsigned char>& bytes, bool binary) {
   if (!binary) return std::string(bytes.begin(), bytes.end());

@@ -27,6 +27,9 @@ namespace lap::sim {
 [[nodiscard]] Status check_gltf_references(const std::filesystem::path& file,
                                            const std::string& json_text, bool binary = false);
 
+/// A URI's %XX escapes decoded, as tinygltf decodes one before opening the file it names.
+[[nodiscard]] std::string percent_decoded(const std::string& uri);
+
 /// Whether `path` lies in `folder` or below it once symbolic links and `..` are resolved.
 [[nodiscard]] bool inside_folder(const std::filesystem::path& folder,
                                  const std::filesystem::path& path);

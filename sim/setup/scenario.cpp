@@ -15,6 +15,14 @@ Eigen::Affine3d OrganSpec::transform() const {
   return T;
 }
 
+Eigen::Vector3d CameraSpec::port() const {
+  if (port_m) return *port_m;
+  const Eigen::Vector3d sight = focal_point_m - position_m;
+  const double n = sight.norm();
+  if (!(n > 0.0)) return position_m;
+  return position_m - kDefaultPortDepthM / n * sight;
+}
+
 const ToolSpec* Scenario::tool(ToolSpec::Side side) const {
   const auto it =
       std::find_if(tools.begin(), tools.end(), [&](const ToolSpec& t) { return t.side == side; });

@@ -141,12 +141,28 @@ struct ToolSpec {
   double jaw_length_m = 0.02;
 };
 
-/// The virtual laparoscope.
+/// The virtual laparoscope (thesis §7.8): a scope through its own port, its objective and light
+/// at its tip. `position_m` and `focal_point_m` give the view at the start (and the task
+/// engine's fixed view cone, task_model.h); the scope pivots about `port_m`
+/// (sim/runtime/laparoscope.h).
 struct CameraSpec {
-  Eigen::Vector3d position_m = Eigen::Vector3d(0.0, 0.25, 0.35);
+  Eigen::Vector3d position_m = Eigen::Vector3d(0.0, 0.25, 0.35);  ///< the scope's tip at start
   Eigen::Vector3d focal_point_m = Eigen::Vector3d(0.0, 0.03, 0.0);
   Eigen::Vector3d view_up = Eigen::Vector3d::UnitY();
   double view_angle_deg = 30.0;
+  /// The scope's port on the abdominal wall, the pivot its shaft passes through [m]. Absent:
+  /// kDefaultPortDepthM behind position_m on the line of sight.
+  std::optional<Eigen::Vector3d> port_m;
+  /// The optic's angle between the scope's axis and its line of sight [deg]: 0 (forward
+  /// viewing) or 30 (the usual laparoscope for a cholecystectomy); up to 70.
+  double optics_deg = 0.0;
+  int line = 0;  ///< where the section starts, for later messages
+
+  /// The generated anatomy's camera sits 12 mm inside its port (assets/anatomy/*/anatomy.json:
+  /// parameters.camera_m against the umbilical port).
+  static constexpr double kDefaultPortDepthM = 0.012;
+  /// The port: port_m, or the default above.
+  [[nodiscard]] Eigen::Vector3d port() const;
 };
 
 /// The catheter inserted into the cystic duct (thesis §7.7(3)).

@@ -64,10 +64,12 @@ class ScenarioParser {
 
   void parse_camera(const YAML::Node& n) {
     CameraSpec& c = s_.camera;
-    if (!fields_.expect_map(n, "camera",
-                            {"position_m", "focal_point_m", "view_up", "view_angle_deg"})) {
+    if (!fields_.expect_map(
+            n, "camera",
+            {"position_m", "focal_point_m", "view_up", "view_angle_deg", "port_m", "optics_deg"})) {
       return;
     }
+    c.line = yaml_line(n);
     if (n["position_m"]) {
       if (auto v = fields_.vec3(n["position_m"], "camera.position_m")) c.position_m = *v;
     }
@@ -81,6 +83,27 @@ class ScenarioParser {
                             "from 1 to 120 (degrees)");
     if ((c.position_m - c.focal_point_m).norm() < 1e-6) {
       fields_.problem(n, "camera", "position_m and focal_point_m must differ");
+    }
+    if (n["port_m"]) {
+      if (auto v = fields_.vec3(n["port_m"], "camera.port_m")) {
+        c.port_m = *v;
+        // The scope's tip is inside, past its port: a tip on the port leaves no shaft to pivot.
+        if ((c.position_m - *v).norm() < 1e-3) {
+          fields_.problem(n["port_m"], "camera.port_m",
+                          "expected the port at least 1 mm from position_m (the scope's tip, "
+                          "inside the abdomen)");
+        }
+      }
+    }
+    fields_.optional_number(n, "optics_deg", "camera", c.optics_deg, 0.0, 70.0,
+                            "from 0 to 70 (degrees; laparoscopes are 0, 30, 45 or 70)");
+    // The scope looks from its tip: what it looks at lies beyond it, not behind its port.
+    const Eigen::Vector3d port = c.port();
+    if ((c.position_m - port).norm() >= 1e-3 &&
+        (c.focal_point_m - port).norm() <= (c.position_m - port).norm() + 0.01) {
+      fields_.problem(n, "camera.focal_point_m",
+                      "expected the focal point at least 1 cm beyond the scope's tip (position_m) "
+                      "as seen from its port");
     }
   }
 

@@ -4,6 +4,7 @@
 
 #include "haptics/setup/mesh_repair.h"
 #include "haptics/setup/mesh_validation.h"
+#include "sim/setup/gltf_albedo.h"
 #include "sim/setup/height_image_loader.h"
 #include "sim/setup/mesh_loader.h"
 
@@ -66,6 +67,17 @@ SceneLoadResult load_scene(const Scenario& scenario) {
            spec.mesh.string() + " is not a closed, oriented, outward-facing manifold: " + what +
                (spec.repair ? " (left after repair)" : " (fix the mesh or set repair: true)")});
       continue;
+    }
+    std::string extension = spec.mesh.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (extension == ".gltf" || extension == ".glb") {
+      Result<std::shared_ptr<const haptics::RgbImage>> albedo = load_gltf_albedo(spec.mesh);
+      if (!albedo.ok()) {
+        problems.push_back({scenario.file.string(), spec.line, field, albedo.message()});
+        continue;
+      }
+      // Drawn only where every vertex has its texture coordinate.
+      if (organ.mesh.uvs.size() == organ.mesh.positions.size()) organ.albedo = albedo.value();
     }
     const TextureSpec& texture = spec.material.texture;
     if (texture.kind == TextureSpec::Kind::kImage) {

@@ -11,6 +11,10 @@
 #include "sim/setup/scenario.h"
 #include "sim/setup/scenario_loader.h"
 
+namespace lap::haptics {
+struct RgbImage;  // haptics/setup/albedo_texture.h: only set-up and the app look inside
+}  // namespace lap::haptics
+
 namespace lap::sim {
 
 /// One organ ready for rendering and haptics.
@@ -27,6 +31,9 @@ struct Organ {
   /// The texture mapping's frame (material.texture.mapping, given in the mesh's frame) in the
   /// world, where `mesh` now is.
   Eigen::Isometry3d texture_frame_W = Eigen::Isometry3d::Identity();
+  /// Its colour texture for drawing (a glTF's base colour image, mapped by `mesh.uvs`:
+  /// sim/setup/gltf_albedo.h); null when the mesh file has none (drawn in `color`).
+  std::shared_ptr<const haptics::RgbImage> albedo;
 };
 
 /// The loaded scene.

@@ -11,6 +11,22 @@
 namespace lap::sim {
 namespace {
 
+// Texture coordinates for drawing the duct's shell with its organ's colour texture (the shell
+// replaces the file's mesh, and its uvs with it): in the duct's frame (z its axis), u the angle
+// round the axis mirrored about the x axis (0 to 1 over half a turn, so no seam where u would
+// jump from 1 back to 0), v along the axis in the same arc length per unit.
+void add_duct_texture_coordinates(haptics::TriangleMesh* surface) {
+  double radius = 0.0;
+  for (const Eigen::Vector3d& p : surface->positions) radius += p.head<2>().norm();
+  radius /= std::max<double>(1.0, static_cast<double>(surface->positions.size()));
+  const double v_per_m = 1.0 / std::max(M_PI * radius, 1e-6);
+  surface->uvs.clear();
+  surface->uvs.reserve(surface->positions.size());
+  for (const Eigen::Vector3d& p : surface->positions) {
+    surface->uvs.emplace_back(std::abs(std::atan2(p.y(), p.x())) / M_PI, p.z() * v_per_m);
+  }
+}
+
 // The duct's lumen from its shell at rest (its length, the mid-surface's mean radius) and the
 // incision in its frame, half axes widened by the largest edge of an open face and the
 // catheter's radius: the hole the catheter's contacts let it through (duct_incision.h).
@@ -99,6 +115,7 @@ Status TissueModel::add_organ(const Organ& organ, int32_t index, std::vector<std
       duct_.organ = index;
       t.kind = TissueKind::kDuct;
       t.surface = models::triangulate(shell.mesh);
+      add_duct_texture_coordinates(&t.surface);
       t.surface.transform(Eigen::Affine3d(fit.pose_WD.matrix()));
       t.contact.clearance_m += 0.5 * settings_.duct_wall_thickness_m;  // its mid-surface
       t.contact.keep_side = true;  // the catheter may be inside or outside

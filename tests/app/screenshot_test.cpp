@@ -1,6 +1,8 @@
 // Runs the real application under Xvfb (ctest wraps this binary in xvfb-run), asks it for a
-// screenshot of the default scenario, and checks the picture: not blank, and each organ's colour
-// where a pinhole projection of the scenario's camera says the organ is.
+// screenshot of the default scenario, and checks the picture: not blank; each organ's colour
+// where a pinhole projection of the laparoscope's view (sim/runtime/laparoscope.h, at the
+// scenario's camera) says the organ is; the instruments' steel tips where their devices put them
+// at the start; the heads-up display's texts along the top edge and its gauges at the bottom.
 
 #include <gtest/gtest.h>
 
@@ -13,6 +15,8 @@
 #include <set>
 
 #include "hardware/device_recording.h"
+#include "sim/runtime/laparoscope.h"
+#include "sim/setup/device_factory.h"
 #include "sim/setup/scene.h"
 #include "tests/test_support.h"
 
@@ -24,18 +28,47 @@ struct Pixel {
   double row;
 };
 
-// VTK's perspective camera: vertical view angle, image aspect ratio, y up in the image.
-Pixel project(const sim::CameraSpec& cam, const Eigen::Vector3d& p, int width, int height) {
-  const Eigen::Vector3d forward = (cam.focal_point_m - cam.position_m).normalized();
-  const Eigen::Vector3d right = forward.cross(cam.view_up).normalized();
+// VTK's perspective camera at the scope's view: vertical view angle, image aspect ratio, y up
+// in the image.
+Pixel project(const sim::LaparoscopeView& cam, const Eigen::Vector3d& p, int width, int height) {
+  const Eigen::Vector3d forward = cam.view_dir_W;
+  const Eigen::Vector3d right = forward.cross(cam.up_W).normalized();
   const Eigen::Vector3d up = right.cross(forward);
-  const Eigen::Vector3d d = p - cam.position_m;
+  const Eigen::Vector3d d = p - cam.eye_W;
   const double depth = d.dot(forward);
   const double t = std::tan(0.5 * cam.view_angle_deg * M_PI / 180.0);
   const double aspect = static_cast<double>(width) / height;
   const double x_ndc = d.dot(right) / depth / (t * aspect);
   const double y_ndc = d.dot(up) / depth / t;
   return {(x_ndc + 1.0) * 0.5 * width, (1.0 - y_ndc) * 0.5 * height};
+}
+
+// The laparoscope's view at the start: the scenario's camera as a scope through its port.
+sim::LaparoscopeView scope_view(const sim::Scene& scene) {
+  const auto model = sim::LaparoscopeModel::build(scene.scenario.camera);
+  EXPECT_TRUE(model.ok()) << model.message();
+  return sim::laparoscope_view(model.value(), model.value().home);
+}
+
+// Grey (steel, a text's white) rather than tissue: bright and unsaturated.
+bool steel_grey(const QColor& c) {
+  const int hi = std::max({c.red(), c.green(), c.blue()});
+  const int lo = std::min({c.red(), c.green(), c.blue()});
+  return hi > 70 && hi - lo < 0.25 * hi;
+}
+
+bool white(const QColor& c) { return c.red() > 200 && c.green() > 200 && c.blue() > 200; }
+
+// How many pixels in the rectangle satisfy `is`.
+template <class Is>
+int count(const QImage& image, int x0, int y0, int x1, int y1, Is is) {
+  int n = 0;
+  for (int y = std::max(0, y0); y < std::min(image.height(), y1); ++y) {
+    for (int x = std::max(0, x0); x < std::min(image.width(), x1); ++x) {
+      n += is(image.pixelColor(x, y)) ? 1 : 0;
+    }
+  }
+  return n;
 }
 
 // Which organ colour (by chromaticity, so shading does not matter) a pixel is closest to; -1 for
@@ -63,7 +96,7 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
   const auto scenario = source_dir() / "scenarios/default.yaml";
   const CommandResult r =
       run_command((bin_dir() / "laptrainer").string() + " --scenario " + scenario.string() +
-                  " --screenshot " + png.string() + " --frames 5");
+                  " --screenshot " + png.string() + " --frames 20");
   ASSERT_EQ(r.exit_code, 0) << r.err;
 
   QImage image(QString::fromStdString(png.string()));
@@ -94,13 +127,14 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
   std::vector<Eigen::Vector3d> organ_colours;
   for (const auto& o : scene.value().organs) organ_colours.push_back(o.color);
 
+  const sim::LaparoscopeView cam = scope_view(scene.value());
   for (size_t i = 0; i < scene.value().organs.size(); ++i) {
     const sim::Organ& organ = scene.value().organs[i];
     // The median of the projected vertices lies inside the organ's silhouette.
     std::vector<double> cols;
     std::vector<double> rows;
     for (const auto& p : organ.mesh.positions) {
-      const Pixel px = project(scene.value().scenario.camera, p, image.width(), image.height());
+      const Pixel px = project(cam, p, image.width(), image.height());
       cols.push_back(px.col);
       rows.push_back(px.row);
     }
@@ -127,6 +161,36 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
   for (const auto& [x, y] : {std::pair{2, 2}, std::pair{image.width() - 3, image.height() - 3}}) {
     EXPECT_EQ(classify(image.pixelColor(x, y), organ_colours), -1) << "corner " << x << "," << y;
   }
+
+  // The instruments: each simulated tool starts with its tip (the jaws' hinge) 10 cm inside its
+  // port, pointing at the task's target (sim::default_handle_position), touching nothing; its
+  // steel clevis is drawn from the hinge 12 mm up the shaft. Grey steel round its middle.
+  for (int side = 0; side < 2; ++side) {
+    const sim::ToolSpec* tool = scene.value().scenario.tool(
+        side == 0 ? sim::ToolSpec::Side::kLeft : sim::ToolSpec::Side::kRight);
+    ASSERT_NE(tool, nullptr);
+    const Eigen::Vector3d port = scene.value().scenario.trocar(tool->trocar)->position_m;
+    const Eigen::Vector3d axis = (scene.value().task_target_point() - port).normalized();
+    const Eigen::Vector3d clevis = port + (0.10 - 0.006) * axis;
+    const Pixel px = project(cam, clevis, image.width(), image.height());
+    const int x = static_cast<int>(px.col);
+    const int y = static_cast<int>(px.row);
+    ASSERT_TRUE(image.valid(x, y)) << "tool " << side << " projects outside the image";
+    EXPECT_GE(count(image, x - 4, y - 4, x + 5, y + 5, steel_grey), 8)
+        << "no steel at tool " << side << "'s clevis, pixel (" << x << ", " << y << ")";
+  }
+
+  // The heads-up display: white text along the top edge (the instruction at the left, the timer
+  // at the right) and the gauges' white threshold marks in the bottom corners; the middle of
+  // the picture free of it (no white text there: the organs' highlights are small).
+  const int w = image.width();
+  const int h = image.height();
+  EXPECT_GE(count(image, 0, 0, w / 2, h / 8, white), 100) << "no instruction at the top left";
+  EXPECT_GE(count(image, 3 * w / 4, 0, w, h / 8, white), 60) << "no timer at the top right";
+  EXPECT_GE(count(image, 0, 7 * h / 8, w / 3, h, white), 40) << "no gauge at the bottom left";
+  EXPECT_GE(count(image, 2 * w / 3, 7 * h / 8, w, h, white), 40) << "no gauge at the bottom right";
+  EXPECT_LT(count(image, w / 4, h / 3, 3 * w / 4, 2 * h / 3, white), w * h / 400)
+      << "white over the middle of the field";
 }
 
 // The resident's session is saved when it ends (--record DIR): the inputs of both tools, which

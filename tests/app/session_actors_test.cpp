@@ -3,6 +3,8 @@
 // database built afresh over it is the reference), and a vertex the next snapshot no longer
 // displaces is back at rest. VTK objects only: no window, no display needed.
 
+#include "app/session_actors.h"
+
 #include <gtest/gtest.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -13,7 +15,6 @@
 #include <cstdio>
 #include <vector>
 
-#include "app/tool_actors.h"
 #include "haptics/mesh_database.h"
 #include "haptics/setup/mesh_generators.h"
 
@@ -72,7 +73,10 @@ TEST(SessionActors, AnOrganIsDrawnDentedAndLitAsItsDentedShape) {
   const haptics::TriangleMesh sphere = haptics::make_uv_sphere(0.05, 40, 80);
   vtkNew<vtkRenderer> renderer;
   SessionActors actors;
-  actors.add_organs(renderer, {&sphere}, {Eigen::Vector3d(0.8, 0.3, 0.3)});
+  SessionDrawing drawing;
+  drawing.surfaces = {&sphere};
+  drawing.looks = {{Eigen::Vector3d(0.8, 0.3, 0.3), nullptr}};
+  actors.add(renderer, drawing);
   vtkPolyData* poly = actors.organ_poly(0);
   ASSERT_EQ(poly->GetNumberOfPoints(), sphere.vertex_count());
 

@@ -32,7 +32,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 
-#include "app/tool_actors.h"
+#include "app/session_actors.h"
 #endif
 
 namespace lap::bench {
@@ -164,43 +164,47 @@ void BM_RuntimeLoopRendered(benchmark::State& state) {
   double update_s = 0.0;  // taking up the snapshots into the actors
   double render_s = 0.0;  // drawing
   int64_t drawn = 0;
-  run_runtime(state, true,
-              [&](sim::Session& session, const std::atomic<bool>& done, int64_t* frames) {
-                vtkNew<vtkRenderWindow> window;
-                window->SetOffScreenRendering(1);
-                window->SetMultiSamples(0);  // as the app's view (app/vtk_view.cpp)
-                window->SetSize(1024, 720);
-                vtkNew<vtkRenderer> renderer;
-                window->AddRenderer(renderer);
-                vtkNew<vtkLight> light;
-                light->SetLightTypeToHeadlight();
-                renderer->AddLight(light);
-                std::vector<const haptics::TriangleMesh*> surfaces;
-                std::vector<Eigen::Vector3d> colours;
-                for (int32_t i = 0; i < session.organ_count(); ++i) {
-                  surfaces.push_back(&session.organ_surface(i));
-                  colours.emplace_back(0.8, 0.4, 0.35);
-                }
-                app::SessionActors actors;
-                actors.add_organs(renderer, surfaces, colours);
-                actors.add_to(renderer, {session.tool_geometry(0), session.tool_geometry(1)},
-                              static_cast<int>(session.graphics_model().catheter.size()));
-                renderer->ResetCamera();
-                auto next = std::chrono::steady_clock::now();
-                while (!done.load()) {
-                  const auto t0 = std::chrono::steady_clock::now();
-                  actors.update(session.graphics_haptic(), session.graphics_model());
-                  const auto t1 = std::chrono::steady_clock::now();
-                  window->Render();
-                  const auto t2 = std::chrono::steady_clock::now();
-                  update_s += std::chrono::duration<double>(t1 - t0).count();
-                  render_s += std::chrono::duration<double>(t2 - t1).count();
-                  ++*frames;
-                  next += std::chrono::microseconds(16667);
-                  std::this_thread::sleep_until(next);
-                }
-                drawn = *frames;
-              });
+  run_runtime(
+      state, true, [&](sim::Session& session, const std::atomic<bool>& done, int64_t* frames) {
+        vtkNew<vtkRenderWindow> window;
+        window->SetOffScreenRendering(1);
+        window->SetMultiSamples(0);  // as the app's view (app/vtk_view.cpp)
+        window->SetSize(1024, 720);
+        vtkNew<vtkRenderer> renderer;
+        window->AddRenderer(renderer);
+        vtkNew<vtkLight> light;
+        light->SetLightTypeToHeadlight();
+        renderer->AddLight(light);
+        // What the app draws (app/session_actors.h), untextured.
+        app::SessionDrawing drawing;
+        for (int32_t i = 0; i < session.organ_count(); ++i) {
+          drawing.surfaces.push_back(&session.organ_surface(i));
+          drawing.looks.push_back({Eigen::Vector3d(0.8, 0.4, 0.35), nullptr});
+        }
+        for (size_t i = 0; i < 2; ++i) {
+          drawing.instruments[i].gripper = session.model().tool(i).gripper;
+          drawing.instruments[i].port_W = session.model().tool(i).trocar.port_W;
+        }
+        drawing.catheter_points = session.model().tissue().catheter_model().particle_count();
+        drawing.catheter_radius_m = session.model().tissue().catheter_model().radius_m();
+        app::SessionActors actors;
+        actors.add(renderer, drawing);
+        renderer->ResetCamera();
+        auto next = std::chrono::steady_clock::now();
+        while (!done.load()) {
+          const auto t0 = std::chrono::steady_clock::now();
+          actors.update(session.graphics_haptic(), session.graphics_model());
+          const auto t1 = std::chrono::steady_clock::now();
+          window->Render();
+          const auto t2 = std::chrono::steady_clock::now();
+          update_s += std::chrono::duration<double>(t1 - t0).count();
+          render_s += std::chrono::duration<double>(t2 - t1).count();
+          ++*frames;
+          next += std::chrono::microseconds(16667);
+          std::this_thread::sleep_until(next);
+        }
+        drawn = *frames;
+      });
   if (drawn > 0) {
     state.counters["mean_actor_update_ms"] = 1e3 * update_s / static_cast<double>(drawn);
     state.counters["mean_render_ms"] = 1e3 * render_s / static_cast<double>(drawn);

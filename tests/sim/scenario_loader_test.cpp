@@ -246,6 +246,36 @@ TEST_F(ScenarioFixture, Bad23_CameraViewAngleTooWide) {
              "35: camera.view_angle_deg: expected a number from 1 to 120 (degrees), got 170");
 }
 
+TEST_F(ScenarioFixture, Bad23b_LaparoscopeOpticsAndPort) {
+  expect_one(load_with(35, "  view_angle_deg: 30\n  optics_deg: 90"),
+             "36: camera.optics_deg: expected a number from 0 to 70 (degrees; laparoscopes are "
+             "0, 30, 45 or 70), got 90");
+  expect_one(load_with(35, "  view_angle_deg: 30\n  port_m: [0, 0.25, 0.35]"),
+             "36: camera.port_m: expected the port at least 1 mm from position_m (the scope's "
+             "tip, inside the abdomen)");
+  // A port beyond what the scope looks at: the focal point would lie behind the tip.
+  expect_one(load_with(35, "  view_angle_deg: 30\n  port_m: [0, -0.1, -0.1]"),
+             "35: camera.focal_point_m: expected the focal point at least 1 cm beyond the "
+             "scope's tip (position_m) as seen from its port");
+}
+
+// The laparoscope's port and optic (scenarios/README.md): absent, the port is 12 mm behind the
+// camera's position on its line of sight and the optic looks straight ahead; given, as given.
+TEST_F(ScenarioFixture, TheLaparoscopesPortAndOptic) {
+  const ScenarioLoadResult plain = load_with(0, "");
+  ASSERT_TRUE(plain.ok()) << all(plain);
+  const CameraSpec& c = plain.value().camera;
+  EXPECT_FALSE(c.port_m.has_value());
+  EXPECT_EQ(c.optics_deg, 0.0);
+  const Eigen::Vector3d sight = (c.focal_point_m - c.position_m).normalized();
+  EXPECT_LT((c.port() - (c.position_m - 0.012 * sight)).norm(), 1e-15);
+  const ScenarioLoadResult scope =
+      load_with(35, "  view_angle_deg: 30\n  port_m: [0.01, 0.26, 0.37]\n  optics_deg: 30");
+  ASSERT_TRUE(scope.ok()) << all(scope);
+  EXPECT_EQ(scope.value().camera.port(), Eigen::Vector3d(0.01, 0.26, 0.37));
+  EXPECT_EQ(scope.value().camera.optics_deg, 30.0);
+}
+
 TEST_F(ScenarioFixture, Bad24_OrganNameNotAnIdentifier) {
   expect_one(load_with(4, "  - name: Big Liver"),
              "4: organs[0].name: expected lower-case letters, digits and underscores starting "

@@ -126,6 +126,37 @@ TEST(Session, FastRunsAreDeterministicAndTouchTheOrgans) {
   EXPECT_EQ(ma.recorded_ticks, 2002);
 }
 
+// The graphics draw the tools where their proxies are (session.h ToolSnapshot): a segment in
+// contact is published pushed out of the organ along its contacts' normal, where the device
+// has gone in; a segment touching nothing is where the device puts it.
+TEST(Session, TheHapticSnapshotCarriesTheToolsProxies) {
+  auto session = scripted_session(fast(static_cast<double>(kPressingTick) * 1e-3));
+  session->run();
+  const HapticSnapshot& h = session->graphics_haptic();
+  const haptics::LaparoscopicGripper gripper(session->tool_geometry(0));
+  std::array<Eigen::Vector3d, 3> a;
+  std::array<Eigen::Vector3d, 3> b;
+  const ToolSnapshot& left = h.tools[0];
+  gripper.segments(left.pose, &a, &b);
+  int touching = 0;
+  for (size_t s = 0; s < 3; ++s) {
+    ASSERT_TRUE(left.proxy_a_W[s].allFinite() && left.proxy_b_W[s].allFinite());
+    if (left.proxy_normal_W[s].isZero()) {
+      EXPECT_LT((left.proxy_a_W[s] - a[s]).norm(), 1e-9) << "segment " << s;
+      EXPECT_LT((left.proxy_b_W[s] - b[s]).norm(), 1e-9) << "segment " << s;
+      continue;
+    }
+    ++touching;
+    EXPECT_NEAR(left.proxy_normal_W[s].norm(), 1.0, 1e-12);
+    // Out of the tissue: the proxy's ends are no deeper along the normal than the device's,
+    // and at least one is clear of it.
+    const double out_a = (left.proxy_a_W[s] - a[s]).dot(left.proxy_normal_W[s]);
+    const double out_b = (left.proxy_b_W[s] - b[s]).dot(left.proxy_normal_W[s]);
+    EXPECT_GT(std::max(out_a, out_b), 1e-5) << "segment " << s;
+  }
+  EXPECT_GT(touching, 0) << "the left tool presses the organs at tick " << kPressingTick;
+}
+
 TEST(Session, AReplayReproducesTheRecordedSessionBitForBit) {
   auto original = scripted_session(fast(2.5));
   const SessionMetrics m = original->run();
