@@ -177,6 +177,12 @@ Result<SessionRecord> read_session_record(const std::filesystem::path& dir) {
 }
 
 Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
+  return replay_session(dir, {});
+}
+
+Result<ReplayedSession> replay_session(
+    const std::filesystem::path& dir,
+    const std::function<void(Session& session, const Scene& scene)>& prepare) {
   Result<SessionRecord> record = read_session_record(dir);
   if (!record.ok()) return record.diagnostics();
   ReplayedSession out;
@@ -252,6 +258,7 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir) {
   }
   auto session = Session::create(scene.value(), std::move(devices), rs);
   if (!session.ok()) return session.diagnostics();
+  if (prepare) prepare(*session.value(), scene.value());
   out.metrics = session.value()->run();
   return out;
 }

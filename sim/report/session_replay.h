@@ -12,12 +12,14 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "core/result.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/runtime_settings.h"
+#include "sim/setup/scene.h"
 
 namespace lap::sim {
 
@@ -64,5 +66,10 @@ struct ReplayedSession {
 /// recorded scenario, in lockstep (RuntimeSettings::fast), with the recorded rates, duration
 /// and dominant hand.
 [[nodiscard]] Result<ReplayedSession> replay_session(const std::filesystem::path& dir);
+/// The same, with `prepare` given the session (and the scene it was built from) before it runs:
+/// the review keeps its frames through Session::observe_fast.
+[[nodiscard]] Result<ReplayedSession> replay_session(
+    const std::filesystem::path& dir,
+    const std::function<void(Session& session, const Scene& scene)>& prepare);
 
 }  // namespace lap::sim
