@@ -11,6 +11,8 @@
 #include <iostream>
 #include <string>
 
+#include "app/review/review_window.h"
+
 namespace lap::app {
 
 MainWindow::MainWindow() {
@@ -25,6 +27,15 @@ MainWindow::MainWindow() {
                   &MainWindow::screenshot_dialog);
   file->addAction("&End and Save Session...", QKeySequence::Save, this,
                   &MainWindow::save_session_dialog);
+  // The instructor's review opens as its own window (app/review/README.md).
+  file->addAction("&Review Sessions...", this, [this] {
+    Result<ReviewWindow*> review = ReviewWindow::open_default(QString());
+    if (review.ok()) {
+      review.value()->show();
+    } else {
+      QMessageBox::warning(this, "Review", QString::fromStdString(review.message()));
+    }
+  });
   file->addSeparator();
   file->addAction("&Quit", QKeySequence::Quit, qApp, &QApplication::quit);
 

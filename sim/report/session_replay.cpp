@@ -253,6 +253,12 @@ std::vector<std::filesystem::path> replay_scenario_folders(const std::filesystem
 
 Result<ReplayedSession> replay_session(const std::filesystem::path& dir,
                                        const ReplaySettings& settings) {
+  return replay_session(dir, settings, {});
+}
+
+Result<ReplayedSession> replay_session(
+    const std::filesystem::path& dir, const ReplaySettings& settings,
+    const std::function<void(Session& session, const Scene& scene)>& prepare) {
   Result<SessionRecord> record = read_session_record(dir);
   if (!record.ok()) return record.diagnostics();
   ReplayedSession out;
@@ -360,6 +366,7 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir,
   }
   auto session = Session::create(scene.value(), std::move(devices), rs);
   if (!session.ok()) return session.diagnostics();
+  if (prepare) prepare(*session.value(), scene.value());
   out.metrics = session.value()->run();
   return out;
 }

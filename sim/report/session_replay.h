@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -26,6 +27,7 @@
 #include "sim/runtime/session.h"
 #include "sim/setup/content_digest.h"
 #include "sim/setup/runtime_settings.h"
+#include "sim/setup/scene.h"
 
 namespace lap::sim {
 
@@ -95,5 +97,10 @@ struct ReplaySettings {
 /// rates, duration and dominant hand.
 [[nodiscard]] Result<ReplayedSession> replay_session(const std::filesystem::path& dir,
                                                      const ReplaySettings& settings = {});
+/// The same, with `prepare` given the session (and the scene it was built from) before it runs:
+/// the review keeps its frames through Session::observe_fast.
+[[nodiscard]] Result<ReplayedSession> replay_session(
+    const std::filesystem::path& dir, const ReplaySettings& settings,
+    const std::function<void(Session& session, const Scene& scene)>& prepare);
 
 }  // namespace lap::sim

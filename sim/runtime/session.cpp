@@ -763,6 +763,9 @@ void Session::run_fast() {
       model_tick(tick);
       model_stats_.add(0.0, seconds_since(b));
     }
+    if (fast_observer_ && tick % fast_observe_every_ == 0) {
+      fast_observer_(tick, to_graphics_.latest(), model_to_graphics_.latest());
+    }
     if (tools_[0].finished && tools_[1].finished) break;
   }
   const double elapsed = seconds_since(t0);

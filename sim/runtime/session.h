@@ -34,9 +34,11 @@
 /// (sim/setup/session_model.h) that both loops read `const`; the session owns only state,
 /// buffers and threads.
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -237,6 +239,18 @@ class Session {
   /// The free bodies (haptic thread's state: read after run(), or in fast mode between ticks).
   [[nodiscard]] const MovingBodies& bodies() const { return bodies_; }
 
+  /// A fast session's frames for review (the instructor's replay, app/review): before run(),
+  /// `observer` is called on the running thread after every `every_ticks`-th haptic tick (and
+  /// its modelling step) with the newest haptic and model snapshots. It takes the graphics
+  /// loop's place as their reader, and may allocate: never in a live session (real time: not
+  /// called).
+  using FastObserver =
+      std::function<void(int64_t tick, const HapticSnapshot& haptic, const ModelSnapshot& model)>;
+  void observe_fast(FastObserver observer, int64_t every_ticks) {
+    fast_observer_ = std::move(observer);
+    fast_observe_every_ = std::max<int64_t>(1, every_ticks);
+  }
+
   /// The graphics loop (one reader): the newest haptic and model snapshots.
   const HapticSnapshot& graphics_haptic() { return to_graphics_.latest(); }
   const ModelSnapshot& graphics_model() { return model_to_graphics_.latest(); }
@@ -351,6 +365,9 @@ class Session {
   std::atomic<uint8_t> scheduling_flags_{0};
   // The proxies' surfaces: three copies, brought up to date by the modelling thread.
   hardware::TripleBuffer<std::unique_ptr<HapticSurfaces>> surfaces_to_haptic_;
+
+  FastObserver fast_observer_;  ///< observe_fast(): review only, fast mode
+  int64_t fast_observe_every_ = 1;
 
   // Exchange (each buffer: one writer, one reader).
   hardware::TripleBuffer<HapticSnapshot> to_model_;

@@ -1,0 +1,110 @@
+#include "sim/report/replay_timeline.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lap::sim {
+
+SurfaceDeformation compact(const SurfaceDeformation& d) {
+  const auto n = static_cast<size_t>(std::max<int32_t>(0, d.count));
+  SurfaceDeformation c(0);
+  c.count = d.count;
+  c.vertex.assign(d.vertex.begin(), d.vertex.begin() + static_cast<std::ptrdiff_t>(n));
+  c.position.assign(d.position.begin(), d.position.begin() + static_cast<std::ptrdiff_t>(n));
+  return c;
+}
+
+Result<ReplayTimeline> ReplayTimeline::replay(const std::filesystem::path& dir,
+                                              double frame_period_s,
+                                              const std::function<bool(double)>& progress) {
+  if (!(frame_period_s > 0.0) || !std::isfinite(frame_period_s)) {
+    return diagnostic("replay: frame period: expected a positive number of seconds");
+  }
+  ReplayTimeline timeline;
+  bool stopped = false;
+  Result<ReplayedSession> replayed =
+      replay_session(dir, {}, [&](Session& session, const Scene& scene) {
+        ReplayScene& s = timeline.scene_;
+        for (int32_t o = 0; o < session.organ_count(); ++o) {
+          s.organ_surfaces.push_back(session.organ_surface(o));
+        }
+        for (const Organ& o : scene.organs) s.organ_colours.push_back(o.color);
+        s.tools = {session.tool_geometry(0), session.tool_geometry(1)};
+        s.camera = scene.scenario.camera;
+        const SessionTiming& timing = session.model().timing();
+        const double dt_s = timing.dt_s;
+        const double max_ticks = std::max<double>(1.0, static_cast<double>(timing.max_ticks));
+        const auto every =
+            std::max<int64_t>(1, static_cast<int64_t>(std::llround(frame_period_s / dt_s)));
+        timeline.frames_.reserve(static_cast<size_t>(max_ticks / static_cast<double>(every)) + 2);
+        session.observe_fast(
+            [&timeline, &session, &stopped, &progress, dt_s, max_ticks](
+                int64_t tick, const HapticSnapshot& haptic, const ModelSnapshot& model) {
+              ReplayFrame f;
+              f.tick = tick;
+              f.t_s = static_cast<double>(tick) * dt_s;
+              for (size_t i = 0; i < 2; ++i) f.tools[i] = haptic.tools[i].pose;
+              f.model_steps = model.steps;
+              f.catheter = model.catheter;
+              f.organs.reserve(model.organs.size());
+              for (const SurfaceDeformation& d : model.organs) f.organs.push_back(compact(d));
+              if (timeline.scene_.catheter_points == 0) {
+                timeline.scene_.catheter_points = static_cast<int>(model.catheter.size());
+              }
+              timeline.frames_.push_back(std::move(f));
+              if (progress && !progress(static_cast<double>(tick) / max_ticks)) {
+                stopped = true;
+                session.request_stop();
+              }
+            },
+            every);
+      });
+  if (!replayed.ok()) return replayed.diagnostics();
+  timeline.session_ = std::move(replayed).value();
+  if (stopped) {
+    timeline.session_.notes.push_back("the replay was stopped at " +
+                                      std::to_string(timeline.duration_s()) +
+                                      " s: its figures cover that much of the session");
+  }
+  return timeline;
+}
+
+ReplayTimeline ReplayTimeline::from_frames(ReplayScene scene, std::vector<ReplayFrame> frames) {
+  ReplayTimeline t;
+  t.scene_ = std::move(scene);
+  t.frames_ = std::move(frames);
+  return t;
+}
+
+size_t ReplayTimeline::seek(double t_s) const {
+  if (frames_.empty()) return 0;
+  // The first frame after t, then one back: the frame at or before t. A frame's time is
+  // tick × period and a time asked for is often a rounded one (the scrub bar's milliseconds):
+  // a nanosecond's tolerance keeps 9.95 from landing on the frame before 9.950000000000001.
+  constexpr double kToleranceS = 1e-9;
+  const auto after = std::upper_bound(frames_.begin(), frames_.end(), t_s + kToleranceS,
+                                      [](double t, const ReplayFrame& f) { return t < f.t_s; });
+  if (after == frames_.begin()) return 0;
+  return static_cast<size_t>(after - frames_.begin()) - 1;
+}
+
+double ReplayTimeline::duration_s() const { return frames_.empty() ? 0.0 : frames_.back().t_s; }
+
+void ReplayTimeline::snapshots(size_t i, HapticSnapshot* haptic, ModelSnapshot* model) const {
+  if (frames_.empty()) return;
+  const ReplayFrame& f = frames_[std::min(i, frames_.size() - 1)];
+  haptic->tick = f.tick;
+  for (size_t k = 0; k < 2; ++k) haptic->tools[k].pose = f.tools[k];
+  model->tick = f.tick;
+  model->steps = f.model_steps;
+  model->catheter.assign(f.catheter.begin(), f.catheter.end());
+  model->organs.resize(f.organs.size());
+  for (size_t o = 0; o < f.organs.size(); ++o) {
+    SurfaceDeformation& d = model->organs[o];
+    d.count = f.organs[o].count;
+    d.vertex.assign(f.organs[o].vertex.begin(), f.organs[o].vertex.end());
+    d.position.assign(f.organs[o].position.begin(), f.organs[o].position.end());
+  }
+}
+
+}  // namespace lap::sim
