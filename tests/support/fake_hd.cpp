@@ -13,17 +13,18 @@
 #include <thread>
 #include <vector>
 
+#include "hardware/open_haptics_api.h"
+
 namespace {
 
-using HHD = unsigned int;
-using HDenum = unsigned int;
-using HDCallbackCode = unsigned int;
-using Callback = HDCallbackCode (*)(void*);
-struct HDErrorInfo {
-  unsigned int errorCode;
-  int internalErrorCode;
-  HHD hHD;
-};
+// The driver's own declarations of the HD API's types (hardware/open_haptics_api.h): the driver
+// calls these functions through pointers of exactly these types, which clang's
+// -fsanitize=function checks against the definitions here.
+using lap::hardware::hd::HDCallbackCode;
+using lap::hardware::hd::HDenum;
+using lap::hardware::hd::HDErrorInfo;
+using lap::hardware::hd::HHD;
+using Callback = lap::hardware::hd::HDSchedulerCallback;
 
 struct Device {
   std::string name;
