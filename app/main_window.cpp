@@ -6,9 +6,11 @@
 #include <QFileDialog>
 #include <QGuiApplication>
 #include <QHBoxLayout>
+#include <QHash>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QScreen>
+#include <QSet>
 #include <QStatusBar>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -94,6 +96,16 @@ MainWindow::MainWindow() {
     statusBar()->addPermanentWidget(mouse_label);
   }
   connect(run_->operative(), &OperativeView::figures_updated, this, &MainWindow::update_status);
+
+  // The session database: the trainees' attempts. Without it the window still trains; the
+  // result page says why no attempts are shown.
+  Result<std::unique_ptr<SessionStore>> opened = SessionStore::open_default();
+  if (opened.ok()) {
+    store_ = std::move(opened).value();
+  } else {
+    store_problem_ = QString::fromStdString(opened.message());
+    std::cerr << "laptrainer: the session database did not open: " << opened.message() << "\n";
+  }
 
   // What the station remembers.
   device_texts_ = settings_.devices();
@@ -235,6 +247,11 @@ void MainWindow::sign_in(const QString& trainee) {
   direct_ = false;
   settings_.remember_trainee(trainee);
   settings_.sync();
+  if (store_) {
+    if (const Status added = store_->add_trainee(trainee); !added.ok()) {
+      std::cerr << "laptrainer: " << added.message() << "\n";
+    }
+  }
   show_scenarios();
 }
 
@@ -321,14 +338,15 @@ std::array<hardware::DeviceSpec, 2> MainWindow::parsed_devices() const {
 
 void MainWindow::start_attempt() {
   if (!scene_ || trainee_.isEmpty()) return;
-  const Result<fs::path> root = sessions_root();
+  const Result<fs::path> root = recordings_root();
   if (!root.ok()) {
     QMessageBox::warning(this, "Cannot start", QString::fromStdString(root.message()));
     return;
   }
   const QString devices = QString("left=%1; right=%2").arg(device_texts_[0], device_texts_[1]);
-  Result<AttemptRecord> begun = begin_attempt(root.value(), trainee_, scenario_.file,
-                                              QString::fromStdString(scenario_.name), devices);
+  Result<SessionRow> begun =
+      begin_attempt(root.value(), trainee_, scenario_.file, QString::fromStdString(scenario_.name),
+                    devices, store_ ? store_->connection().station : QString());
   if (!begun.ok()) {
     QMessageBox::warning(this, "Cannot start", QString::fromStdString(begun.message()));
     return;
@@ -350,7 +368,7 @@ void MainWindow::start_attempt() {
     // Nothing was recorded: the attempt's folder goes.
     std::error_code ec;
     fs::remove_all(attempt_.recording_dir.toStdString(), ec);
-    attempt_ = AttemptRecord{};
+    attempt_ = SessionRow{};
     go(Step::kDevices);
     QMessageBox::warning(this, "The session did not start",
                          QString::fromStdString(started.message()));
@@ -408,18 +426,21 @@ Status MainWindow::finish_session(bool show) {
     }
   }
   if (show) {
-    const AttemptRecord shown = attempt ? attempt_ : [&] {
-      AttemptRecord r;
+    const SessionRow shown = attempt ? attempt_ : [&] {
+      SessionRow r;
       finish_attempt(report, &r);
       r.recording_dir = record_dir_;
       return r;
     }();
-    result_->show_result(
-        report, shown,
-        attempt ? attempts_on(attempt_.scenario_file) : std::vector<AttemptRecord>{});
+    QString why;
+    const std::vector<SessionRow> attempts =
+        attempt ? attempts_on(attempt_.scenario_file, &why) : std::vector<SessionRow>{};
+    result_->show_result(report, shown, attempts);
     if (!attempt) {
       result_->show_attempts_unavailable(
           "Started from the command line without signing in: this attempt is not filed.");
+    } else if (!why.isEmpty()) {
+      result_->show_attempts_unavailable(why);
     }
     go(Step::kResult);
   }
@@ -525,18 +546,71 @@ void MainWindow::update_status() {
 
 // --- The session database (app/store): the trainee's attempts. ---
 
-std::vector<AttemptRecord> MainWindow::attempts_on(const QString& scenario_file) const {
-  (void)scenario_file;
-  return {};
+std::vector<SessionRow> MainWindow::attempts_on(const QString& scenario_file, QString* why) const {
+  if (!store_) {
+    *why = "The session database is not available: " + store_problem_;
+    return {};
+  }
+  Result<std::vector<SessionRow>> rows = store_->sessions(trainee_, scenario_file);
+  if (!rows.ok()) {
+    *why = QString::fromStdString(rows.message());
+    return {};
+  }
+  why->clear();
+  return std::move(rows).value();
 }
 
-QStringList MainWindow::known_trainees() const { return settings_.recent_trainees(); }
-
-Status MainWindow::file(const AttemptRecord& record) {
-  (void)record;
-  return {};
+QStringList MainWindow::known_trainees() const {
+  // This station's, most recent first, then the database's (a programme's server: everyone's).
+  QStringList out = settings_.recent_trainees();
+  if (store_) {
+    const Result<std::vector<QString>> all = store_->trainees();
+    if (all.ok()) {
+      for (const QString& t : all.value()) {
+        if (!out.contains(t)) out << t;
+      }
+    }
+  }
+  return out;
 }
 
-void MainWindow::file_unfiled_attempts() {}
+Status MainWindow::file(const SessionRow& record) {
+  if (!store_) return diagnostic("not filed: " + store_problem_.toStdString());
+  return store_->add_session(record);
+}
+
+void MainWindow::file_unfiled_attempts() {
+  if (!store_) return;
+  const Result<fs::path> root = recordings_root();
+  if (!root.ok()) return;
+  // Filed already: by uuid, among the sessions of the trainee each folder names.
+  QHash<QString, QSet<QString>> filed;
+  const UnfiledAttempts found = unfiled_attempts(root.value(), [&](const SessionRow& header) {
+    if (!filed.contains(header.trainee)) {
+      QSet<QString>& uuids = filed[header.trainee];
+      const Result<std::vector<SessionRow>> rows = store_->sessions(header.trainee);
+      if (!rows.ok()) return true;  // cannot tell: left for the next start
+      for (const SessionRow& r : rows.value()) uuids.insert(r.uuid);
+    }
+    return filed[header.trainee].contains(header.uuid);
+  });
+  for (const std::string& problem : found.problems) {
+    std::cerr << "laptrainer: an attempt's folder could not be read: " << problem << "\n";
+  }
+  int count = 0;
+  for (const SessionRow& r : found.records) {
+    if (const Status added = store_->add_session(r); !added.ok()) {
+      std::cerr << "laptrainer: " << added.message() << "\n";
+    } else {
+      ++count;
+    }
+  }
+  if (count > 0) {
+    statusBar()->showMessage(QString("%1 attempt(s) cut short earlier (the program stopped) "
+                                     "filed as interrupted")
+                                 .arg(count),
+                             15000);
+  }
+}
 
 }  // namespace lap::app

@@ -33,6 +33,7 @@
 #include "app/scenario_catalog.h"
 #include "app/session_archive.h"
 #include "app/station_settings.h"
+#include "app/store/session_store.h"
 #include "app/vtk_view.h"
 #include "sim/setup/scene.h"
 
@@ -83,8 +84,11 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] RunPage* run_page() { return run_; }
   [[nodiscard]] ResultPage* result_page() { return result_; }
   /// The attempt running or last ended (empty uuid: none).
-  [[nodiscard]] const AttemptRecord& attempt() const { return attempt_; }
+  [[nodiscard]] const SessionRow& attempt() const { return attempt_; }
   [[nodiscard]] const QString& trainee() const { return trainee_; }
+  /// The session database (null when it could not be opened: store_problem() says why).
+  [[nodiscard]] SessionStore* store() { return store_.get(); }
+  [[nodiscard]] const QString& store_problem() const { return store_problem_; }
 
  protected:
   void closeEvent(QCloseEvent* event) override;
@@ -112,12 +116,17 @@ class MainWindow : public QMainWindow {
   void show_controls();
   void update_status();
   void file_unfiled_attempts();
-  [[nodiscard]] std::vector<AttemptRecord> attempts_on(const QString& scenario_file) const;
+  /// The signed-in trainee's attempts on `scenario_file`, newest first; `why` says why none
+  /// could be read.
+  [[nodiscard]] std::vector<SessionRow> attempts_on(const QString& scenario_file,
+                                                    QString* why) const;
   [[nodiscard]] QStringList known_trainees() const;
-  [[nodiscard]] Status file(const AttemptRecord& record);
+  [[nodiscard]] Status file(const SessionRow& record);
   [[nodiscard]] std::array<hardware::DeviceSpec, 2> parsed_devices() const;
 
   StationSettings settings_;
+  std::unique_ptr<SessionStore> store_;
+  QString store_problem_;
   QStackedWidget* stack_ = nullptr;
   QWidget* step_bar_ = nullptr;
   std::vector<QLabel*> step_labels_;
@@ -147,7 +156,7 @@ class MainWindow : public QMainWindow {
   std::optional<sim::Scene> scene_;
   std::array<QString, 2> device_texts_{"simulated", "simulated"};
   int dominant_hand_ = 1;
-  AttemptRecord attempt_;         ///< the attempt running or last ended
+  SessionRow attempt_;            ///< the attempt running or last ended
   bool attempt_running_ = false;  ///< attempt_ is the running session's
   bool direct_ = false;           ///< the command line's session
   bool wireframe_ = false;

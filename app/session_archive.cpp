@@ -1,14 +1,11 @@
 #include "app/session_archive.h"
 
-#include <QCryptographicHash>
-#include <QFile>
-#include <QStandardPaths>
 #include <QSysInfo>
 #include <QUuid>
 #include <algorithm>
 #include <fstream>
-#include <sstream>
 
+#include "app/store/store_connection.h"
 #include "sim/report/recording_reader.h"
 
 namespace lap::app {
@@ -54,38 +51,31 @@ QString text_field(const nlohmann::ordered_json& j, const char* key) {
 
 }  // namespace
 
-Result<fs::path> sessions_root() {
-  const QString data = QStandardPaths::writableLocation(QStandardPaths::AppDataLocation);
-  if (data.isEmpty()) return diagnostic("the desktop gives no folder for the application's data");
-  const fs::path root = fs::path(data.toStdString()) / "sessions";
+Result<fs::path> recordings_root() {
+  const QString folder = StoreConnection::default_recordings_folder();
+  if (folder.startsWith("/laptrainer")) {
+    return diagnostic("the desktop gives no folder for the application's data");
+  }
+  const fs::path root = folder.toStdString();
   if (Status made = make_private_dir(root); !made.ok()) return made.diagnostics();
   return root;
 }
 
-QString sha256_of_file(const fs::path& file) {
-  QFile f(QString::fromStdString(file.string()));
-  if (!f.open(QIODevice::ReadOnly)) return {};
-  QCryptographicHash hash(QCryptographicHash::Sha256);
-  if (!hash.addData(&f)) return {};
-  return QString::fromLatin1(hash.result().toHex());
-}
-
-Result<AttemptRecord> begin_attempt(const fs::path& root, const QString& trainee,
-                                    const fs::path& scenario_file, const QString& scenario_name,
-                                    const QString& devices) {
-  AttemptRecord r;
+Result<SessionRow> begin_attempt(const fs::path& root, const QString& trainee,
+                                 const fs::path& scenario_file, const QString& scenario_name,
+                                 const QString& devices, const QString& station) {
+  SessionRow r;
   r.uuid = QUuid::createUuid().toString(QUuid::WithoutBraces);
   r.trainee = trainee;
   std::error_code ec;
   const fs::path absolute = fs::absolute(scenario_file, ec);
   r.scenario_file = QString::fromStdString((ec ? scenario_file : absolute).string());
   r.scenario_name = scenario_name;
-  r.scenario_version = sha256_of_file(scenario_file);
-  if (r.scenario_version.isEmpty()) {
-    return Diagnostic{scenario_file.string(), 0, "", "cannot read the scenario file"};
-  }
+  const Result<QString> version = file_sha256(QString::fromStdString(scenario_file.string()));
+  if (!version.ok()) return version.diagnostics();
+  r.scenario_version = version.value();
   r.devices = devices;
-  r.station = QSysInfo::machineHostName();
+  r.station = station.trimmed().isEmpty() ? QSysInfo::machineHostName() : station;
   r.started_utc = QDateTime::currentDateTimeUtc();
   r.result = "incomplete";
   const fs::path dir = root / r.uuid.toStdString();
@@ -111,7 +101,7 @@ Result<AttemptRecord> begin_attempt(const fs::path& root, const QString& trainee
   return r;
 }
 
-void finish_attempt(const nlohmann::ordered_json& metrics, AttemptRecord* r) {
+void finish_attempt(const nlohmann::ordered_json& metrics, SessionRow* r) {
   r->interrupted = false;
   r->reasons.clear();
   r->result = "incomplete";
@@ -140,12 +130,12 @@ void finish_attempt(const nlohmann::ordered_json& metrics, AttemptRecord* r) {
   r->report_json = QString::fromStdString(report.dump());
 }
 
-Result<AttemptRecord> read_attempt_header(const fs::path& dir) {
+Result<SessionRow> read_attempt_header(const fs::path& dir) {
   const fs::path file = dir / "attempt.json";
   const Result<nlohmann::ordered_json> read = read_json(file);
   if (!read.ok()) return read.diagnostics();
   const nlohmann::ordered_json& j = read.value();
-  AttemptRecord r;
+  SessionRow r;
   r.uuid = text_field(j, "uuid");
   r.trainee = text_field(j, "trainee");
   r.scenario_file = text_field(j, "scenario");
@@ -173,10 +163,10 @@ Result<AttemptRecord> read_attempt_header(const fs::path& dir) {
   return r;
 }
 
-Result<AttemptRecord> read_attempt(const fs::path& dir) {
-  Result<AttemptRecord> header = read_attempt_header(dir);
+Result<SessionRow> read_attempt(const fs::path& dir) {
+  Result<SessionRow> header = read_attempt_header(dir);
   if (!header.ok()) return header;
-  AttemptRecord r = std::move(header).value();
+  SessionRow r = std::move(header).value();
   std::error_code ec;
   if (fs::is_regular_file(dir / "metrics.json", ec)) {
     // It ended and was saved; only the filing was missed.

@@ -165,8 +165,8 @@ ResultPage::ResultPage(QWidget* parent) : QWidget(parent) {
   connect(next, &QPushButton::clicked, this, &ResultPage::next_attempt);
 }
 
-void ResultPage::show_result(const nlohmann::ordered_json& report, const AttemptRecord& attempt,
-                             const std::vector<AttemptRecord>& attempts) {
+void ResultPage::show_result(const nlohmann::ordered_json& report, const SessionRow& attempt,
+                             const std::vector<SessionRow>& attempts) {
   const nlohmann::ordered_json task = report.value("task", nlohmann::ordered_json::object());
   const nlohmann::ordered_json metrics = report.value("metrics", nlohmann::ordered_json::object());
   const QString result = QString::fromStdString(task.value("result", std::string("incomplete")));
@@ -258,12 +258,12 @@ void ResultPage::show_result(const nlohmann::ordered_json& report, const Attempt
   show_attempts(attempts, attempt.uuid);
 }
 
-void ResultPage::show_attempts(const std::vector<AttemptRecord>& attempts,
+void ResultPage::show_attempts(const std::vector<SessionRow>& attempts,
                                const QString& current_uuid) {
   attempts_->setRowCount(0);
   attempts_note_->clear();
   attempts_note_->setVisible(false);
-  for (const AttemptRecord& a : attempts) {
+  for (const SessionRow& a : attempts) {
     QString when = a.started_utc.toLocalTime().toString("d MMM yyyy, HH:mm");
     if (a.uuid == current_uuid) when += "  (this one)";
     QString time = "-";

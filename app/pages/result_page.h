@@ -25,10 +25,10 @@ class ResultPage : public QWidget {
 
   /// Shows an attempt: its report, its record (the patient, where it is saved) and the
   /// trainee's attempts on this patient, newest first (this one among them when filed).
-  void show_result(const nlohmann::ordered_json& report, const AttemptRecord& attempt,
-                   const std::vector<AttemptRecord>& attempts);
+  void show_result(const nlohmann::ordered_json& report, const SessionRow& attempt,
+                   const std::vector<SessionRow>& attempts);
   /// Only the attempts (when they are known after the result: the database answered later).
-  void show_attempts(const std::vector<AttemptRecord>& attempts, const QString& current_uuid);
+  void show_attempts(const std::vector<SessionRow>& attempts, const QString& current_uuid);
   /// Where the attempts come from, when they cannot be shown (no session database).
   void show_attempts_unavailable(const QString& why);
 

@@ -29,10 +29,10 @@ const fs::path& default_scenario() {
 
 TEST(SessionArchive, AnAttemptsFolderIsItsOwnersWithItsDescription) {
   TempDir root;
-  const Result<app::AttemptRecord> r =
-      app::begin_attempt(root.path(), "alice", default_scenario(), "Default", "left=simulated");
+  const Result<app::SessionRow> r = app::begin_attempt(root.path(), "alice", default_scenario(),
+                                                       "Default", "left=simulated", "lab 2");
   ASSERT_TRUE(r.ok()) << r.message();
-  const app::AttemptRecord& a = r.value();
+  const app::SessionRow& a = r.value();
   EXPECT_EQ(a.uuid.size(), 36);
   EXPECT_EQ(a.result, "incomplete");
   const fs::path dir = a.recording_dir.toStdString();
@@ -43,17 +43,18 @@ TEST(SessionArchive, AnAttemptsFolderIsItsOwnersWithItsDescription) {
   ASSERT_TRUE(f.open(QIODevice::ReadOnly));
   EXPECT_EQ(a.scenario_version,
             QCryptographicHash::hash(f.readAll(), QCryptographicHash::Sha256).toHex());
-  const Result<app::AttemptRecord> back = app::read_attempt_header(dir);
+  const Result<app::SessionRow> back = app::read_attempt_header(dir);
   ASSERT_TRUE(back.ok()) << back.message();
   EXPECT_EQ(back.value().uuid, a.uuid);
   EXPECT_EQ(back.value().trainee, "alice");
   EXPECT_EQ(back.value().devices, "left=simulated");
+  EXPECT_EQ(back.value().station, "lab 2");
   EXPECT_EQ(back.value().started_utc, a.started_utc);
   EXPECT_EQ(back.value().scenario_version, a.scenario_version);
 }
 
 TEST(SessionArchive, TheOutcomeComesFromTheReport) {
-  app::AttemptRecord a;
+  app::SessionRow a;
   const auto report = nlohmann::ordered_json::parse(R"({
     "task": {"result": "failure", "reasons": ["catheter_dropped", "duct_injury"]},
     "metrics": {"completion_time_s": null, "session_time_s": 6.505},
@@ -74,7 +75,7 @@ TEST(SessionArchive, ABadDescriptionIsNamedNotTrusted) {
   fs::create_directories(dir);
   std::ofstream(dir / "attempt.json") << R"({"uuid": "1111", "trainee": "x", "scenario": "y",
     "started_utc": "2026-11-26T10:00:00.000Z"})";
-  const Result<app::AttemptRecord> r = app::read_attempt_header(dir);
+  const Result<app::SessionRow> r = app::read_attempt_header(dir);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("attempt.json"), std::string::npos) << r.message();
   EXPECT_NE(r.message().find("uuid: expected the folder's name, 0000"), std::string::npos)
@@ -87,8 +88,8 @@ TEST(SessionArchive, ABadDescriptionIsNamedNotTrusted) {
 // metrics.json): found again as not filed, interrupted, with the ticks its recording kept.
 TEST(SessionArchive, AnAttemptACrashCutShortIsFoundInterrupted) {
   TempDir root;
-  const Result<app::AttemptRecord> begun =
-      app::begin_attempt(root.path(), "bob", default_scenario(), "Default", "left=scripted");
+  const Result<app::SessionRow> begun = app::begin_attempt(root.path(), "bob", default_scenario(),
+                                                           "Default", "left=scripted", "lab 2");
   ASSERT_TRUE(begun.ok()) << begun.message();
   const fs::path dir = begun.value().recording_dir.toStdString();
   {
@@ -119,16 +120,16 @@ TEST(SessionArchive, AnAttemptACrashCutShortIsFoundInterrupted) {
   fs::resize_file(lrec, fs::file_size(lrec) - 40);
 
   // Another attempt, ended and filed, beside it.
-  const Result<app::AttemptRecord> filed =
-      app::begin_attempt(root.path(), "bob", default_scenario(), "Default", "left=scripted");
+  const Result<app::SessionRow> filed = app::begin_attempt(root.path(), "bob", default_scenario(),
+                                                           "Default", "left=scripted", "lab 2");
   ASSERT_TRUE(filed.ok());
   std::ofstream(fs::path(filed.value().recording_dir.toStdString()) / "session.lrec") << "x";
 
   const app::UnfiledAttempts found = app::unfiled_attempts(
-      root.path(), [&](const app::AttemptRecord& r) { return r.uuid == filed.value().uuid; });
+      root.path(), [&](const app::SessionRow& r) { return r.uuid == filed.value().uuid; });
   EXPECT_TRUE(found.problems.empty()) << found.problems.front();
   ASSERT_EQ(found.records.size(), 1U);
-  const app::AttemptRecord& a = found.records[0];
+  const app::SessionRow& a = found.records[0];
   EXPECT_EQ(a.uuid, begun.value().uuid);
   EXPECT_EQ(a.trainee, "bob");
   EXPECT_TRUE(a.interrupted);

@@ -27,7 +27,11 @@
 
 #include "app/main_window.h"
 #include "app/pages/page_style.h"
+#include "app/session_archive.h"
 #include "app/station_settings.h"
+#include "sim/report/session_replay.h"
+#include "sim/runtime/session.h"
+#include "sim/setup/device_factory.h"
 #include "tests/test_support.h"
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
@@ -183,14 +187,27 @@ TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
   for (int r = 0; r < 5; ++r) {
     EXPECT_TRUE(phases->item(r, 1)->text().endsWith(" s")) << r;  // every phase reached
   }
+  // This attempt, filed, heads the trainee's attempts on this patient.
+  auto* attempts = find<QTableWidget>(w.result_page(), "earlier_attempts");
+  ASSERT_EQ(attempts->rowCount(), 1);
+  EXPECT_TRUE(attempts->item(0, 0)->text().endsWith("(this one)"))
+      << attempts->item(0, 0)->text().toStdString();
+  EXPECT_EQ(attempts->item(0, 1)->text(), "Success");
   screenshot(w, "6-result");
+  ASSERT_NE(w.store(), nullptr) << w.store_problem().toStdString();
+  const auto rows = w.store()->sessions(trainee);
+  ASSERT_TRUE(rows.ok()) << rows.message();
+  ASSERT_EQ(rows.value().size(), 1U);
+  EXPECT_EQ(rows.value()[0].result, "success");
+  EXPECT_FALSE(rows.value()[0].interrupted);
+  EXPECT_TRUE(rows.value()[0].scenario_file.endsWith("default.yaml"));
 
   // The attempt was saved for review under the user's data folder.
-  const app::AttemptRecord& a = w.attempt();
+  const app::SessionRow& a = w.attempt();
   EXPECT_EQ(a.trainee, trainee);
   EXPECT_EQ(a.result, "success");
   const fs::path dir = a.recording_dir.toStdString();
-  EXPECT_TRUE(dir.string().rfind((g_home->path() / "data").string(), 0) == 0) << dir;
+  EXPECT_EQ(dir.parent_path(), g_home->path() / "data/laptrainer/recordings");
   for (const char* f : {"attempt.json", "session.json", "session.lrec", "left.lapdev",
                         "right.lapdev", "metrics.json"}) {
     EXPECT_TRUE(fs::is_regular_file(dir / f)) << f;
@@ -211,6 +228,102 @@ TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
                    ->findItems(trainee, Qt::MatchExactly)
                    .isEmpty());
   sign_in_and_choose_default(w, trainee, "");
+  w.close();
+}
+
+// The next attempt, in a window opened afresh (the station remembers the trainee, the patient
+// and the devices), played as fast as the computer can: the clumsy script lets the catheter
+// go, the result says so, and the trainee's attempts on the patient are both, newest first.
+TEST_F(SessionFlow, AFailedAttemptSaysWhyBesideTheEarlierOnes) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  if (app::StationSettings().last_trainee().isEmpty()) {
+    GTEST_SKIP() << "continues the station SignInChooseThePatientRunTheExpertAndSeeTheResult "
+                    "left: run the whole suite";
+  }
+  MainWindow w;
+  w.set_fast_playback(true);
+  w.resize(1280, 800);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  const QString trainee = find<QLineEdit>(w.sign_in_page(), "trainee")->text();
+  ASSERT_EQ(trainee, "R-2041 Dr A. Rivera") << "the station forgot who signed in last";
+  QTest::keyClick(find<QLineEdit>(w.sign_in_page(), "trainee"), Qt::Key_Return);
+  ASSERT_EQ(w.step(), MainWindow::Step::kScenario);
+  ASSERT_NE(w.scenario_page()->selected(), nullptr);
+  EXPECT_EQ(w.scenario_page()->selected()->stem, "default") << "the station forgot the patient";
+  QTest::mouseClick(find<QPushButton>(w.scenario_page(), "choose_patient"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kDevices);
+  EXPECT_TRUE(find<QLineEdit>(w.devices_page(), "right_file")->text().endsWith("expert_right.csv"))
+      << "the station forgot the devices";
+  assign_scripts(w, "clumsy_drop");
+  QTest::mouseClick(find<QPushButton>(w.devices_page(), "devices_continue"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
+  QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
+  ASSERT_TRUE(wait_until([&] { return w.step() == MainWindow::Step::kResult; }, 30.0));
+
+  EXPECT_TRUE(find<QLabel>(w.result_page(), "result_headline")->text().endsWith("Failed"));
+  const QString why = find<QLabel>(w.result_page(), "result_reasons")->text();
+  EXPECT_TRUE(why.contains("The catheter was let go of")) << why.toStdString();
+  EXPECT_TRUE(why.contains("(at 6.5 s)")) << why.toStdString();  // dropped at 6.505 s
+  auto* attempts = find<QTableWidget>(w.result_page(), "earlier_attempts");
+  ASSERT_EQ(attempts->rowCount(), 2);
+  EXPECT_TRUE(attempts->item(0, 0)->text().endsWith("(this one)"));
+  EXPECT_EQ(attempts->item(0, 1)->text(), "Failed");
+  EXPECT_EQ(attempts->item(0, 3)->text(), "catheter dropped");
+  EXPECT_EQ(attempts->item(1, 1)->text(), "Success");
+  screenshot(w, "7-result-failed");
+  w.close();
+}
+
+// An attempt the program never finished (killed mid-run: its recording without an end, no
+// metrics) is filed as interrupted when the window next opens, and listed with the rest.
+TEST_F(SessionFlow, AnAttemptCutShortIsFiledAsInterruptedAtTheNextStart) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  const fs::path scenario = source_dir() / "scenarios/default.yaml";
+  const Result<fs::path> root = app::recordings_root();
+  ASSERT_TRUE(root.ok()) << root.message();
+  const Result<app::SessionRow> begun = app::begin_attempt(
+      root.value(), "R-2041 Dr A. Rivera", scenario, "Default", "left=simulated", "station");
+  ASSERT_TRUE(begun.ok()) << begun.message();
+  const fs::path dir = begun.value().recording_dir.toStdString();
+  {
+    const sim::SceneLoadResult scene = sim::load_scene_file(scenario);
+    ASSERT_TRUE(scene.ok());
+    std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
+    for (int side = 0; side < 2; ++side) {
+      auto d = sim::make_device(hardware::DeviceSpec{}, scene.value(), side);
+      ASSERT_TRUE(d.ok());
+      devices[static_cast<size_t>(side)] = std::move(d).value();
+    }
+    sim::RuntimeSettings rs;
+    rs.fast = true;
+    rs.duration_s = 1.0;
+    auto session = sim::Session::create(scene.value(), std::move(devices), rs);
+    ASSERT_TRUE(session.ok()) << session.message();
+    const auto header = sim::session_record_json(scenario, rs);
+    ASSERT_TRUE(header.ok());
+    ASSERT_TRUE(session.value()->record_to(dir / "session.lrec", header.value()).ok());
+    (void)session.value()->run();
+  }
+  fs::resize_file(dir / "session.lrec", fs::file_size(dir / "session.lrec") - 40);  // no end
+
+  MainWindow w;
+  w.show();
+  ASSERT_NE(w.store(), nullptr) << w.store_problem().toStdString();
+  app::SessionRow filed;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        const auto rows = w.store()->sessions("R-2041 Dr A. Rivera");
+        for (const app::SessionRow& r : rows.value()) {
+          if (r.uuid == begun.value().uuid) filed = r;
+        }
+        return !filed.uuid.isEmpty();
+      },
+      10.0));
+  EXPECT_TRUE(filed.interrupted);
+  EXPECT_EQ(filed.result, "incomplete");
+  EXPECT_DOUBLE_EQ(filed.duration_s, 1.0);
+  EXPECT_EQ(filed.recording_dir, QString::fromStdString(dir.string()));
   w.close();
 }
 
