@@ -1,12 +1,16 @@
 // laptrainer: the desktop application.
-//   laptrainer [--scenario FILE] [--record DIR] [--screenshot PNG --frames N]
+//   laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR] [--quit-after S]
+//              [--screenshot PNG --frames N] [--size WxH] [--stats FILE]
+// Without options that name a session the window opens at sign-in (a training session from
+// sign-in to result: main_window.h). --scenario, --left, --right, --record or --screenshot name
+// a session: the window runs it at once, without signing in (the attempt is not filed), and
+// shows its result when its task ends. --quit-after and --stats apply either way.
 // With no display it says so, loads and checks the scenario without a window and prints a short
 // summary.
 
 #include <vtkAutoInit.h>
 
 #include <QApplication>
-#include <QSize>
 #include <QSurfaceFormat>
 #include <QTimer>
 #include <cerrno>
@@ -21,6 +25,7 @@
 #include <vector>
 
 #include "app/main_window.h"
+#include "app/pages/page_style.h"
 #include "app/run_stats.h"
 #include "hardware/device_spec.h"
 #include "sim/setup/scenario_loader.h"
@@ -36,9 +41,11 @@ constexpr int kExitUsage = 64;
 
 const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
-    "                  [--quit-after S] [--screenshot PNG --frames N] [--stats FILE]\n"
-    "                  [--size WxH]\n"
-    "  --scenario FILE   scenario to open (default: scenarios/default.yaml)\n"
+    "                  [--quit-after S] [--screenshot PNG --frames N] [--size WxH]\n"
+    "                  [--stats FILE]\n"
+    "  Without options that name a session, the window opens at sign-in. --scenario, --left,\n"
+    "  --right, --record and --screenshot name one: it runs at once, without signing in.\n"
+    "  --scenario FILE   scenario to run (default: scenarios/default.yaml)\n"
     "  --left DEV, --right DEV  the tools' devices: simulated (default, keyboard and mouse),\n"
     "                    scripted:FILE, replay:FILE (a saved session), phantom:NAME\n"
     "  --quit-after S    close the window after S seconds (the session saved if --record)\n"
@@ -46,21 +53,22 @@ const char* const kUsage =
     "                    there: left.lapdev, right.lapdev, metrics.json\n"
     "  --screenshot PNG  render N frames, write the last one to PNG and exit\n"
     "  --frames N        frames to render before the screenshot (default 10)\n"
-    "  --size WxH        the operative field's size in pixels (the window grows round it)\n"
+    "  --size WxH        the operative field's size in pixels (screenshots, benchmarks)\n"
     "  --stats FILE      at exit, write how fast the loops ran as JSON: graphics frame rate\n"
     "                    (mean, 5th percentile), start to first frame, haptic rate and its\n"
     "                    p99.9 lateness, modelling rate\n";
 
 struct Options {
+  bool names_session = false;  ///< an option that names a session was given: run it at once
   std::string scenario;
   std::string screenshot;
   std::string record;
   std::string stats;
   std::array<lap::hardware::DeviceSpec, 2> devices{};
+  int field_width = 0;  ///< --size: the operative field's size [px]; 0: the window's
+  int field_height = 0;
   double quit_after_s = 0.0;
   int frames = 10;
-  int width_px = 0;  ///< --size: the operative field's, 0: the window's default
-  int height_px = 0;
 };
 
 bool parse(int argc, char** argv, Options& o) {
@@ -75,6 +83,10 @@ bool parse(int argc, char** argv, Options& o) {
       return true;
     };
     std::string v;
+    if (a == "--scenario" || a == "--left" || a == "--right" || a == "--record" ||
+        a == "--screenshot") {
+      o.names_session = true;
+    }
     if (a == "--scenario") {
       if (!value(o.scenario)) return false;
     } else if (a == "--screenshot") {
@@ -116,16 +128,17 @@ bool parse(int argc, char** argv, Options& o) {
       if (!value(v)) return false;
       int w = 0;
       int h = 0;
-      char tail = '\0';
-      if (std::sscanf(v.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 320 || h < 240 || w > 8192 ||
-          h > 8192) {
-        std::cerr << "laptrainer: --size expects WIDTHxHEIGHT in pixels, from 320x240 to "
-                     "8192x8192, got '"
+      char x = 0;
+      char rest = 0;
+      if (std::sscanf(v.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || x != 'x' || w < 160 ||
+          w > 7680 || h < 120 || h > 4320) {
+        std::cerr << "laptrainer: --size expects WIDTHxHEIGHT in pixels (160x120 to 7680x4320), "
+                     "got '"
                   << v << "'\n";
         return false;
       }
-      o.width_px = w;
-      o.height_px = h;
+      o.field_width = w;
+      o.field_height = h;
     } else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       std::exit(0);
@@ -194,32 +207,30 @@ int main(int argc, char** argv) {
   QApplication::setAttribute(Qt::AA_NativeWindows, false);
   QApplication app(argc, argv);
   QApplication::setApplicationName("laptrainer");
+  QApplication::setApplicationDisplayName("laptrainer");
+  lap::app::apply_application_style(app);
   lap::app::MainWindow window;
   window.set_record_dir(QString::fromStdString(opt.record));
   window.set_devices(opt.devices);
-  if (const lap::Status opened = window.open_scenario(QString::fromStdString(opt.scenario));
-      !opened.ok()) {
-    std::cerr << opened.message() << "\n";
-    if (!opt.screenshot.empty()) return kExitProblems;
+  if (opt.field_width > 0) {
+    window.operative_view()->setFixedSize(opt.field_width, opt.field_height);
   }
-  window.show();
-  if (opt.width_px > 0) {
-    // The operative field at exactly the size asked for: the window grows by the difference.
-    QApplication::processEvents();
-    const QSize field = window.view()->size();
-    window.resize(window.size() + QSize(opt.width_px, opt.height_px) - field);
-    QApplication::processEvents();
-    if (window.view()->size() != QSize(opt.width_px, opt.height_px)) {
-      std::cerr << "laptrainer: --size: the operative field is " << window.view()->width() << "x"
-                << window.view()->height() << " (the screen is too small for the size asked)\n";
+  if (opt.names_session) {
+    if (const lap::Status opened = window.open_scenario(QString::fromStdString(opt.scenario));
+        !opened.ok()) {
+      std::cerr << opened.message() << "\n";
+      if (!opt.screenshot.empty()) return kExitProblems;
     }
   }
+  window.show();
 
   if (!opt.screenshot.empty()) {
     // Render the requested number of frames through the event loop, then write the last one.
     auto* timer = new QTimer(&window);
     QObject::connect(timer, &QTimer::timeout, &window, [&window, &opt, timer] {
-      if (window.view()->frames() < opt.frames) {
+      // (A session that ended before then shows its result: the field's last frame is taken.)
+      if (window.view()->frames() < opt.frames &&
+          window.step() == lap::app::MainWindow::Step::kRun) {
         window.view()->render();
         return;
       }

@@ -816,7 +816,12 @@ void Session::run_realtime() {
     start.store(start_ns, std::memory_order_release);
     for (int64_t tick = 0; tick < timing.max_ticks; ++tick) {
       if (stop_.load(std::memory_order_relaxed)) break;
-      const int64_t deadline = start_ns + tick * period_ns;
+      int64_t deadline =
+          start_ns + hold_offset_ns_.load(std::memory_order_relaxed) + tick * period_ns;
+      if (hold_requested_.load(std::memory_order_relaxed)) {
+        deadline = wait_while_held(deadline);
+        if (stop_.load(std::memory_order_relaxed)) break;
+      }
       sleep_until_ns(deadline, settings.spin_ns);
       const int64_t begin = monotonic_ns();
       const double late = static_cast<double>(begin - deadline) * 1e-9;
@@ -824,7 +829,9 @@ void Session::run_realtime() {
       haptic_stats_.add(late, static_cast<double>(monotonic_ns() - begin) * 1e-9);
       if (tools_[0].finished && tools_[1].finished) break;
     }
-    haptic_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
+    // The loops' time, not the trainee's pauses (hold()): their rates are of the time they ran.
+    haptic_stats_.set_elapsed(
+        static_cast<double>(monotonic_ns() - start_ns - hold_offset_ns_.load()) * 1e-9);
     haptic_done_.store(true);
   });
   std::thread model([&] {
@@ -836,8 +843,20 @@ void Session::run_realtime() {
       sleep_until_ns(monotonic_ns() + period_ns, 0);
     }
     for (int64_t k = 0; !haptic_done_.load(); ++k) {
-      const int64_t deadline = start_ns + k * model_period_ns;
+      // While the haptic loop is held no step is taken and no period counts: the schedule
+      // resumes where it was, moved on by the time held.
+      if (holding_.load(std::memory_order_acquire)) {
+        sleep_until_ns(monotonic_ns() + period_ns, 0);
+        --k;
+        continue;
+      }
+      const int64_t base_ns = start_ns + hold_offset_ns_.load(std::memory_order_acquire);
+      const int64_t deadline = base_ns + k * model_period_ns;
       sleep_until_ns(deadline, 0);
+      if (holding_.load(std::memory_order_acquire)) {
+        --k;
+        continue;
+      }
       const int64_t begin = monotonic_ns();
       model_tick(k * timing.ticks_per_model);
       if (injected_delay_tick_ >= 0 && k * timing.ticks_per_model >= injected_delay_tick_) {
@@ -849,15 +868,40 @@ void Session::run_realtime() {
                        static_cast<double>(end - begin) * 1e-9);
       // Periods already past are skipped, not caught up: a model step is worth taking only on
       // fresh inputs, and a real-time thread that never sleeps would starve the rest.
-      k = std::max(k, (end - start_ns) / model_period_ns);
+      // (From the schedule as it is now: a hold taken meanwhile moved it on.)
+      k = std::max(
+          k, (end - start_ns - hold_offset_ns_.load(std::memory_order_acquire)) / model_period_ns);
     }
-    model_stats_.set_elapsed(static_cast<double>(monotonic_ns() - start_ns) * 1e-9);
+    model_stats_.set_elapsed(
+        static_cast<double>(monotonic_ns() - start_ns - hold_offset_ns_.load()) * 1e-9);
   });
   haptic.join();
   model.join();
   release_isolated_processor(isolated_cpu);
   if (!haptic_warning.empty()) warnings_.push_back(haptic_warning);
   if (!model_warning.empty()) warnings_.push_back("modelling loop: " + model_warning);
+}
+
+int64_t Session::wait_while_held(int64_t deadline_ns) noexcept {
+  // Zero first, past the rate limit: the hand feels nothing from the moment the hold is taken.
+  for (Tool& tool : tools_) (void)tool.device->write(tool.limiter.zero());
+  holding_.store(true, std::memory_order_release);
+  const int64_t period_ns = std::llround(model_->timing().dt_s * 1e9);
+  while (hold_requested_.load(std::memory_order_relaxed) &&
+         !stop_.load(std::memory_order_relaxed)) {
+    sleep_until_ns(monotonic_ns() + period_ns, 0);
+  }
+  // The tick that was due runs now; every later one keeps its distance from it.
+  const int64_t now_ns = monotonic_ns();
+  if (now_ns > deadline_ns) {
+    hold_offset_ns_.fetch_add(now_ns - deadline_ns, std::memory_order_release);
+    deadline_ns = now_ns;
+  }
+  // The forces come back as after a resume: from zero, over resume_ramp_s.
+  gain_ = 0.0;
+  ramp_s_ = model_->settings().resume_ramp_s;
+  holding_.store(false, std::memory_order_release);
+  return deadline_ns;
 }
 
 std::vector<std::string> Session::scheduling_warnings() const {

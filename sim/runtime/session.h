@@ -211,6 +211,17 @@ class Session {
   /// Any thread: un-pause; forces ramp back in over resume_ramp_s.
   void resume() { resume_requested_.store(true, std::memory_order_relaxed); }
   [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_relaxed); }
+  /// Any thread: the trainee's pause (real time; a --fast session ignores it). The haptic loop
+  /// sends zero force to both devices and stops ticking, and the modelling loop stops stepping:
+  /// while held no tick runs, so the task's clock (tick time), the models, the metrics and the
+  /// recording stand still, and no watchdog event is recorded. release() starts the schedule
+  /// again from the moment it is taken up, the forces ramping back over resume_ramp_s as after
+  /// resume(). The devices are not read while held: a live arm moved meanwhile takes its tool
+  /// to where it now is on the first tick after, the proxies keeping it on the surfaces.
+  void hold() { hold_requested_.store(true, std::memory_order_relaxed); }
+  void release() { hold_requested_.store(false, std::memory_order_relaxed); }
+  /// The haptic loop has taken a hold up: zero sent, no tick running until release().
+  [[nodiscard]] bool held() const { return holding_.load(std::memory_order_acquire); }
 
   /// Tests (fast mode): make tick `tick` start `late_s` late, as a loop held up would; up to
   /// kMaxInjectedLateness ticks, one call each (false once full).
@@ -306,6 +317,9 @@ class Session {
   void trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault = {}) noexcept;
   void run_fast();
   void run_realtime();
+  /// Haptic thread, real time: zero to both devices, then wait until released (or stopped);
+  /// returns when the tick due at `deadline_ns` may run, the schedule moved on by the wait.
+  int64_t wait_while_held(int64_t deadline_ns) noexcept;
 
   /// A tool's state: its device, its proxies, its limiter, where its shaft points.
   struct Tool {
@@ -380,6 +394,12 @@ class Session {
   std::atomic<bool> resume_requested_{false};
   std::atomic<bool> stop_{false};
   std::atomic<bool> haptic_done_{false};
+  // The trainee's pause (hold()): asked for by any thread, taken up by the haptic thread, which
+  // then moves both loops' schedules on by the time held (hold_offset_ns_, written before
+  // holding_ is cleared).
+  std::atomic<bool> hold_requested_{false};
+  std::atomic<bool> holding_{false};
+  std::atomic<int64_t> hold_offset_ns_{0};
   /// The factor on every command, ramping back to 1 at 1 / ramp_s_ per second after a resume
   /// or a late tick.
   double gain_ = 1.0;

@@ -243,6 +243,9 @@ struct Scenario {
   int version = 1;
   std::string name;
   std::string description;
+  /// How hard the patient is for a trainee (`difficulty`): `introductory`, `easy`, `moderate`
+  /// or `hard`; empty when the file does not say (the scenario chooser shows "not graded").
+  std::string difficulty;
   std::vector<std::filesystem::path> allowed_paths;  ///< resolved
   CameraSpec camera;
   std::vector<OrganSpec> organs;

@@ -33,8 +33,8 @@ class ScenarioParser {
       return;
     }
     fields_.expect_map(root, "",
-                       {"version", "name", "description", "allowed_paths", "camera", "organs",
-                        "trocars", "tools", "catheter", "task", "proficiency"});
+                       {"version", "name", "description", "difficulty", "allowed_paths", "camera",
+                        "organs", "trocars", "tools", "catheter", "task", "proficiency"});
     parse_header(root);
     // allowed_paths first: the file references below are checked against it.
     if (root["allowed_paths"]) files_.read_allowed_paths(root["allowed_paths"]);
@@ -59,6 +59,12 @@ class ScenarioParser {
     }
     if (root["description"]) {
       if (auto v = fields_.string(root["description"], "description")) s_.description = *v;
+    }
+    if (root["difficulty"]) {
+      if (auto v = fields_.word(root["difficulty"], "difficulty",
+                                {"introductory", "easy", "moderate", "hard"})) {
+        s_.difficulty = *v;
+      }
     }
   }
 

@@ -125,7 +125,7 @@ TEST_F(ScenarioFixture, Bad02_UnsupportedVersion) {
 
 TEST_F(ScenarioFixture, Bad03_UnknownTopLevelField) {
   expect_one(load_with(2, "name: test scene\ncolour: red"),
-             "3: colour: unknown field (expected one of: version, name, description, "
+             "3: colour: unknown field (expected one of: version, name, description, difficulty, "
              "allowed_paths, camera, organs, trocars, tools, catheter, task, proficiency)");
 }
 
@@ -467,6 +467,21 @@ TEST_F(ScenarioFixture, Bad46_ProficiencyWithoutASourceOrTwice) {
   expect_one(load_with(with_proficiency("    catheter_drops: {mean: 0, sd: 1}\n"
                                         "    catheter_drops: {mean: 1, sd: 1}")),
              "40: proficiency.metrics.catheter_drops: is given twice");
+}
+
+// The scenario chooser shows how hard each patient is: one of four words, or nothing said.
+TEST_F(ScenarioFixture, DifficultyIsOneOfFourWordsOrUnsaid) {
+  EXPECT_EQ(load_with(0, "").value().difficulty, "");
+  for (const char* word : {"introductory", "easy", "moderate", "hard"}) {
+    const ScenarioLoadResult r = load_with(2, std::string("name: test scene\ndifficulty: ") + word);
+    ASSERT_TRUE(r.ok()) << all(r);
+    EXPECT_EQ(r.value().difficulty, word);
+  }
+}
+
+TEST_F(ScenarioFixture, Bad47_DifficultyNotOneOfTheFourWords) {
+  expect_one(load_with(2, "name: test scene\ndifficulty: tricky"),
+             "3: difficulty: expected introductory, easy, moderate or hard, got 'tricky'");
 }
 
 TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {
