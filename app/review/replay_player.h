@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The review's 3D replay: a replayed session's frames (sim::ReplayTimeline) drawn with the
-/// application's own view and actors (app/vtk_view.h, app/tool_actors.h), and its transport —
+/// application's own view and actors (app/vtk_view.h, app/session_actors.h), and its transport —
 /// play and pause, a scrub bar, the speed (¼× to 4×), the time. Seeking anywhere is a lookup in
 /// the timeline and one update of the actors; time_changed() tells the plots' cursor.
 
@@ -9,7 +9,7 @@
 #include <QWidget>
 #include <memory>
 
-#include "app/tool_actors.h"
+#include "app/session_actors.h"
 #include "sim/report/replay_timeline.h"
 
 class QComboBox;

@@ -28,8 +28,21 @@ Result<ReplayTimeline> ReplayTimeline::replay(const std::filesystem::path& dir,
         for (int32_t o = 0; o < session.organ_count(); ++o) {
           s.organ_surfaces.push_back(session.organ_surface(o));
         }
-        for (const Organ& o : scene.organs) s.organ_colours.push_back(o.color);
+        for (const Organ& o : scene.organs) {
+          s.organ_colours.push_back(o.color);
+          s.organ_albedos.push_back(o.albedo);
+        }
         s.tools = {session.tool_geometry(0), session.tool_geometry(1)};
+        for (size_t side = 0; side < 2; ++side) {
+          const ToolSpec* tool =
+              scene.scenario.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
+          if (tool != nullptr) {
+            s.tool_kinds[side] = tool->kind;
+            s.tool_shaft_radius_m[side] = tool->shaft_radius_m;
+          }
+          s.tool_port_W[side] = session.model().tool(side).trocar.port_W;
+        }
+        s.catheter_radius_m = session.model().tissue().catheter_model().radius_m();
         s.camera = scene.scenario.camera;
         const SessionTiming& timing = session.model().timing();
         const double dt_s = timing.dt_s;
@@ -43,7 +56,12 @@ Result<ReplayTimeline> ReplayTimeline::replay(const std::filesystem::path& dir,
               ReplayFrame f;
               f.tick = tick;
               f.t_s = static_cast<double>(tick) * dt_s;
-              for (size_t i = 0; i < 2; ++i) f.tools[i] = haptic.tools[i].pose;
+              for (size_t i = 0; i < 2; ++i) {
+                f.tools[i] = haptic.tools[i].pose;
+                f.proxy_a_W[i] = haptic.tools[i].proxy_a_W;
+                f.proxy_b_W[i] = haptic.tools[i].proxy_b_W;
+                f.proxy_normal_W[i] = haptic.tools[i].proxy_normal_W;
+              }
               f.model_steps = model.steps;
               f.catheter = model.catheter;
               f.organs.reserve(model.organs.size());
@@ -94,7 +112,12 @@ void ReplayTimeline::snapshots(size_t i, HapticSnapshot* haptic, ModelSnapshot* 
   if (frames_.empty()) return;
   const ReplayFrame& f = frames_[std::min(i, frames_.size() - 1)];
   haptic->tick = f.tick;
-  for (size_t k = 0; k < 2; ++k) haptic->tools[k].pose = f.tools[k];
+  for (size_t k = 0; k < 2; ++k) {
+    haptic->tools[k].pose = f.tools[k];
+    haptic->tools[k].proxy_a_W = f.proxy_a_W[k];
+    haptic->tools[k].proxy_b_W = f.proxy_b_W[k];
+    haptic->tools[k].proxy_normal_W = f.proxy_normal_W[k];
+  }
   model->tick = f.tick;
   model->steps = f.model_steps;
   model->catheter.assign(f.catheter.begin(), f.catheter.end());

@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "core/result.h"
@@ -24,6 +26,7 @@
 #include "sim/report/session_replay.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/scenario.h"
+#include "sim/setup/scene.h"
 
 namespace lap::sim {
 
@@ -32,6 +35,11 @@ struct ReplayFrame {
   int64_t tick = 0;
   double t_s = 0.0;                             ///< tick × the haptic period
   std::array<haptics::GripperPose, 2> tools{};  ///< left, right
+  /// Each tool's three segment proxies and their contact normals (ToolSnapshot's), so that the
+  /// replay draws the instruments resting on the tissue as the live view did.
+  std::array<std::array<Eigen::Vector3d, 3>, 2> proxy_a_W{};
+  std::array<std::array<Eigen::Vector3d, 3>, 2> proxy_b_W{};
+  std::array<std::array<Eigen::Vector3d, 3>, 2> proxy_normal_W{};
   int64_t model_steps = 0;
   std::vector<Eigen::Vector3d> catheter;   ///< particle positions [m]
   std::vector<SurfaceDeformation> organs;  ///< compact: `count` entries each
@@ -42,8 +50,14 @@ struct ReplayFrame {
 struct ReplayScene {
   std::vector<haptics::TriangleMesh> organ_surfaces;
   std::vector<Eigen::Vector3d> organ_colours;
+  /// Each organ's colour texture (null: drawn in its colour), as the scene loaded it.
+  std::vector<std::shared_ptr<const haptics::RgbImage>> organ_albedos;
   std::array<haptics::GripperGeometry, 2> tools{};
+  std::array<std::string, 2> tool_kinds{};  ///< the scenario's kind (grasper, dissector, ...)
+  std::array<double, 2> tool_shaft_radius_m{0.0025, 0.0025};
+  std::array<Eigen::Vector3d, 2> tool_port_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   int catheter_points = 0;
+  double catheter_radius_m = 0.0;
   CameraSpec camera;
 };
 
