@@ -175,6 +175,7 @@ Result<std::unique_ptr<Session>> Session::create(
   }
   s->objects_ = m.objects();
   s->surfaces_to_haptic_.read()->point(s->objects_);
+  s->tuned_surfaces_.init(s->objects_);
   s->bodies_.init(m.bodies(), m.organ_count());
   for (Tool& tool : s->tools_) tool.objects_holding_duct = s->objects_;
 
@@ -290,6 +291,10 @@ const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noe
   const ModelSnapshot& model = model_to_haptic_.latest();
   if (model.fault) trip(tick, -1, WatchdogReason::kModelFault, model.fault);
   if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
+  // An author's tuning, felt from this tick on; re-applied after every switch of the surfaces'
+  // copy, which resets the shading pointers (surface_tuning.h).
+  tuned_surfaces_.take(&tuning_mailbox_);
+  tuned_surfaces_.apply(objects_);
   return model;
 }
 
