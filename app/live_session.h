@@ -35,6 +35,8 @@ class LiveSession {
   /// file on failure. The session is over either way.
   [[nodiscard]] Status stop_and_save(const std::string& dir);
   [[nodiscard]] bool running() const { return session_ != nullptr; }
+  /// The running session (for the authoring panel's live tuning); null when none runs.
+  [[nodiscard]] sim::Session* session() { return session_.get(); }
   /// The last session's metrics, once it has stopped (its loops' statistics among them).
   [[nodiscard]] const sim::SessionMetrics& last_metrics() const { return metrics_; }
   /// Scheduling problems the loops met (SCHED_FIFO, mlockall refused); empty when all is well.

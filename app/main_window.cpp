@@ -36,6 +36,23 @@ MainWindow::MainWindow() {
   });
   wire->setCheckable(true);
 
+  // Scenario authoring (app/authoring/authoring_panel.h): a dock, hidden until asked for.
+  authoring_ = new AuthoringPanel([this](const QString& f) { return open_scenario(f); },
+                                  [this] { return operative_->session().session(); }, this);
+  addDockWidget(Qt::RightDockWidgetArea, authoring_);
+  authoring_->hide();
+  QMenu* authoring = menuBar()->addMenu("&Authoring");
+  authoring->addAction("&Open Scenario...", this, [this] {
+    const QString f =
+        QFileDialog::getOpenFileName(this, "Open scenario", QString(), "Scenarios (*.yaml *.yml)");
+    if (f.isEmpty()) return;
+    authoring_->show();
+    authoring_->open(f);
+  });
+  QAction* mode = authoring_->toggleViewAction();
+  mode->setText("Authoring &Mode");
+  authoring->addAction(mode);
+
   QMenu* help = menuBar()->addMenu("&Help");
   help->addAction("&Controls", this, [this] {
     QMessageBox::information(

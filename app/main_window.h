@@ -7,6 +7,7 @@
 #include <QString>
 #include <memory>
 
+#include "app/authoring/authoring_panel.h"
 #include "app/operative_view.h"
 #include "app/vtk_view.h"
 #include "sim/setup/scene.h"
@@ -21,6 +22,8 @@ class MainWindow : public QMainWindow {
   /// Loads a scenario and shows it; on failure keeps the current scene and returns the problems.
   [[nodiscard]] Status open_scenario(const QString& file);
   VtkView* view() { return operative_->view(); }
+  /// The scenario author's dock (Authoring > Authoring Mode shows it).
+  AuthoringPanel* authoring_panel() { return authoring_; }
   OperativeView* operative_view() { return operative_; }
   /// The last session's metrics, once end_session() or the window's closing has stopped it.
   [[nodiscard]] const sim::SessionMetrics& last_metrics() const {
@@ -46,6 +49,7 @@ class MainWindow : public QMainWindow {
   void update_status();
 
   OperativeView* operative_ = nullptr;
+  AuthoringPanel* authoring_ = nullptr;
   QLabel* scene_label_ = nullptr;
   QLabel* fps_label_ = nullptr;
   QLabel* loops_label_ = nullptr;
