@@ -78,6 +78,12 @@ AuthoringPanel::AuthoringPanel(Opener opener, SessionSource session, QWidget* pa
   organs_->setMaximumHeight(90);
   layout->addWidget(organs_);
   connect(organs_, &QListWidget::currentRowChanged, this, &AuthoringPanel::select_organ);
+  follow_touch_ = new QCheckBox("Select the organ the tools touch", body);
+  follow_touch_->setChecked(true);
+  layout->addWidget(follow_touch_);
+  touch_timer_.setInterval(100);
+  connect(&touch_timer_, &QTimer::timeout, this, &AuthoringPanel::follow_touched_organ);
+  touch_timer_.start();
 
   auto* form = new QFormLayout;
   stiffness_ = spin_box(body, kMaxStiffnessNPerM, 1, 10.0, " N/m");
@@ -139,6 +145,16 @@ AuthoringPanel::AuthoringPanel(Opener opener, SessionSource session, QWidget* pa
     if (pending_.empty()) retry_timer_.stop();
   });
   select_organ(-1);
+}
+
+void AuthoringPanel::follow_touched_organ() {
+  if (!follow_touch_->isChecked() || tunings_.empty()) return;
+  sim::Session* session = session_ ? session_() : nullptr;
+  if (session == nullptr) return;
+  const int touched = session->touched_organ();
+  if (touched >= 0 && touched < organs_->count() && touched != organ_) {
+    organs_->setCurrentRow(touched);
+  }
 }
 
 void AuthoringPanel::open(const QString& file) {

@@ -61,6 +61,10 @@ class AuthoringPanel : public QDockWidget {
   QCheckBox* shading() { return shading_; }
   QDoubleSpinBox* texture_mm() { return texture_mm_; }
   QPushButton* save_button() { return save_button_; }
+  QCheckBox* follow_touch() { return follow_touch_; }
+  /// Selects the organ a tool touches now, when "follow the touched organ" is on (a timer calls
+  /// it ten times a second).
+  void follow_touched_organ();
 
  signals:
   /// The file was (re)opened: `ok` when it loaded and its session runs.
@@ -99,12 +103,14 @@ class AuthoringPanel : public QDockWidget {
   QFileSystemWatcher watcher_;
   QTimer reload_timer_;  ///< a burst of changes (an editor's save) reloads once
   QTimer retry_timer_;   ///< posts a tuning again while the mailbox was full
+  QTimer touch_timer_;   ///< follows the touched organ
 
   QLabel* file_label_ = nullptr;
   QListWidget* problems_ = nullptr;
   QLabel* location_ = nullptr;
   QPlainTextEdit* source_ = nullptr;
   QListWidget* organs_ = nullptr;
+  QCheckBox* follow_touch_ = nullptr;
   QDoubleSpinBox* stiffness_ = nullptr;
   QSlider* stiffness_slider_ = nullptr;
   QDoubleSpinBox* damping_ = nullptr;

@@ -251,6 +251,7 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   snap.tick = tick;
   bodies_.pose_objects(objects_);  // where the free bodies are this tick (§6.4)
   std::array<hardware::DeviceCommand, 2> wanted{};
+  int32_t touched = -1;
   for (size_t i = 0; i < 2; ++i) {
     ToolKinematics k;
     if (!read_tool(i, tick, &k)) continue;  // keep the tool where it was
@@ -263,7 +264,9 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
       const ToolContact& tc = ts.organ_contacts[static_cast<size_t>(c)];
       bodies_.push(tc.organ, tc.force_on_organ_W, tc.point_W);
     }
+    if (ts.organ_contact_count > 0) touched = ts.organ_contacts[0].organ;
   }
+  touched_organ_.store(touched, std::memory_order_relaxed);
   if (bodies_.count() > 0) {
     if (!bodies_.step(model.catheter_on_bodies, model_->timing().dt_s)) {
       trip(tick, -1, WatchdogReason::kNonFinite);

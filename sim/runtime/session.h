@@ -234,6 +234,11 @@ class Session {
   [[nodiscard]] const SurfaceParameters& surface_parameters(int32_t organ) const {
     return tuned_surfaces_.parameters(organ);
   }
+  /// The organ a tool touched at the latest haptic tick (the right tool's first contact, else
+  /// the left's), or -1: the organ the authoring panel tunes. Any thread.
+  [[nodiscard]] int32_t touched_organ() const {
+    return touched_organ_.load(std::memory_order_relaxed);
+  }
   /// Whether organ `organ` has force-shading normals to switch on, and a texture to scale.
   [[nodiscard]] bool surface_can_shade(int32_t organ) const {
     return tuned_surfaces_.can_shade(organ);
@@ -337,6 +342,7 @@ class Session {
   // thread's tuned surfaces it feeds (surface_tuning.h).
   SurfaceTuningMailbox tuning_mailbox_;
   TunedSurfaces tuned_surfaces_;
+  std::atomic<int32_t> touched_organ_{-1};
   MovingBodies bodies_;  ///< the free rigid bodies, stepped every haptic tick (§6.4)
 
   // Models' state (the modelling thread's own).

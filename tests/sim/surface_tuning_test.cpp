@@ -65,6 +65,13 @@ TEST(SurfaceTuning, DoublingTheStiffnessIsFeltAtTheNextTick) {
   auto run = observed_session(scene, {parked(), press()}, 1.5,
                               [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
                                 felt[h.tick] = tip_force(h.tools[1]).y();
+                                // Which organ the tools touch, for the authoring panel.
+                                if (tick == 100) {
+                                  EXPECT_EQ(session->touched_organ(), -1);
+                                }
+                                if (tick == 1200) {
+                                  EXPECT_EQ(session->touched_organ(), 0);
+                                }
                                 if (tick == kChangeTick) {
                                   SurfaceParameters p = session->surface_parameters(0);
                                   p.stiffness_n_per_m = 2.0 * kK;
