@@ -63,6 +63,8 @@ class LiveSession {
   /// The session has ended by itself (its task ended, its devices ran out, its time was up):
   /// the loops have stopped; stop() or stop_and_save() collects it.
   [[nodiscard]] bool finished() const { return finished_.load(std::memory_order_acquire); }
+  /// The running session (for the authoring panel's live tuning); null when none runs.
+  [[nodiscard]] sim::Session* session() { return session_.get(); }
   /// The last session's metrics, once it has stopped (its loops' statistics among them).
   [[nodiscard]] const sim::SessionMetrics& last_metrics() const { return metrics_; }
   /// The scenario file the running (or last) session is on.

@@ -18,6 +18,7 @@
 #include <iostream>
 #include <string>
 
+#include "app/authoring/authoring_panel.h"
 #include "app/pages/page_style.h"
 #include "app/review/review_window.h"
 #include "hardware/device_spec.h"
@@ -207,6 +208,24 @@ void MainWindow::build_menus() {
   devices_action_ = session->addAction("&Device Set-up...", this, [this] {
     if (scene_) go(Step::kDevices);
   });
+
+  // Scenario authoring (app/authoring/authoring_panel.h): a dock, hidden until asked for; it
+  // runs the scenario it opens at once, as the command line's session (open_scenario).
+  authoring_ = new AuthoringPanel([this](const QString& f) { return open_scenario(f); },
+                                  [this] { return run_->operative()->session().session(); }, this);
+  addDockWidget(Qt::RightDockWidgetArea, authoring_);
+  authoring_->hide();
+  QMenu* authoring = menuBar()->addMenu("&Authoring");
+  authoring->addAction("&Open Scenario...", this, [this] {
+    const QString f =
+        QFileDialog::getOpenFileName(this, "Open scenario", QString(), "Scenarios (*.yaml *.yml)");
+    if (f.isEmpty()) return;
+    authoring_->show();
+    authoring_->open(f);
+  });
+  QAction* mode = authoring_->toggleViewAction();
+  mode->setText("Authoring &Mode");
+  authoring->addAction(mode);
 
   QMenu* help = menuBar()->addMenu("&Help");
   help->addAction("&Controls", QKeySequence::HelpContents, this, &MainWindow::show_controls);

@@ -23,6 +23,7 @@
 #include <optional>
 #include <vector>
 
+#include "app/authoring/authoring_panel.h"
 #include "app/operative_view.h"
 #include "app/pages/briefing_page.h"
 #include "app/pages/devices_page.h"
@@ -60,6 +61,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] Status open_scenario(const QString& file);
   VtkView* view() { return run_->operative()->view(); }
   OperativeView* operative_view() { return run_->operative(); }
+  /// The scenario author's dock (Authoring > Authoring Mode shows it).
+  AuthoringPanel* authoring_panel() { return authoring_; }
   /// The last session's metrics, once end_session() or the window's closing has stopped it.
   [[nodiscard]] const sim::SessionMetrics& last_metrics() const {
     return run_->operative()->session().last_metrics();
@@ -137,6 +140,7 @@ class MainWindow : public QMainWindow {
   BriefingPage* briefing_ = nullptr;
   RunPage* run_ = nullptr;
   ResultPage* result_ = nullptr;
+  AuthoringPanel* authoring_ = nullptr;
   QLabel* scene_label_ = nullptr;
   QLabel* fps_label_ = nullptr;
   QLabel* loops_label_ = nullptr;

@@ -175,6 +175,7 @@ Result<std::unique_ptr<Session>> Session::create(
   }
   s->objects_ = m.objects();
   s->surfaces_to_haptic_.read()->point(s->objects_);
+  s->tuned_surfaces_.init(s->objects_);
   s->bodies_.init(m.bodies(), m.organ_count());
   for (Tool& tool : s->tools_) tool.objects_holding_duct = s->objects_;
 
@@ -252,6 +253,7 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   snap.tick = tick;
   bodies_.pose_objects(objects_);  // where the free bodies are this tick (§6.4)
   std::array<hardware::DeviceCommand, 2> wanted{};
+  int32_t touched = -1;
   for (size_t i = 0; i < 2; ++i) {
     ToolKinematics k;
     if (!read_tool(i, tick, &k)) continue;  // keep the tool where it was
@@ -264,7 +266,9 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
       const ToolContact& tc = ts.organ_contacts[static_cast<size_t>(c)];
       bodies_.push(tc.organ, tc.force_on_organ_W, tc.point_W);
     }
+    if (ts.organ_contact_count > 0) touched = ts.organ_contacts[0].organ;
   }
+  touched_organ_.store(touched, std::memory_order_relaxed);
   if (bodies_.count() > 0) {
     if (!bodies_.step(model.catheter_on_bodies, model_->timing().dt_s)) {
       trip(tick, -1, WatchdogReason::kNonFinite);
@@ -292,6 +296,10 @@ const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noe
   const ModelSnapshot& model = model_to_haptic_.latest();
   if (model.fault) trip(tick, -1, WatchdogReason::kModelFault, model.fault);
   if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
+  // An author's tuning, felt from this tick on; re-applied after every switch of the surfaces'
+  // copy, which resets the shading pointers (surface_tuning.h).
+  tuned_surfaces_.take(&tuning_mailbox_);
+  tuned_surfaces_.apply(objects_);
   return model;
 }
 

@@ -61,6 +61,7 @@
 #include "sim/runtime/moving_bodies.h"
 #include "sim/runtime/probe_tool.h"
 #include "sim/runtime/session_recorder.h"
+#include "sim/runtime/surface_tuning.h"
 #include "sim/runtime/task_engine.h"
 #include "sim/runtime/task_progress.h"
 #include "sim/runtime/tissue_world.h"
@@ -246,6 +247,34 @@ class Session {
     injected_delay_s_ = delay_s;
   }
 
+  /// Authoring (one thread besides the haptic one): organ `organ`'s haptic surface takes `p`
+  /// from the next haptic tick on (surface_tuning.h); false when the mailbox is full (post
+  /// again later). Wait-free, no allocation.
+  bool tune_surface(int32_t organ, const SurfaceParameters& p) noexcept {
+    return tuning_mailbox_.post(organ, p);
+  }
+  /// Tunings posted so far, and taken up by the haptic loop so far (any thread).
+  [[nodiscard]] uint64_t surface_tunings_posted() const { return tuning_mailbox_.posted(); }
+  [[nodiscard]] uint64_t surface_tunings_taken() const { return tuning_mailbox_.taken(); }
+  /// Organ `organ`'s surface as the haptic loop renders it: the haptic thread's state, so read
+  /// it once surface_tunings_taken() has reached surface_tunings_posted() with no post since
+  /// (the acquire there orders it), after run(), or in fast mode between ticks.
+  [[nodiscard]] const SurfaceParameters& surface_parameters(int32_t organ) const {
+    return tuned_surfaces_.parameters(organ);
+  }
+  /// The organ a tool touched at the latest haptic tick (the right tool's first contact, else
+  /// the left's), or -1: the organ the authoring panel tunes. Any thread.
+  [[nodiscard]] int32_t touched_organ() const {
+    return touched_organ_.load(std::memory_order_relaxed);
+  }
+  /// Whether organ `organ` has force-shading normals to switch on, and a texture to scale.
+  [[nodiscard]] bool surface_can_shade(int32_t organ) const {
+    return tuned_surfaces_.can_shade(organ);
+  }
+  [[nodiscard]] bool surface_has_texture(int32_t organ) const {
+    return tuned_surfaces_.has_texture(organ);
+  }
+
   [[nodiscard]] const SessionModel& model() const { return *model_; }
   /// The free bodies (haptic thread's state: read after run(), or in fast mode between ticks).
   [[nodiscard]] const MovingBodies& bodies() const { return bodies_; }
@@ -352,6 +381,11 @@ class Session {
   // surfaces' newest copy) and the tools.
   std::vector<haptics::HapticObject> objects_;
   std::array<Tool, 2> tools_;
+  // Authoring's live surface tuning: the mailbox from the author's thread, and the haptic
+  // thread's tuned surfaces it feeds (surface_tuning.h).
+  SurfaceTuningMailbox tuning_mailbox_;
+  TunedSurfaces tuned_surfaces_;
+  std::atomic<int32_t> touched_organ_{-1};
   MovingBodies bodies_;  ///< the free rigid bodies, stepped every haptic tick (§6.4)
 
   // Models' state (the modelling thread's own).

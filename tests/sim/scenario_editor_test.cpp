@@ -1,0 +1,258 @@
+// The scenario editor (sim/authoring/scenario_editor.h): tuned material values written back into
+// a commented scenario change only their own lines, load back with the scenario loader as the
+// new values, and what cannot be edited safely is refused with its file and line.
+
+#include "sim/authoring/scenario_editor.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "sim/setup/scenario_loader.h"
+#include "tests/test_support.h"
+
+namespace lap::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(line);
+  return lines;
+}
+
+// The 1-based number of the first line containing `needle` after the line containing `after`.
+int line_of(const std::string& text, const std::string& after, const std::string& needle) {
+  const std::vector<std::string> lines = lines_of(text);
+  bool seen = after.empty();
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (!seen && lines[i].find(after) != std::string::npos) seen = true;
+    if (seen && lines[i].find(needle) != std::string::npos) return static_cast<int>(i) + 1;
+  }
+  return -1;
+}
+
+const OrganSpec& organ(const Scenario& s, const std::string& name) {
+  for (const OrganSpec& o : s.organs) {
+    if (o.name == name) return o;
+  }
+  throw std::runtime_error("no organ " + name);
+}
+
+fs::path default_scenario() { return test::source_dir() / "scenarios/default.yaml"; }
+
+TEST(ScenarioEditor, ChangesOnlyTheEditedLinesOfACommentedScenario) {
+  const std::string before = read(default_scenario());
+  const std::vector<MaterialEdit> edits = {
+      {"liver", "stiffness_n_per_m", 144.0},
+      {"gallbladder", "texture.amplitude_m", 0.00025},
+      {"cystic_duct", "friction_dynamic", 0.05},
+  };
+  const Result<std::string> after = edit_scenario_materials(before, default_scenario(), edits);
+  ASSERT_TRUE(after.ok()) << after.message();
+
+  const std::vector<std::string> a = lines_of(before);
+  const std::vector<std::string> b = lines_of(after.value());
+  ASSERT_EQ(a.size(), b.size());
+  std::vector<int> changed;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] != b[i]) changed.push_back(static_cast<int>(i) + 1);
+  }
+  const std::vector<int> expected = {
+      line_of(before, "name: liver", "stiffness_n_per_m:"),
+      line_of(before, "name: gallbladder", "amplitude_m:"),
+      line_of(before, "name: cystic_duct", "friction_dynamic:"),
+  };
+  EXPECT_EQ(changed, expected);
+  // The key, its indentation and its comment (in the same column) stay.
+  const auto at = [](const std::vector<std::string>& l, int n) {
+    return l[static_cast<size_t>(n - 1)];
+  };
+  EXPECT_EQ(at(b, expected[0]), "      stiffness_n_per_m: 144");
+  EXPECT_EQ(at(a, expected[2]), "      friction_dynamic: 0.08        # estimate");
+  EXPECT_EQ(at(b, expected[2]), "      friction_dynamic: 0.05        # estimate");
+  EXPECT_EQ(at(b, expected[1]), "        amplitude_m: 0.00025");
+  // A longer value pushes a comment only as far as it must.
+  const std::vector<MaterialEdit> longer = {{"cystic_duct", "friction_dynamic", 0.0512345678}};
+  const Result<std::string> pushed = edit_scenario_materials(before, default_scenario(), longer);
+  ASSERT_TRUE(pushed.ok()) << pushed.message();
+  EXPECT_EQ(at(lines_of(pushed.value()), expected[2]),
+            "      friction_dynamic: 0.0512345678 # estimate");
+
+  // It loads, with the new values and every other one as before.
+  const ScenarioLoadResult old_s = parse_scenario(before, default_scenario());
+  const ScenarioLoadResult new_s = parse_scenario(after.value(), default_scenario());
+  ASSERT_TRUE(old_s.ok()) << old_s.message();
+  ASSERT_TRUE(new_s.ok()) << new_s.message();
+  EXPECT_EQ(organ(new_s.value(), "liver").material.stiffness_n_per_m, 144.0);
+  EXPECT_EQ(organ(new_s.value(), "gallbladder").material.texture.amplitude_m, 0.00025);
+  EXPECT_EQ(organ(new_s.value(), "cystic_duct").material.friction_dynamic, 0.05);
+  EXPECT_EQ(organ(new_s.value(), "liver").material.damping_n_s_per_m,
+            organ(old_s.value(), "liver").material.damping_n_s_per_m);
+  EXPECT_EQ(organ(new_s.value(), "gallbladder").material.stiffness_n_per_m,
+            organ(old_s.value(), "gallbladder").material.stiffness_n_per_m);
+  EXPECT_TRUE(organ(new_s.value(), "liver").material.shading.enabled);
+}
+
+TEST(ScenarioEditor, NumbersReadBackAsTheSameDouble) {
+  for (const double x : {72.0, 0.1, 1.0 / 3.0, 1e-4, 2.5e-7, 123456.789}) {
+    EXPECT_EQ(std::stod(yaml_value_text(x)), x) << yaml_value_text(x);
+  }
+  EXPECT_EQ(yaml_value_text(true), "true");
+  EXPECT_EQ(yaml_value_text(false), "false");
+}
+
+TEST(ScenarioEditor, AddsAMissingFieldAtTheEndOfTheOrgansMaterial) {
+  const std::string before = read(default_scenario());
+  const std::vector<MaterialEdit> edits = {{"cystic_duct", "shading.enabled", true}};
+  const Result<std::string> after = edit_scenario_materials(before, default_scenario(), edits);
+  ASSERT_TRUE(after.ok()) << after.message();
+  const std::vector<std::string> a = lines_of(before);
+  const std::vector<std::string> b = lines_of(after.value());
+  ASSERT_EQ(b.size(), a.size() + 2);
+  // Inserted right after the duct's last material line, at the material's indentation.
+  const int last = line_of(before, "name: cystic_duct", "catheter_friction:");
+  for (int i = 0; i < last; ++i) EXPECT_EQ(a[static_cast<size_t>(i)], b[static_cast<size_t>(i)]);
+  EXPECT_EQ(b[static_cast<size_t>(last)], "      shading:");
+  EXPECT_EQ(b[static_cast<size_t>(last + 1)], "        enabled: true");
+  for (size_t i = static_cast<size_t>(last); i < a.size(); ++i) EXPECT_EQ(a[i], b[i + 2]);
+
+  const ScenarioLoadResult s = parse_scenario(after.value(), default_scenario());
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_TRUE(organ(s.value(), "cystic_duct").material.shading.enabled);
+}
+
+// An inline scenario's organs with the given text in place of the material block.
+std::string scenario_with(const std::string& organs) {
+  return "version: 1\nname: t\norgans:\n" + organs +
+         "tools:\n  - name: left\n    side: left\n    kind: probe\n";
+}
+
+TEST(ScenarioEditor, AddsAMaterialAndAnItemsKeysOnTheirOwnLine) {
+  const std::string text = scenario_with(
+      "  -\n    name: a   # dash alone on its line\n    mesh: a.obj\n"
+      "  - name: 'b'\n    mesh: b.obj\n    material:\n      stiffness_n_per_m: 1\n");
+  const std::vector<MaterialEdit> edits = {{"a", "damping_n_s_per_m", 0.5},
+                                           {"b", "stiffness_n_per_m", 2.0}};
+  const Result<std::string> after = edit_scenario_materials(text, "t.yaml", edits);
+  ASSERT_TRUE(after.ok()) << after.message();
+  EXPECT_EQ(after.value(),
+            scenario_with("  -\n    name: a   # dash alone on its line\n    mesh: a.obj\n"
+                          "    material:\n      damping_n_s_per_m: 0.5\n"
+                          "  - name: 'b'\n    mesh: b.obj\n    material:\n"
+                          "      stiffness_n_per_m: 2\n"));
+}
+
+TEST(ScenarioEditor, KeepsWindowsLineEndingsAndAMissingFinalNewline) {
+  const std::string text =
+      "organs:\r\n  - name: a\r\n    material:\r\n      stiffness_n_per_m: 1 # k\r\n"
+      "      damping_n_s_per_m: 0";
+  const std::vector<MaterialEdit> edits = {{"a", "stiffness_n_per_m", 30.0},
+                                           {"a", "damping_n_s_per_m", 0.25}};
+  const Result<std::string> after = edit_scenario_materials(text, "t.yaml", edits);
+  ASSERT_TRUE(after.ok()) << after.message();
+  EXPECT_EQ(after.value(),
+            "organs:\r\n  - name: a\r\n    material:\r\n      stiffness_n_per_m: 30 # k\r\n"
+            "      damping_n_s_per_m: 0.25");
+}
+
+TEST(ScenarioEditor, RefusesAFlowStyleMaterialWithItsLine) {
+  const std::string before = read(default_scenario());
+  const std::vector<MaterialEdit> edits = {{"liver", "shading.enabled", false}};
+  const Result<std::string> r = edit_scenario_materials(before, default_scenario(), edits);
+  ASSERT_FALSE(r.ok());
+  ASSERT_EQ(r.diagnostics().size(), 1u);
+  const Diagnostic& d = r.diagnostics()[0];
+  EXPECT_EQ(d.file, default_scenario().string());
+  EXPECT_EQ(d.line, line_of(before, "name: liver", "shading: {"));
+  EXPECT_EQ(d.field, "organs[0].material.shading");
+  EXPECT_NE(d.message.find("flow style"), std::string::npos) << d.message;
+
+  const std::string flow_material =
+      scenario_with("  - name: a\n    mesh: a.obj\n    material: {stiffness_n_per_m: 1}\n");
+  const std::vector<MaterialEdit> k = {{"a", "stiffness_n_per_m", 2.0}};
+  const Result<std::string> r2 = edit_scenario_materials(flow_material, "t.yaml", k);
+  ASSERT_FALSE(r2.ok());
+  EXPECT_EQ(r2.diagnostics()[0].to_string().substr(0, 35), "t.yaml:6: organs[0].material: writt");
+}
+
+TEST(ScenarioEditor, RefusesAnchorsAliasesAndMergeKeys) {
+  const std::string anchored = scenario_with(
+      "  - name: a\n    mesh: a.obj\n    material: &soft\n      stiffness_n_per_m: 1\n"
+      "  - name: b\n    mesh: b.obj\n    material: *soft\n");
+  for (const char* name : {"a", "b"}) {
+    const std::vector<MaterialEdit> edits = {{name, "stiffness_n_per_m", 2.0}};
+    const Result<std::string> r = edit_scenario_materials(anchored, "t.yaml", edits);
+    ASSERT_FALSE(r.ok()) << name;
+    EXPECT_EQ(r.diagnostics()[0].line, std::string(name) == "a" ? 6 : 10);
+    EXPECT_NE(r.message().find("anchor"), std::string::npos) << r.message();
+  }
+  const std::string merged = scenario_with(
+      "  - name: a\n    mesh: a.obj\n    material:\n      <<: {damping_n_s_per_m: 1}\n"
+      "      stiffness_n_per_m: 1\n");
+  const std::vector<MaterialEdit> edits = {{"a", "stiffness_n_per_m", 2.0}};
+  const Result<std::string> r = edit_scenario_materials(merged, "t.yaml", edits);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.diagnostics()[0].line, 7);
+}
+
+TEST(ScenarioEditor, RefusesAnUnknownOrganAndABlockScalar) {
+  const std::string text =
+      scenario_with("  - name: a\n    material:\n      stiffness_n_per_m: >\n        1\n");
+  const std::vector<MaterialEdit> unknown = {{"nope", "stiffness_n_per_m", 2.0}};
+  const Result<std::string> r = edit_scenario_materials(text, "t.yaml", unknown);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("no organ named 'nope'"), std::string::npos) << r.message();
+  const std::vector<MaterialEdit> block = {{"a", "stiffness_n_per_m", 2.0}};
+  const Result<std::string> r2 = edit_scenario_materials(text, "t.yaml", block);
+  ASSERT_FALSE(r2.ok());
+  EXPECT_EQ(r2.diagnostics()[0].line, 6);
+}
+
+// A copy of the default scenario in a folder of its own whose assets/ is the project's.
+struct ScenarioCopy {
+  test::TempDir dir;
+  fs::path file;
+  ScenarioCopy() {
+    fs::create_directories(dir.path() / "scenarios");
+    fs::create_directory_symlink(test::source_dir() / "assets", dir.path() / "assets");
+    file = dir.path() / "scenarios/default.yaml";
+    fs::copy_file(default_scenario(), file);
+  }
+};
+
+TEST(ScenarioEditor, SavesTheFileAndRefusesValuesThatWouldNotLoad) {
+  const ScenarioCopy copy;
+  const std::string before = read(copy.file);
+  ASSERT_TRUE(load_scenario(copy.file).ok()) << load_scenario(copy.file).message();
+  const std::vector<MaterialEdit> edits = {{"gallbladder", "stiffness_n_per_m", 400.0}};
+  const Status saved = save_scenario_materials(copy.file, edits);
+  ASSERT_TRUE(saved.ok()) << saved.message();
+  const ScenarioLoadResult s = load_scenario(copy.file);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(organ(s.value(), "gallbladder").material.stiffness_n_per_m, 400.0);
+  EXPECT_FALSE(fs::exists(copy.file.string() + ".saving"));
+
+  // Shading on the textured gallbladder breaks §6.6: refused, the file left as it was.
+  const std::string good = read(copy.file);
+  EXPECT_NE(good, before);
+  const std::vector<MaterialEdit> bad = {{"gallbladder", "shading.enabled", true}};
+  const Status refused = save_scenario_materials(copy.file, bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("not saved"), std::string::npos) << refused.message();
+  EXPECT_EQ(read(copy.file), good);
+}
+
+}  // namespace
+}  // namespace lap::sim

@@ -1,0 +1,201 @@
+// Live tuning of an organ's haptic surface in a running session (sim/runtime/surface_tuning.h):
+// a probe pressing a slab feels k · depth, the stiffness is doubled through the mailbox, and
+// from the next tick on it feels 2k · depth; the other parameters reach the objects the proxies
+// read; the haptic tick allocates nothing while tunings keep arriving.
+
+#include "sim/runtime/surface_tuning.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "haptics/setup/mesh_generators.h"
+#include "sim/setup/mesh_loader.h"
+#include "tests/sim/demo_test_support.h"
+#include "tests/support/counting_allocator.h"
+
+namespace lap::sim {
+namespace {
+
+using demo_test::observed_session;
+using demo_test::tip_force;
+using V = Eigen::Vector3d;
+
+constexpr double kK = 200.0;      // the slab's contact spring [N/m]
+constexpr double kDepth = 0.001;  // pressed 1 mm: k d = 0.2 N, 2k d = 0.4 N (under the
+                                  // default device's 0.88 N sustained force: sent unscaled)
+
+// A slab (top at y = 0) with friction, the right tool a point probe straight above it.
+Scene slab_scene(const test::TempDir& dir) {
+  EXPECT_TRUE(save_obj(haptics::make_box({0.06, 0.01, 0.06}, 6), dir.path() / "slab.obj").ok());
+  const SceneLoadResult r = load_scene_file(dir.write("slab.yaml", R"(version: 1
+name: slab
+organs:
+  - name: slab
+    mesh: slab.obj
+    transform: {translation_m: [0, -0.005, 0]}
+    material:
+      stiffness_n_per_m: 200
+      friction_static: 0.4
+      friction_dynamic: 0.2
+trocars:
+  - {name: pl, position_m: [-0.15, 0.12, 0.0]}
+  - {name: pr, position_m: [0.0, 0.15, 0.0]}
+tools:
+  - {name: l, side: left, trocar: pl, kind: probe}
+  - {name: r, side: right, trocar: pr, kind: probe}
+)"));
+  EXPECT_TRUE(r.ok()) << r.message();
+  return r.value();
+}
+
+std::vector<TipWaypoint> parked() {
+  return {{0.0, V(-0.15, 0.07, 0.0)}, {3.0, V(-0.15, 0.07, 0.0)}};
+}
+std::vector<TipWaypoint> press() {
+  return {{0.0, V(0.0, 0.03, 0.0)}, {1.0, V(0.0, -kDepth, 0.0)}, {1.6, V(0.0, -kDepth, 0.0)}};
+}
+
+TEST(SurfaceTuning, DoublingTheStiffnessIsFeltAtTheNextTick) {
+  const test::TempDir dir;
+  const Scene scene = slab_scene(dir);
+  constexpr int64_t kChangeTick = 1300;  // held 1 mm deep since tick 1000
+  std::map<int64_t, double> felt;        // by tick: the tip's normal force [N]
+  Session* session = nullptr;
+  auto run = observed_session(scene, {parked(), press()}, 1.5,
+                              [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
+                                felt[h.tick] = tip_force(h.tools[1]).y();
+                                // Which organ the tools touch, for the authoring panel.
+                                if (tick == 100) {
+                                  EXPECT_EQ(session->touched_organ(), -1);
+                                }
+                                if (tick == 1200) {
+                                  EXPECT_EQ(session->touched_organ(), 0);
+                                }
+                                if (tick == kChangeTick) {
+                                  SurfaceParameters p = session->surface_parameters(0);
+                                  p.stiffness_n_per_m = 2.0 * kK;
+                                  EXPECT_TRUE(session->tune_surface(0, p));
+                                }
+                              });
+  ASSERT_NE(run.session, nullptr);
+  session = run.session.get();
+  EXPECT_EQ(session->surface_parameters(0).stiffness_n_per_m, kK);
+  run.session->run();
+  // Posted during tick kChangeTick (its device read): that tick still renders k, the next 2k.
+  EXPECT_NEAR(felt.at(kChangeTick - 1), kK * kDepth, 1e-6);
+  EXPECT_NEAR(felt.at(kChangeTick), kK * kDepth, 1e-6);
+  EXPECT_NEAR(felt.at(kChangeTick + 1), 2.0 * kK * kDepth, 1e-6);
+  EXPECT_NEAR(felt.at(kChangeTick + 100), 2.0 * kK * kDepth, 1e-6);
+  EXPECT_EQ(session->surface_tunings_taken(), session->surface_tunings_posted());
+  EXPECT_EQ(session->surface_parameters(0).stiffness_n_per_m, 2.0 * kK);
+  // What reached the device: the vertical shaft passes the axial force 1:1 (the last command is
+  // the zero sent at the end).
+  ASSERT_GE(run.right->commands.size(), 2U);
+  EXPECT_NEAR(run.right->commands[run.right->commands.size() - 2].force_W.y(), 2.0 * kK * kDepth,
+              1e-6);
+}
+
+TEST(SurfaceTuning, EveryParameterReachesTheObjectsTheProxiesRead) {
+  // Straight on TunedSurfaces: a friction-less, unshaded object with a texture.
+  haptics::HapticObject object;
+  object.law.stiffness_n_per_m = 300.0;
+  struct Ramp final : haptics::HeightField {
+    [[nodiscard]] haptics::HeightSample sample(const Eigen::Vector3d& p) const noexcept override {
+      return {0.001 * p.x(), V(0.001, 0.0, 0.0)};
+    }
+    [[nodiscard]] double max_height_m() const noexcept override { return 0.002; }
+  } ramp;
+  object.texture = &ramp;
+  std::vector<haptics::HapticObject> objects = {object};
+  TunedSurfaces tuned;
+  tuned.init(objects);
+  EXPECT_FALSE(tuned.can_shade(0));
+  EXPECT_TRUE(tuned.has_texture(0));
+  EXPECT_EQ(tuned.parameters(0).friction_static, 0.0);
+
+  SurfaceTuningMailbox mailbox;
+  SurfaceParameters p = tuned.parameters(0);
+  p.stiffness_n_per_m = 500.0;
+  p.damping_n_s_per_m = 0.7;
+  p.friction_static = 0.5;
+  p.friction_dynamic = 0.8;  // above μs: capped to it
+  p.shading = true;          // no normals: stays off
+  p.texture_scale = 0.25;
+  ASSERT_TRUE(mailbox.post(0, p));
+  ASSERT_TRUE(mailbox.post(7, p));  // no such organ: ignored
+  EXPECT_TRUE(tuned.take(&mailbox));
+  tuned.apply(objects);
+  const haptics::HapticObject& o = objects[0];
+  EXPECT_EQ(o.law.stiffness_n_per_m, 500.0);
+  EXPECT_EQ(o.law.damping_n_s_per_m, 0.7);
+  EXPECT_EQ(o.law.kind, haptics::ForceLaw::Kind::kHookeDamped);
+  ASSERT_NE(o.friction, nullptr);
+  EXPECT_EQ(o.friction->mu_static, 0.5);
+  EXPECT_EQ(o.friction->mu_dynamic, 0.5);
+  // §6.2: no friction before, so the sticking spring follows k, the sliding one k μd / μs.
+  EXPECT_EQ(o.friction->stick_stiffness_n_per_m, 500.0);
+  EXPECT_EQ(o.friction->slide_stiffness_n_per_m, 500.0);
+  EXPECT_EQ(o.shading, nullptr);
+  ASSERT_NE(o.texture, nullptr);
+  EXPECT_DOUBLE_EQ(o.texture->sample(V(2.0, 0, 0)).height_m, 0.25 * 0.002);
+  EXPECT_DOUBLE_EQ(o.texture->sample(V(2.0, 0, 0)).gradient.x(), 0.25 * 0.001);
+  EXPECT_DOUBLE_EQ(o.texture->max_height_m(), 0.25 * 0.002);
+
+  // A non-finite value is not taken; friction off again removes it.
+  SurfaceParameters bad = p;
+  bad.stiffness_n_per_m = std::nan("");
+  ASSERT_TRUE(mailbox.post(0, bad));
+  p.friction_static = 0.0;
+  p.friction_dynamic = 0.0;
+  ASSERT_TRUE(mailbox.post(0, p));
+  EXPECT_TRUE(tuned.take(&mailbox));
+  tuned.apply(objects);
+  EXPECT_EQ(objects[0].law.stiffness_n_per_m, 500.0);
+  EXPECT_EQ(objects[0].friction, nullptr);
+  EXPECT_EQ(mailbox.taken(), 4U);
+}
+
+TEST(SurfaceTuning, AFullMailboxRefusesAndKeepsOrder) {
+  SurfaceTuningMailbox mailbox;
+  SurfaceParameters p;
+  for (uint64_t i = 0; i < SurfaceTuningMailbox::kCapacity; ++i) {
+    p.stiffness_n_per_m = static_cast<double>(i);
+    ASSERT_TRUE(mailbox.post(0, p));
+  }
+  EXPECT_FALSE(mailbox.post(0, p));
+  double expected = 0.0;
+  const int32_t n = mailbox.take([&](int32_t, const SurfaceParameters& q) {
+    EXPECT_EQ(q.stiffness_n_per_m, expected);
+    expected += 1.0;
+  });
+  EXPECT_EQ(n, static_cast<int32_t>(SurfaceTuningMailbox::kCapacity));
+  EXPECT_TRUE(mailbox.post(0, p));
+}
+
+// The author keeps moving a slider: a tuning every 5 ticks, and the haptic tick still allocates
+// nothing (the count does not grow with the session's length).
+TEST(SurfaceTuning, TheHapticTickAllocatesNothingWhileTuningsArrive) {
+  const test::TempDir dir;
+  const Scene scene = slab_scene(dir);
+  auto count_for = [&](double duration) {
+    Session* session = nullptr;
+    SurfaceParameters p;
+    auto run = observed_session(scene, {parked(), press()}, duration,
+                                [&](int64_t tick, const HapticSnapshot&, const ModelSnapshot&) {
+                                  if (tick % 5 != 0) return;
+                                  p.stiffness_n_per_m = kK * (1.0 + 0.5 * std::sin(0.01 * tick));
+                                  p.friction_static = 0.4;
+                                  p.friction_dynamic = 0.2;
+                                  EXPECT_TRUE(session->tune_surface(0, p));
+                                });
+    session = run.session.get();
+    test::AllocationCounter counter;
+    const SessionMetrics m = run.session->run();
+    return counter.count();
+  };
+  EXPECT_EQ(count_for(0.2), count_for(1.5));
+}
+
+}  // namespace
+}  // namespace lap::sim
