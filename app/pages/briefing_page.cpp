@@ -99,15 +99,24 @@ BriefingPage::BriefingPage(QWidget* parent) : QWidget(parent) {
   task_ = body_label(this);
   task_->setObjectName("briefing_task");
   columns->addWidget(panel("Your task", task_, this), 5);
-  auto* right = new QVBoxLayout;
-  right->setSpacing(18);
-  instruments_ = body_label(this);
+  // The instruments and the controls share one panel that fills the column: as two panels
+  // stacked, the instruments' one kept its height from before its text was set and cut off the
+  // right hand's line (a wrapped label's height for its width does not reach a sibling panel).
+  QFrame* side = card_frame(this);
+  auto* sv = new QVBoxLayout(side);
+  sv->setContentsMargins(22, 18, 22, 18);
+  sv->setSpacing(8);
+  sv->addWidget(section_title("Your instruments", side));
+  instruments_ = body_label(side);
   instruments_->setObjectName("briefing_instruments");
-  right->addWidget(panel("Your instruments", instruments_, this));
-  controls_ = body_label(this);
+  sv->addWidget(instruments_);
+  sv->addSpacing(16);
+  sv->addWidget(section_title("Controls", side));
+  controls_ = body_label(side);
   controls_->setObjectName("briefing_controls");
-  right->addWidget(panel("Controls", controls_, this), 1);
-  columns->addLayout(right, 6);
+  sv->addWidget(controls_);
+  sv->addStretch(1);
+  columns->addWidget(side, 6);
   v->addLayout(columns, 1);
 
   v->addSpacing(12);

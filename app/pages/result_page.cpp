@@ -250,11 +250,14 @@ void ResultPage::show_result(const nlohmann::ordered_json& report, const Session
             .arg(p.value("of", 0)));
   }
 
+  // The folder on one line; how to review it (a command for instructors) as its tooltip.
   saved_->setText(attempt.recording_dir.isEmpty()
                       ? QString()
-                      : QString("Saved for review in %1  (laptrainer-cli report --session "
-                                "<folder> replays it)")
-                            .arg(attempt.recording_dir));
+                      : QString("Saved for review in %1").arg(attempt.recording_dir));
+  saved_->setToolTip(attempt.recording_dir.isEmpty()
+                         ? QString()
+                         : QString("laptrainer-cli report --session \"%1\" reviews it")
+                               .arg(attempt.recording_dir));
   show_attempts(attempts, attempt.uuid);
 }
 

@@ -153,7 +153,9 @@ void ScenarioPage::set_scenarios(const std::vector<CatalogEntry>& entries,
     name->setWordWrap(true);
     name->setStyleSheet("font-weight: 600;");
     text->addWidget(name);
-    text->addWidget(difficulty_badge(QString::fromStdString(e.difficulty), card));
+    // Aligned, so that the badge's own width (its size policy is Maximum) does not cap the
+    // column's and leave the name wrapped a word a line.
+    text->addWidget(difficulty_badge(QString::fromStdString(e.difficulty), card), 0, Qt::AlignLeft);
     if (!e.problems.empty()) {
       auto* problem = new QLabel("Does not load: see the details", card);
       problem->setStyleSheet(QString("color: %1;").arg(kFailure));

@@ -135,10 +135,23 @@ class SessionFlow : public ::testing::Test {
 
 TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  // Two residents who trained here before (the session database knows them, this station's
+  // settings do not): the sign-in page offers them.
+  {
+    auto store = app::SessionStore::open_default();
+    ASSERT_TRUE(store.ok()) << store.message();
+    for (const char* t : {"R-1187 Dr S. Okafor", "R-2210 Dr M. Chen"}) {
+      ASSERT_TRUE(store.value()->add_trainee(t).ok());
+    }
+  }
   MainWindow w;
   w.resize(1280, 800);
   w.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  auto* known = find<QListWidget>(w.sign_in_page(), "known_trainees");
+  ASSERT_EQ(known->count(), 2);
+  EXPECT_EQ(known->item(0)->text(), "R-1187 Dr S. Okafor");
+  EXPECT_EQ(known->item(1)->text(), "R-2210 Dr M. Chen");
   const QString trainee = "R-2041 Dr A. Rivera";
   sign_in_and_choose_default(w, trainee, "flow-");
   if (HasFatalFailure()) return;
