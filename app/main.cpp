@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/main_window.h"
+#include "app/review/review_window.h"
 #include "app/run_stats.h"
 #include "hardware/device_spec.h"
 #include "sim/setup/scenario_loader.h"
@@ -35,6 +36,9 @@ constexpr int kExitUsage = 64;
 const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
     "                  [--quit-after S] [--screenshot PNG --frames N] [--stats FILE]\n"
+    "       laptrainer --review [--trainee NAME]\n"
+    "  --review          open the instructor's review of the station's sessions instead (an\n"
+    "                    instructor signs in; --trainee NAME: that trainee's own sessions)\n"
     "  --scenario FILE   scenario to open (default: scenarios/default.yaml)\n"
     "  --left DEV, --right DEV  the tools' devices: simulated (default, keyboard and mouse),\n"
     "                    scripted:FILE, replay:FILE (a saved session), phantom:NAME\n"
@@ -52,6 +56,8 @@ struct Options {
   std::string screenshot;
   std::string record;
   std::string stats;
+  std::string trainee;
+  bool review = false;
   std::array<lap::hardware::DeviceSpec, 2> devices{};
   double quit_after_s = 0.0;
   int frames = 10;
@@ -75,6 +81,10 @@ bool parse(int argc, char** argv, Options& o) {
       if (!value(o.screenshot)) return false;
     } else if (a == "--record") {
       if (!value(o.record)) return false;
+    } else if (a == "--review") {
+      o.review = true;
+    } else if (a == "--trainee") {
+      if (!value(o.trainee)) return false;
     } else if (a == "--stats") {
       if (!value(o.stats)) return false;
     } else if (a == "--left" || a == "--right") {
@@ -162,6 +172,11 @@ int main(int argc, char** argv) {
   }
 
   if (!display_available()) {
+    if (opt.review) {
+      std::cerr << "laptrainer: --review needs a display (DISPLAY is not set); the headless "
+                   "report is laptrainer-cli report --session DIR\n";
+      return kExitProblems;
+    }
     if (!opt.screenshot.empty()) {
       std::cerr << "laptrainer: --screenshot needs a display (DISPLAY is not set); run it under "
                    "xvfb-run -a\n";
@@ -174,6 +189,17 @@ int main(int argc, char** argv) {
   QApplication::setAttribute(Qt::AA_NativeWindows, false);
   QApplication app(argc, argv);
   QApplication::setApplicationName("laptrainer");
+  if (opt.review) {
+    // The instructor's review as its own mode (app/review/README.md).
+    lap::Result<lap::app::ReviewWindow*> review =
+        lap::app::ReviewWindow::open_default(QString::fromStdString(opt.trainee));
+    if (!review.ok()) {
+      std::cerr << "laptrainer: " << review.message() << "\n";
+      return kExitProblems;
+    }
+    review.value()->show();
+    return QApplication::exec();
+  }
   lap::app::MainWindow window;
   window.set_record_dir(QString::fromStdString(opt.record));
   window.set_devices(opt.devices);
