@@ -307,6 +307,9 @@ QWidget* ReviewWindow::build_cohort_page() {
   cohort_table_->setSortingEnabled(true);
   split->addWidget(cohort_view_);
   split->addWidget(cohort_table_);
+  split->setStretchFactor(0, 3);  // the curves first: the table needs a row per trainee
+  split->setStretchFactor(1, 1);
+  split->setSizes({560, 200});
   layout->addWidget(split, 1);
   connect(cohort_scenario_, &QComboBox::currentIndexChanged, this, [this] { refresh_cohort(); });
   connect(cohort_metric_, &QComboBox::currentIndexChanged, this, [this] { refresh_cohort(); });

@@ -181,9 +181,21 @@ void SessionCharts::finish(Plot& p, double t_end) {
   p.cursor->attachAxis(p.y);
   p.x->setRange(0.0, std::max(t_end, 1e-3));
   p.y->setRange(0.0, p.top);
-  // Round ticks (0, 0.5, 1 N rather than 0.604, 1.21): the axes may grow a little past the data.
-  p.x->applyNiceNumbers();
+  // Round ticks (0, 0.5, 1 N rather than 0.604, 1.21). Up, the axis may grow a little past the
+  // data; along time it ends with the session, its ticks every 1, 2 or 5 × 10^k s from 0.
   p.y->applyNiceNumbers();
+  const double raw_step = std::max(t_end, 1e-3) / 5.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw_step)));
+  double step = 10.0 * decade;
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw_step) {
+      step = m * decade;
+      break;
+    }
+  }
+  p.x->setTickType(QValueAxis::TicksDynamic);
+  p.x->setTickAnchor(0.0);
+  p.x->setTickInterval(step);
   p.top = p.y->max();
   for (QAbstractSeries* a : p.chart->series()) {
     auto* s = qobject_cast<QLineSeries*>(a);
