@@ -26,6 +26,7 @@
 
 #include "app/main_window.h"
 #include "app/pages/page_style.h"
+#include "app/review/review_window.h"
 #include "app/run_stats.h"
 #include "hardware/device_spec.h"
 #include "sim/setup/scenario_loader.h"
@@ -43,8 +44,11 @@ const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
     "                  [--quit-after S] [--screenshot PNG --frames N] [--size WxH]\n"
     "                  [--stats FILE]\n"
+    "       laptrainer --review [--trainee NAME]\n"
     "  Without options that name a session, the window opens at sign-in. --scenario, --left,\n"
     "  --right, --record and --screenshot name one: it runs at once, without signing in.\n"
+    "  --review          open the instructor's review of the station's sessions instead (an\n"
+    "                    instructor signs in; --trainee NAME: that trainee's own sessions)\n"
     "  --scenario FILE   scenario to run (default: scenarios/default.yaml)\n"
     "  --left DEV, --right DEV  the tools' devices: simulated (default, keyboard and mouse),\n"
     "                    scripted:FILE, replay:FILE (a saved session), phantom:NAME\n"
@@ -64,6 +68,8 @@ struct Options {
   std::string screenshot;
   std::string record;
   std::string stats;
+  std::string trainee;
+  bool review = false;
   std::array<lap::hardware::DeviceSpec, 2> devices{};
   int field_width = 0;  ///< --size: the operative field's size [px]; 0: the window's
   int field_height = 0;
@@ -93,6 +99,10 @@ bool parse(int argc, char** argv, Options& o) {
       if (!value(o.screenshot)) return false;
     } else if (a == "--record") {
       if (!value(o.record)) return false;
+    } else if (a == "--review") {
+      o.review = true;
+    } else if (a == "--trainee") {
+      if (!value(o.trainee)) return false;
     } else if (a == "--stats") {
       if (!value(o.stats)) return false;
     } else if (a == "--left" || a == "--right") {
@@ -195,6 +205,11 @@ int main(int argc, char** argv) {
   }
 
   if (!display_available()) {
+    if (opt.review) {
+      std::cerr << "laptrainer: --review needs a display (DISPLAY is not set); the headless "
+                   "report is laptrainer-cli report --session DIR\n";
+      return kExitProblems;
+    }
     if (!opt.screenshot.empty()) {
       std::cerr << "laptrainer: --screenshot needs a display (DISPLAY is not set); run it under "
                    "xvfb-run -a\n";
@@ -209,6 +224,17 @@ int main(int argc, char** argv) {
   QApplication::setApplicationName("laptrainer");
   QApplication::setApplicationDisplayName("laptrainer");
   lap::app::apply_application_style(app);
+  if (opt.review) {
+    // The instructor's review as its own mode (app/review/README.md).
+    lap::Result<lap::app::ReviewWindow*> review =
+        lap::app::ReviewWindow::open_default(QString::fromStdString(opt.trainee));
+    if (!review.ok()) {
+      std::cerr << "laptrainer: " << review.message() << "\n";
+      return kExitProblems;
+    }
+    review.value()->show();
+    return QApplication::exec();
+  }
   lap::app::MainWindow window;
   window.set_record_dir(QString::fromStdString(opt.record));
   window.set_devices(opt.devices);

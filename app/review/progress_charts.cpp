@@ -77,8 +77,18 @@ void set_ranges(const Axes& axes, int n, double low, double high) {
   }
   const double pad = high > low ? 0.08 * (high - low) : std::max(1e-6, 0.1 * std::abs(high));
   axes.x->setRange(0.5, std::max(1, n) + 0.5);
-  axes.x->setTickCount(std::min(std::max(2, n), 11));
+  // A tick on each session (1, 2, 3, …), or every 2, 5, 10, … of them for a long history; a
+  // fixed count of ticks would put them between sessions (0.5, 2, 3.5) under a rounded label.
+  int every = 1;
+  for (const int m : {2, 5, 10, 20, 50, 100, 200, 500}) {
+    if (n / every <= 12) break;
+    every = m;
+  }
+  axes.x->setTickType(QValueAxis::TicksDynamic);
+  axes.x->setTickAnchor(every == 1 ? 1.0 : 0.0);
+  axes.x->setTickInterval(every);
   axes.y->setRange(low - pad, high + pad);
+  axes.y->applyNiceNumbers();  // round values along the metric's axis
 }
 
 }  // namespace

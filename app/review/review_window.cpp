@@ -236,7 +236,7 @@ QWidget* ReviewWindow::build_sessions_page() {
   metrics_ = new QTableWidget(0, 5, views);
   metrics_->setObjectName(QStringLiteral("metrics"));
   metrics_->setHorizontalHeaderLabels(
-      {tr("metric"), tr("stored"), tr("replayed"), tr("limit"), tr("verdict")});
+      {tr("metric"), tr("verdict"), tr("limit"), tr("stored"), tr("replayed")});
   metrics_->horizontalHeader()->setStretchLastSection(true);
   metrics_->verticalHeader()->setVisible(false);
   metrics_->setEditTriggers(QAbstractItemView::NoEditTriggers);
@@ -307,6 +307,9 @@ QWidget* ReviewWindow::build_cohort_page() {
   cohort_table_->setSortingEnabled(true);
   split->addWidget(cohort_view_);
   split->addWidget(cohort_table_);
+  split->setStretchFactor(0, 3);  // the curves first: the table needs a row per trainee
+  split->setStretchFactor(1, 1);
+  split->setSizes({560, 200});
   layout->addWidget(split, 1);
   connect(cohort_scenario_, &QComboBox::currentIndexChanged, this, [this] { refresh_cohort(); });
   connect(cohort_metric_, &QComboBox::currentIndexChanged, this, [this] { refresh_cohort(); });
@@ -546,17 +549,17 @@ void ReviewWindow::show_stored_metrics() {
   metrics_->setRowCount(static_cast<int>(metrics.size()));
   for (int i = 0; i < static_cast<int>(metrics.size()); ++i) {
     const sim::Metric& m = metrics[static_cast<size_t>(i)];
-    metrics_->setItem(i, 0, new QTableWidgetItem(q(m.name)));
-    metrics_->setItem(i, 1, new QTableWidgetItem(value_text(m.value)));
-    metrics_->setItem(i, 2, new QTableWidgetItem(tr("replaying…")));
+    metrics_->setItem(i, kMetricName, new QTableWidgetItem(q(m.name)));
+    metrics_->setItem(i, kMetricStored, new QTableWidgetItem(value_text(m.value)));
+    metrics_->setItem(i, kMetricReplayed, new QTableWidgetItem(tr("replaying…")));
     for (const sim::BenchmarkResult& r : verdicts) {
       if (r.benchmark.metric != m.name) continue;
-      metrics_->setItem(i, 3,
+      metrics_->setItem(i, kMetricLimit,
                         new QTableWidgetItem((r.benchmark.higher_is_better ? "≥ " : "≤ ") +
                                              QString::number(r.limit, 'g', 4)));
       auto* verdict = new QTableWidgetItem(r.met ? tr("pass") : tr("FAIL"));
       verdict->setForeground(r.met ? QColor(13, 140, 51) : QColor(204, 26, 26));
-      metrics_->setItem(i, 4, verdict);
+      metrics_->setItem(i, kMetricVerdict, verdict);
     }
   }
   metrics_->resizeColumnsToContents();
@@ -566,12 +569,12 @@ void ReviewWindow::show_replay_metrics() {
   if (!timeline_) return;
   const std::vector<sim::Metric>& replayed = timeline_->session().metrics.training;
   for (int i = 0; i < metrics_->rowCount(); ++i) {
-    const QString name = metrics_->item(i, 0)->text();
+    const QString name = metrics_->item(i, kMetricName)->text();
     QString text = tr("-");
     for (const sim::Metric& m : replayed) {
       if (q(m.name) == name) text = value_text(m.value);
     }
-    metrics_->setItem(i, 2, new QTableWidgetItem(text));
+    metrics_->setItem(i, kMetricReplayed, new QTableWidgetItem(text));
   }
   metrics_->resizeColumnsToContents();
 }

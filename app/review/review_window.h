@@ -51,6 +51,10 @@ class ReviewWindow : public QMainWindow {
   Q_OBJECT
 
  public:
+  /// The metrics table's columns: what the trainee is judged on first (the verdict and its
+  /// limit), then the value as stored and as the replay recomputed it.
+  enum MetricColumn { kMetricName, kMetricVerdict, kMetricLimit, kMetricStored, kMetricReplayed };
+
   /// Reviews `store`'s sessions as `viewer` may see them; `store` outlives the window.
   ReviewWindow(SessionStore* store, Viewer viewer, QWidget* parent = nullptr);
   /// The same over a store the window keeps.

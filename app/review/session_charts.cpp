@@ -136,6 +136,7 @@ void SessionCharts::add_limit(Plot& p, double value, double t_end, const QString
   s->setName(name);
   s->append(0.0, value);
   s->append(t_end, value);
+  s->setProperty("limit", true);
   QPen pen(QColor(204, 26, 26), 1.2, Qt::DashLine);
   s->setPen(pen);
   p.chart->addSeries(s);
@@ -180,13 +181,29 @@ void SessionCharts::finish(Plot& p, double t_end) {
   p.cursor->attachAxis(p.y);
   p.x->setRange(0.0, std::max(t_end, 1e-3));
   p.y->setRange(0.0, p.top);
-  // Round ticks (0, 0.5, 1 N rather than 0.604, 1.21): the axis may grow a little past the top.
+  // Round ticks (0, 0.5, 1 N rather than 0.604, 1.21). Up, the axis may grow a little past the
+  // data; along time it ends with the session, its ticks every 1, 2 or 5 × 10^k s from 0.
   p.y->applyNiceNumbers();
+  const double raw_step = std::max(t_end, 1e-3) / 5.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw_step)));
+  double step = 10.0 * decade;
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw_step) {
+      step = m * decade;
+      break;
+    }
+  }
+  p.x->setTickType(QValueAxis::TicksDynamic);
+  p.x->setTickAnchor(0.0);
+  p.x->setTickInterval(step);
   p.top = p.y->max();
   for (QAbstractSeries* a : p.chart->series()) {
     auto* s = qobject_cast<QLineSeries*>(a);
     if (s != nullptr && (s->property("event").toBool() || s == p.cursor)) {
       s->replace(1, QPointF(s->at(1).x(), p.top));
+    }
+    if (s != nullptr && s->property("limit").toBool()) {
+      s->replace(1, QPointF(p.x->max(), s->at(1).y()));  // across the whole plot
     }
   }
 }

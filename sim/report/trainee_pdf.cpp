@@ -113,6 +113,11 @@ void draw_curve(PdfDocument& doc, double y, double h, const LearningCurve& c) {
     xy.push_back(py(c.values[i]));
   }
   doc.polyline(xy, 1.0, kBlue);
+  for (size_t i = 0; i < n; ++i) {  // a session without the figure (e.g. no completion time)
+    if (!std::isfinite(c.values[i])) {
+      doc.text(px(static_cast<double>(i)) - 8.0, y + h - 4.0, "none", 6.5, false, kGrey);
+    }
+  }
   for (size_t i = 0; i < n; ++i) {
     if (!std::isfinite(c.values[i])) continue;
     const bool met = c.progress && i < c.progress->met.size() && c.progress->met[i];
@@ -147,6 +152,51 @@ double draw_sessions(PdfDocument& doc, const TraineePdfContext& c, double y) {
     doc.text(kLeft + 330.0, y,
              std::isfinite(s.completion_time_s) ? fixed(s.completion_time_s, 2) + " s" : "-", 7.5,
              false, kInk);
+    y += 9.5;
+  }
+  return y;
+}
+
+/// Where the trainee stands on each benchmark: the limit, the latest value, which sessions met
+/// it (oldest first) and since when proficient — the page an instructor reads first.
+double draw_standing(PdfDocument& doc, const TraineePdfContext& c, double y) {
+  std::vector<const LearningCurve*> benchmarked;
+  for (const LearningCurve& curve : c.curves) {
+    if (curve.progress) benchmarked.push_back(&curve);
+  }
+  if (benchmarked.empty()) return y;
+  doc.text(kLeft, y, "Against the experts", 11.0, true, kInk);
+  y += 14.0;
+  doc.text(kLeft, y, "metric", 8.0, true, kInk);
+  doc.text(kLeft + 150.0, y, "limit", 8.0, true, kInk);
+  doc.text(kLeft + 220.0, y, "latest", 8.0, true, kInk);
+  doc.text(kLeft + 280.0, y, "met in sessions (oldest first)", 8.0, true, kInk);
+  doc.text(kLeft + 420.0, y, "proficient", 8.0, true, kInk);
+  y += 11.0;
+  for (const LearningCurve* curve : benchmarked) {
+    const ProficiencyProgress& p = *curve->progress;
+    double latest = NAN;
+    for (const double v : curve->values) {
+      if (std::isfinite(v)) latest = v;
+    }
+    doc.text(kLeft, y, curve->metric, 7.5, false, kInk);
+    doc.text(kLeft + 150.0, y,
+             (p.benchmark.higher_is_better ? ">= " : "<= ") + significant(p.limit), 7.5, false,
+             kInk);
+    doc.text(kLeft + 220.0, y, significant(latest), 7.5, false, kInk);
+    // One mark per session: a green "yes" where met, a red "no" where not, "-" where undefined.
+    double x = kLeft + 280.0;
+    for (size_t i = 0; i < p.met.size(); ++i) {
+      const bool defined = i < p.values.size() && std::isfinite(p.values[i]);
+      const std::string mark = !defined ? "-" : p.met[i] ? "yes" : "no";
+      doc.text(x, y, mark, 7.5, false, !defined ? kGrey : p.met[i] ? kGreen : kRed);
+      x += 18.0;
+      if (x > kLeft + 410.0) break;  // a long history: the curves show the rest
+    }
+    doc.text(
+        kLeft + 420.0, y,
+        p.proficient_at >= 0 ? "from session " + std::to_string(p.proficient_at + 1) : "not yet",
+        7.5, false, p.proficient_at >= 0 ? kGreen : kRed);
     y += 9.5;
   }
   return y;
@@ -190,6 +240,7 @@ PdfDocument trainee_pdf(const TraineePdfContext& c) {
     y += 9.0;
   }
   y = draw_sessions(doc, c, y + 14.0);
+  y = draw_standing(doc, c, y + 14.0);
 
   // The learning curves, benchmarked ones first, three to a page.
   std::vector<const LearningCurve*> order;
@@ -201,7 +252,14 @@ PdfDocument trainee_pdf(const TraineePdfContext& c) {
   }
   constexpr double kPlotH = 170.0;
   constexpr double kPlotGap = 75.0;
-  y = kBottom;  // a fresh page for the first curve
+  // The first curves below the tables, on the first page where they fit.
+  y += 24.0;
+  if (!order.empty() && y + kPlotH + 60.0 <= kBottom) {
+    doc.text(kLeft, y, "Learning curves", 11.0, true, kInk);
+    y += 30.0;
+  } else {
+    y = kBottom;
+  }
   for (const LearningCurve* curve : order) {
     if (y + kPlotH + 30.0 > kBottom) {
       doc.new_page();

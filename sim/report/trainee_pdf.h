@@ -5,7 +5,8 @@
 /// where the trainee stands against proficiency (proficiency_progress.h); then one learning curve
 /// per benchmarked metric — the metric over the sessions with the experts' band (mean ± 2 SD)
 /// shaded and the limit drawn, each session's point green where met, red where not — three to a
-/// page. Metrics without a benchmark follow as curves without a band.
+/// page. Metrics without a benchmark follow as curves without a band. Page one also has a table
+/// of where the trainee stands on each benchmark (limit, latest value, met per session).
 
 #include <optional>
 #include <string>

@@ -246,11 +246,14 @@ TEST_F(ReviewWindowTest, AnInstructorReviewsASessionAndExportsIt) {
   ASSERT_GT(metrics->rowCount(), 10);
   int verdicts = 0;
   for (int i = 0; i < metrics->rowCount(); ++i) {
-    const QString name = metrics->item(i, 0)->text();
-    EXPECT_EQ(metrics->item(i, 1)->text(), metrics->item(i, 2)->text()) << name.toStdString();
-    if (metrics->item(i, 4) != nullptr) {
+    const QString name = metrics->item(i, ReviewWindow::kMetricName)->text();
+    EXPECT_EQ(metrics->item(i, ReviewWindow::kMetricStored)->text(),
+              metrics->item(i, ReviewWindow::kMetricReplayed)->text())
+        << name.toStdString();
+    if (const QTableWidgetItem* verdict = metrics->item(i, ReviewWindow::kMetricVerdict)) {
       ++verdicts;
-      EXPECT_TRUE(metrics->item(i, 4)->text() == "pass" || metrics->item(i, 4)->text() == "FAIL");
+      EXPECT_TRUE(verdict->text() == "pass" || verdict->text() == "FAIL");
+      EXPECT_EQ(verdicts, i + 1) << "the benchmarked metrics come first";
     }
   }
   EXPECT_EQ(verdicts, 7);  // the default scenario's seven benchmarks
