@@ -126,7 +126,7 @@ Status write_session_record(const std::filesystem::path& dir, const std::string&
   const int saved_errno = errno;
   if (::close(fd) != 0 || !written) {
     errno = written ? errno : saved_errno;
-    const Status s = failed("writing " + temporary + " failed");
+    Status s = failed("writing " + temporary + " failed");
     ::unlink(temporary.c_str());
     return s;
   }
@@ -142,11 +142,10 @@ Status write_session_record(const std::filesystem::path& dir, const std::string&
     }
   }
   if (moved != 0) {
-    const Status s =
-        errno == EEXIST
-            ? Status(file_diagnostic(file.string(), 0, "",
-                                     "already exists: a session's record is written once"))
-            : failed("renaming " + temporary + " failed");
+    Status s = errno == EEXIST
+                   ? Status(file_diagnostic(file.string(), 0, "",
+                                            "already exists: a session's record is written once"))
+                   : failed("renaming " + temporary + " failed");
     ::unlink(temporary.c_str());
     return s;
   }

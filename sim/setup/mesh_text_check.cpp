@@ -105,6 +105,12 @@ class LineReader {
     while (!v.empty() && (is_space(v.back()) || v.back() == '\n')) v.remove_suffix(1);
     return v;
   }
+  /// The line right after its first token, as it is (spaces and all).
+  [[nodiscard]] std::string_view after_first() const {
+    std::string_view v(text_);
+    v.remove_prefix(static_cast<size_t>(tokens_[0].data() + tokens_[0].size() - text_.data()));
+    return v;
+  }
   /// The problem at the current line.
   [[nodiscard]] Status fail(const std::string& field, const std::string& what) const {
     return file_diagnostic(file_, number_, field, what);
@@ -268,8 +274,17 @@ Status check_off(const fs::path& file) {
     // 4D and n-dimensional variants: their counts are checked, their vertices left to OpenMesh.
     other_dimension =
         head.find('4') != std::string_view::npos || head.find('n') != std::string_view::npos;
-    for (std::string_view t : r.tokens()) {
-      if (t == "BINARY") return {};  // checked after loading
+    // OpenMesh takes the data for binary only when " BINARY" follows the header's first word at
+    // once, one space between; any other BINARY it skips, and reads the text after the line as
+    // counts (the fuzzer's "OFF    BINARY" then asked for gigabytes).
+    if (std::find(r.tokens().begin(), r.tokens().end(), "BINARY") != r.tokens().end()) {
+      if (r.after_first().substr(0, 7) == " BINARY") return {};  // checked after loading
+      std::string line = std::string(head) + std::string(r.after_first());
+      line.erase(line.find_last_not_of(" \t\r\v") + 1);
+      return r.fail("header", "expected '" + shown(head) +
+                                  " BINARY' with one space between (any other header with BINARY "
+                                  "is read as text), got '" +
+                                  shown(line) + "'");
     }
     // OpenMesh skips the rest of the header line and reads the counts from the next: counts
     // beside OFF would be misread (the fuzzer's "OFF 0 0" then asked for gigabytes).

@@ -23,7 +23,9 @@ void ScenarioFiles::read_allowed_paths(const YAML::Node& list) {
     const std::string f = "allowed_paths[" + std::to_string(i) + "]";
     const std::optional<std::string> text = fields_.string(list[i], f);
     if (!text) continue;
-    const fs::path resolved = resolve(*text);
+    const std::optional<fs::path> canonical = resolve(list[i], f, *text);
+    if (!canonical) continue;
+    const fs::path& resolved = *canonical;
     std::error_code ec;
     if (settings_.confine_allowed_paths && !inside_folder(dir_, resolved) &&
         std::none_of(settings_.confine_allowed_paths->begin(),
@@ -46,7 +48,9 @@ void ScenarioFiles::read_allowed_paths(const YAML::Node& list) {
 std::optional<fs::path> ScenarioFiles::file(const YAML::Node& n, const std::string& field) {
   const std::optional<std::string> text = fields_.string(n, field);
   if (!text) return std::nullopt;
-  const fs::path resolved = resolve(*text);
+  const std::optional<fs::path> canonical = resolve(n, field, *text);
+  if (!canonical) return std::nullopt;
+  const fs::path& resolved = *canonical;
   if (!inside_allowed(resolved)) {
     fields_.problem(n, field,
                     "path " + quote_excerpt(*text) +
@@ -74,15 +78,27 @@ std::optional<fs::path> ScenarioFiles::file(const YAML::Node& n, const std::stri
   return resolved;
 }
 
-fs::path ScenarioFiles::resolve(const std::string& text) const {
+std::optional<fs::path> ScenarioFiles::resolve(const YAML::Node& n, const std::string& field,
+                                               const std::string& text) const {
+  // The error_code overload: a component longer than NAME_MAX threw (ENAMETOOLONG) through the
+  // loader (found by fuzz_scenario; tests/fuzz/regressions/scenario).
   const fs::path p(text);
-  return fs::weakly_canonical(p.is_absolute() ? p : dir_ / p);
+  std::error_code ec;
+  fs::path resolved = fs::weakly_canonical(p.is_absolute() ? p : dir_ / p, ec);
+  if (ec) {
+    fields_.problem(n, field,
+                    "path " + quote_excerpt(text) + " cannot be resolved (" + ec.message() + ")");
+    return std::nullopt;
+  }
+  return resolved;
 }
 
 bool ScenarioFiles::inside_allowed(const fs::path& resolved) const {
   // Compared element by element after canonicalising, so `..` and symlinks cannot escape.
   auto under = [&resolved](const fs::path& root) {
-    const fs::path r = fs::weakly_canonical(root);
+    std::error_code ec;
+    const fs::path r = fs::weakly_canonical(root, ec);
+    if (ec) return false;
     auto rit = r.begin();
     auto pit = resolved.begin();
     for (; rit != r.end(); ++rit, ++pit) {

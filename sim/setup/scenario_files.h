@@ -28,7 +28,11 @@ class ScenarioFiles {
   std::optional<std::filesystem::path> file(const YAML::Node& n, const std::string& field);
 
  private:
-  [[nodiscard]] std::filesystem::path resolve(const std::string& text) const;
+  /// `text` made absolute and canonical; nullopt, and a problem at `n`, when it cannot be (a
+  /// name too long, a loop of symbolic links: the file system's own refusal, never a throw).
+  [[nodiscard]] std::optional<std::filesystem::path> resolve(const YAML::Node& n,
+                                                             const std::string& field,
+                                                             const std::string& text) const;
   [[nodiscard]] bool inside_allowed(const std::filesystem::path& resolved) const;
 
   YamlFields& fields_;

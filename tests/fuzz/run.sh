@@ -36,6 +36,7 @@ bad_inputs_of() {
     scenario) echo scenario scenario-yaml ;; mesh_obj) echo obj ;; mesh_stl) echo stl ;; mesh_ply) echo ply ;;
     mesh_off) echo off ;; mesh_gltf|mesh_glb) echo gltf ;; height_image) echo height-map ;;
     keyframes) echo keyframes ;; device_recording) echo lapdev ;;
+    session_record|session_recording) echo session ;;  # folders: libFuzzer reads them recursively
   esac
 }
 

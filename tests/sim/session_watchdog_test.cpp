@@ -516,5 +516,97 @@ TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
   EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
 }
 
+// Issue 25's fault injection: a device unplugged mid-session and plugged back (as the USB
+// gripper's driver and the PHANToM report it: kDisconnected while away, kOk once back). The tick
+// it goes: zero force and a pause, one event however long it stays away. A resume while it is
+// still away changes nothing but the log (it trips again on the tick it is taken up: zero sent,
+// and a second event, as trip() counts a fault after a resume as a new one). Once it is back, the
+// session stays paused until resume(), which brings the forces back through the ramp, never at
+// once. Every tick's input is recorded, the device's state with it.
+class ReconnectingDevice final : public hardware::HapticDevice {
+ public:
+  ReconnectingDevice(hardware::ScriptedTrajectory t, int64_t gone, int64_t back)
+      : inner_(std::move(t), "reconnecting"), gone_(gone), back_(back) {}
+  Status start() override { return inner_.start(); }
+  void stop() override {}
+  DeviceStatus read(int64_t tick, double dt, hardware::DeviceSample* out) noexcept override {
+    if (on_read) on_read(tick);
+    const DeviceStatus st = inner_.read(tick, dt, out);
+    return tick >= gone_ && tick < back_ ? DeviceStatus::kDisconnected : st;
+  }
+  DeviceStatus write(const hardware::DeviceCommand& c) noexcept override {
+    commands.push_back(c);
+    return DeviceStatus::kOk;
+  }
+  [[nodiscard]] const hardware::DeviceLimits& limits() const override { return inner_.limits(); }
+  [[nodiscard]] std::string_view name() const override { return "reconnecting"; }
+  [[nodiscard]] std::string last_error() const override { return {}; }
+  std::vector<hardware::DeviceCommand> commands;  // reserved by the test
+  std::function<void(int64_t tick)> on_read;      // on the haptic thread (fast mode: the test's)
+
+ private:
+  hardware::ScriptedDevice inner_;
+  int64_t gone_, back_;
+};
+
+TEST(Session, ADeviceUnpluggedAndPluggedBackPausesUntilResumedThenRampsBack) {
+  const Scene& scene = default_scene();
+  constexpr int64_t kGone = kPressingTick;       // pressing on the organs, as push_in's test
+  constexpr int64_t kEarlyResume = kGone + 100;  // a resume while it is still away
+  constexpr int64_t kBack = kGone + 300;
+  constexpr int64_t kResume = kBack + 200;  // the trainee resumes once it is back
+  auto left = std::make_unique<ReconnectingDevice>(push_and_hold(scene, 0), kGone, kBack);
+  left->commands.reserve(4000);
+  ReconnectingDevice* dev = left.get();
+  Session* session = nullptr;
+  // resume() from the read of a tick is taken up at the start of the next.
+  dev->on_read = [&session](int64_t tick) {
+    if (tick == kEarlyResume || tick == kResume) session->resume();
+  };
+  RuntimeSettings rs = fast(2.5);
+  rs.resume_ramp_s = 0.1;
+  auto created = Session::create(scene, with_left(scene, std::move(left)), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  session = created.value().get();
+  const SessionMetrics m = created.value()->run();
+
+  ASSERT_GT(dev->commands[kGone - 1].force_W.norm(), 0.0) << "it must be pressing when it goes";
+  // Zero from the tick it went to the tick the resume was asked on (taken up at the next).
+  for (int64_t t = kGone; t <= kResume; ++t) {
+    ASSERT_EQ(dev->commands[static_cast<size_t>(t)].force_W, Eigen::Vector3d::Zero()) << t;
+  }
+  // One event at the tick it went, one more at the tick the early resume was taken up (the
+  // next): the device still away trips at once. None while it stays away otherwise.
+  ASSERT_EQ(m.events.size(), 2U);
+  EXPECT_EQ(m.events[0].tick, kGone);
+  EXPECT_EQ(m.events[1].tick, kEarlyResume + 1);
+  for (const WatchdogEvent& e : m.events) {
+    EXPECT_EQ(e.tool, 0);
+    EXPECT_EQ(e.reason, WatchdogReason::kDeviceDisconnected);
+  }
+  EXPECT_FALSE(m.paused);  // resumed, and still running at the end
+  // Back through the ramp: 1 % of the gain per tick (dt / resume_ramp_s), so the first force is
+  // at most 1 % of the device's 3 N, and the forces grow from there.
+  size_t first = 0;
+  for (size_t t = kResume + 1; t < dev->commands.size() && first == 0; ++t) {
+    if (dev->commands[t].force_W.norm() > 0.0) first = t;
+  }
+  ASSERT_GT(first, 0U) << "forces never came back";
+  EXPECT_LE(dev->commands[first].force_W.norm(), 0.01 * 3.0 + 1e-12);
+  double later = 0.0;
+  for (size_t t = first; t < dev->commands.size(); ++t) {
+    later = std::max(later, dev->commands[t].force_W.norm());
+  }
+  EXPECT_GT(later, 10.0 * dev->commands[first].force_W.norm());
+  // Recorded throughout, with the device's state.
+  EXPECT_EQ(m.recorded_ticks, m.haptic.ticks());
+  const hardware::DeviceRecording& rec = session->recording(0);
+  ASSERT_GT(rec.samples.size(), static_cast<size_t>(kResume));
+  EXPECT_EQ(rec.samples[kGone - 1].status, DeviceStatus::kOk);
+  EXPECT_EQ(rec.samples[kGone].status, DeviceStatus::kDisconnected);
+  EXPECT_EQ(rec.samples[kBack - 1].status, DeviceStatus::kDisconnected);
+  EXPECT_EQ(rec.samples[kBack].status, DeviceStatus::kOk);
+}
+
 }  // namespace
 }  // namespace lap::sim

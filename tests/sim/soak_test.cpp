@@ -4,20 +4,35 @@
 // LAP_SOAK_S simulated seconds (30 by default; a twentieth under the sanitizers; an hour for the
 // figures in docs/benchmarks.md). Checked: no watchdog event (no non-finite value anywhere, no
 // model fault, no device fault), every tick run, the largest force finite and within the
-// devices' limit, the catheter and the duct taken, the resident memory at the end within 1 % of
-// what it was once the storage reserved at set-up had been touched.
-// Not checked here: that no proxy is ever inside a mesh (the proxies' own tests do that).
+// devices' limit, the catheter taken and the duct taken (each on its own), the resident memory
+// at the end within 1 % of what it was once the storage reserved at set-up had been touched; the
+// worst tick and the deepest a proxy was found inside an organ are printed (the latter asserted
+// by Soak.DISABLED_NoProxyInsideAnOrgan, which fails for now: see there).
+//
+// Proxies inside an organ: the sampler (the graphics snapshots' one reader, as the window would
+// be) takes each tool's three proxies as the haptic loop last placed them (their ideal ends,
+// ToolSnapshot::proxy_a_W/b_W; not the device's segments, which go inside as the hand pushes)
+// and points 2 mm apart along them, and tests each against every closed organ's surface as the
+// newest model snapshot deforms it: inside by parity along a fixed ray, then how deep (the
+// distance to the nearest triangle). The two snapshots may be a modelling step apart, over which
+// a surface moves a fraction of a millimetre, hence the 0.5 mm allowance.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <thread>
 
+#include "haptics/closest_point.h"
+#include "haptics/segment_triangle.h"
+#include "haptics/setup/mesh_validation.h"
 #include "hardware/scripted_device.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/device_factory.h"
@@ -63,6 +78,55 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
   return t;
 }
 
+/// An organ's surface as the proxies feel it: at rest, deformed by a model snapshot (no
+/// allocation once built), with its bounding box.
+struct OrganShape {
+  std::vector<Eigen::Vector3d> rest;
+  std::vector<Eigen::Vector3d> now;  // n x 3 [m], world frame
+  std::vector<haptics::Triangle> triangles;
+  Eigen::AlignedBox3d box;
+
+  void deform(const SurfaceDeformation& d) {
+    std::copy(rest.begin(), rest.end(), now.begin());
+    for (int32_t k = 0; k < d.count; ++k) {
+      const auto v = static_cast<size_t>(d.vertex[static_cast<size_t>(k)]);
+      if (v < now.size()) now[v] = d.position[static_cast<size_t>(k)];
+    }
+    box.setEmpty();
+    for (const Eigen::Vector3d& p : now) box.extend(p);
+  }
+
+  /// How deep p is inside the closed surface [m]; 0 outside.
+  [[nodiscard]] double depth_inside(const Eigen::Vector3d& p) const {
+    if (!box.contains(p)) return 0.0;
+    // Parity of crossings along a ray in a direction no edge of these meshes lies along.
+    const Eigen::Vector3d far =
+        p + 10.0 * Eigen::Vector3d(0.5773502691896258, 0.5773502691896257, 0.5773502691896259)
+                       .cross(Eigen::Vector3d(0.1234567, 0.7654321, 0.3141592))
+                       .normalized();
+    int crossings = 0;
+    for (const haptics::Triangle& t : triangles) {
+      const auto& [a, b, c] = t;
+      crossings += haptics::segment_crosses_triangle(p, far, now[static_cast<size_t>(a)], a,
+                                                     now[static_cast<size_t>(b)], b,
+                                                     now[static_cast<size_t>(c)], c)
+                           .hit
+                       ? 1
+                       : 0;
+    }
+    if (crossings % 2 == 0) return 0.0;
+    double nearest2 = std::numeric_limits<double>::infinity();
+    for (const haptics::Triangle& t : triangles) {
+      haptics::TriangleFeature feature;
+      const Eigen::Vector3d q = haptics::closest_on_triangle(
+          p, now[static_cast<size_t>(t[0])], now[static_cast<size_t>(t[1])],
+          now[static_cast<size_t>(t[2])], &feature);
+      nearest2 = std::min(nearest2, (q - p).squaredNorm());
+    }
+    return std::sqrt(nearest2);
+  }
+};
+
 int64_t resident_bytes() {
   std::ifstream statm("/proc/self/statm");
   int64_t size = 0, resident = 0;
@@ -70,7 +134,9 @@ int64_t resident_bytes() {
   return resident * sysconf(_SC_PAGESIZE);
 }
 
-TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
+/// The soak; `check_proxies`: also fail when a proxy point is found inside an organ (otherwise
+/// the deepest is measured and printed only: see NoProxyInsideAnOrgan below).
+void soak(bool check_proxies) {
   const double duration = soak_s();
   const Scene& scene = default_scene();
   Devices d{std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, 11), "left"),
@@ -89,22 +155,72 @@ TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
   // here grows as it samples (its own growth would read as the session's).
   const double settled = std::max(0.2, rs.record_s / duration + 0.05);
   const auto settled_tick = static_cast<int64_t>(settled * duration * 1000.0);
+  // The closed organs, for the proxies' inside test.
+  std::vector<OrganShape> organs;
+  std::vector<int32_t> organ_index;
+  for (int32_t o = 0; o < session->organ_count(); ++o) {
+    const haptics::TriangleMesh& mesh = session->organ_surface(o);
+    if (!haptics::validate_mesh(mesh).boundary_edges.empty()) continue;  // open: no inside
+    organs.push_back({mesh.positions, mesh.positions, mesh.triangles, {}});
+    organ_index.push_back(o);
+  }
+  ASSERT_FALSE(organs.empty());
   std::atomic<bool> done{false};
   int64_t early = -1;
   int catheter_takes = 0, duct_takes = 0;
+  int64_t proxy_samples = 0;  // snapshot pairs whose proxies were tested
+  int64_t mismatched = 0;     // pairs skipped: the model had stepped on since the haptic tick
+  double deepest_m = 0.0;     // the deepest any proxy point was inside an organ
+  int64_t deepest_tick = -1;
+  int deepest_tool = -1, deepest_segment = -1, deepest_organ = -1, deepest_contacts = -1;
+  const int64_t ticks_per_step = session->model().timing().ticks_per_model;
   const auto t0 = std::chrono::steady_clock::now();
   std::thread sampler([&] {
     bool catheter_held = false, duct_held = false;
     while (!done.load()) {
-      if (early < 0 && session->graphics_haptic().tick >= settled_tick) early = resident_bytes();
       const ModelSnapshot& snap = session->graphics_model();
+      const HapticSnapshot& h = session->graphics_haptic();
+      if (early < 0 && h.tick >= settled_tick) early = resident_bytes();
       const bool c = snap.grasps[0].grasping() || snap.grasps[1].grasping();
       const bool g = snap.duct_grasps[0].grasping() || snap.duct_grasps[1].grasping();
       catheter_takes += c && !catheter_held ? 1 : 0;
       duct_takes += g && !duct_held ? 1 : 0;
       catheter_held = c;
       duct_held = g;
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      // The pair is the proxies' own only when the haptic tick felt the surfaces of this
+      // modelling step: the newest step before it (fast mode: one after every
+      // ticks_per_step-th tick, published before the next tick starts).
+      const bool same_surfaces =
+          h.tick > 0 && snap.tick == (h.tick - 1) / ticks_per_step * ticks_per_step;
+      mismatched += same_surfaces ? 0 : 1;
+      if (same_surfaces && snap.organs.size() == static_cast<size_t>(session->organ_count())) {
+        for (size_t k = 0; k < organs.size(); ++k) {
+          organs[k].deform(snap.organs[static_cast<size_t>(organ_index[k])]);
+        }
+        for (size_t tool = 0; tool < 2; ++tool) {
+          for (size_t s = 0; s < 3; ++s) {
+            const Eigen::Vector3d a = h.tools[tool].proxy_a_W[s];
+            const Eigen::Vector3d b = h.tools[tool].proxy_b_W[s];
+            const int points = 2 + static_cast<int>((b - a).norm() / 0.002);
+            for (int p = 0; p < points; ++p) {
+              const Eigen::Vector3d x = a + (b - a) * (p / static_cast<double>(points - 1));
+              for (size_t k = 0; k < organs.size(); ++k) {
+                const double depth = organs[k].depth_inside(x);
+                if (depth > deepest_m) {
+                  deepest_m = depth;
+                  deepest_tick = h.tick;
+                  deepest_tool = static_cast<int>(tool);
+                  deepest_segment = static_cast<int>(s);
+                  deepest_organ = organ_index[k];
+                  deepest_contacts = h.tools[tool].contacts;
+                }
+              }
+            }
+          }
+        }
+        ++proxy_samples;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   });
   const SessionMetrics m = session->run();
@@ -121,24 +237,48 @@ TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) {
   EXPECT_TRUE(std::isfinite(m.max_force_sent_n));
   EXPECT_GT(m.max_force_sent_n, 0.0);  // they did touch
   for (const auto& s : m.device_status) EXPECT_NE(s, hardware::DeviceStatus::kError);
-  // The catheter and the duct were taken and let go of (as sampled).
-  EXPECT_GE(catheter_takes + duct_takes, duration >= 10.0 ? 2 : 1);
+  // The catheter was taken, and the duct was taken, each on its own (as sampled).
+  if (duration >= 10.0) {
+    EXPECT_GE(catheter_takes, 1) << "the catheter was never taken";
+    EXPECT_GE(duct_takes, 1) << "the duct was never taken";
+  }
+  // No proxy inside an organ, beyond the two snapshots' step apart.
+  EXPECT_GT(proxy_samples, 10);
+  if (check_proxies) {
+    EXPECT_LT(deepest_m, 0.0005) << "tool " << deepest_tool << " segment " << deepest_segment
+                                 << " inside organ " << deepest_organ << " at tick " << deepest_tick
+                                 << " (the tool's contacts then: " << deepest_contacts << ")";
+  }
   ASSERT_GT(early, 0) << "the session ended before it settled";
   const double growth = static_cast<double>(late - early) / static_cast<double>(early);
   std::printf(
-      "soak: %.1f s simulated in %.1f s; %lld haptic ticks (mean %.2f us, p99.9 %.2f us), %lld "
-      "modelling steps (mean %.1f us); the catheter taken %d times, the duct %d times (as "
-      "sampled); largest force %.2f N; resident memory %.1f MB once settled, %.1f MB at the end "
-      "(%+.3f %%)\n",
+      "soak: %.1f s simulated in %.1f s; %lld haptic ticks (mean %.2f us, p99.9 %.2f us, worst "
+      "%.1f us), %lld modelling steps (mean %.1f us, worst %.1f us); the catheter taken %d "
+      "times, the duct %d times (as sampled); proxies tested in %lld snapshots (%lld pairs a "
+      "step apart skipped), deepest inside an organ %.3f mm; largest force %.2f N; resident "
+      "memory %.1f MB once settled, %.1f MB at the end (%+.3f %%)\n",
       duration, wall_s, static_cast<long long>(m.haptic.ticks()), m.haptic.mean_step_s() * 1e6,
-      m.haptic.step_quantile_s(0.999) * 1e6, static_cast<long long>(m.model.ticks()),
-      m.model.mean_step_s() * 1e6, catheter_takes, duct_takes, m.max_force_sent_n,
-      static_cast<double>(early) / 1e6, static_cast<double>(late) / 1e6, growth * 100.0);
+      m.haptic.step_quantile_s(0.999) * 1e6, m.haptic.worst_step_s() * 1e6,
+      static_cast<long long>(m.model.ticks()), m.model.mean_step_s() * 1e6,
+      m.model.worst_step_s() * 1e6, catheter_takes, duct_takes,
+      static_cast<long long>(proxy_samples), static_cast<long long>(mismatched), deepest_m * 1e3,
+      m.max_force_sent_n, static_cast<double>(early) / 1e6, static_cast<double>(late) / 1e6,
+      growth * 100.0);
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
   }
 }
+
+TEST(Soak, BothToolsWanderingGraspingAndLettingGoForAWhile) { soak(false); }
+
+// Disabled: it fails. Run with --gtest_also_run_disabled_tests. The soak's first look at the
+// proxies (issue 25) found a jaw's proxy 3.7 mm inside the gallbladder (tool 0, segment 1, tick
+// 15930 of the 30 s soak, 21 contacts on the tool then), far beyond the 0.5 mm a modelling step
+// can move a surface between the two snapshots compared: not yet explained (a neighbouring
+// contact's dent lifting the surface over the proxy, the proxies' contact list full, and the
+// snapshot pairing are the candidates). Enabled once that is fixed.
+TEST(Soak, DISABLED_NoProxyInsideAnOrgan) { soak(true); }
 
 }  // namespace
 }  // namespace lap::sim
