@@ -12,6 +12,7 @@
 /// the rest geometry is the lumen to within that.
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -57,15 +58,26 @@ struct TaskModel {
   /// inside it (a closed mesh, at rest) is an error.
   int32_t cbd_organ = -1;
 
-  // The laparoscope: a cone about its line of sight, of half the vertical view angle (the
-  // screen's aspect only widens the view, so this never calls a visible tip out of view).
+  // The laparoscope's picture at the scenario's camera: the frustum of its vertical view angle
+  // and the operative field's 16:9 aspect (HD laparoscopy monitors; the window's field is drawn
+  // at that aspect), so that a tip seen anywhere in the picture is in view. Before, a cone of
+  // half the vertical angle called tips at the picture's sides out of view (the hardest
+  // patient's keyboard tools, 10 cm into their ports, failed at 3 s).
+  static constexpr double kPictureAspect = 16.0 / 9.0;
   Eigen::Vector3d camera_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d view_dir_W = -Eigen::Vector3d::UnitZ();
-  double cos_half_view = 0.0;
-  /// `tip_W` within the laparoscope's view cone.
+  Eigen::Vector3d view_up_W = Eigen::Vector3d::UnitY();     ///< unit, ⊥ view_dir_W
+  Eigen::Vector3d view_right_W = Eigen::Vector3d::UnitX();  ///< unit, view_dir_W × view_up_W
+  double cos_half_view = 0.0;  ///< half the vertical angle (the cone, when tan_half_* are 0)
+  double tan_half_vertical = 0.0;
+  double tan_half_horizontal = 0.0;
+  /// `tip_W` within the laparoscope's picture.
   [[nodiscard]] bool in_view(const Eigen::Vector3d& tip_W) const {
     const Eigen::Vector3d v = tip_W - camera_W;
-    return v.dot(view_dir_W) >= cos_half_view * v.norm();
+    const double depth = v.dot(view_dir_W);
+    if (tan_half_vertical <= 0.0) return depth >= cos_half_view * v.norm();
+    return depth > 0.0 && std::abs(v.dot(view_up_W)) <= depth * tan_half_vertical &&
+           std::abs(v.dot(view_right_W)) <= depth * tan_half_horizontal;
   }
 
   /// From the scenario and the tissue's model (the duct's shell and incision faces).

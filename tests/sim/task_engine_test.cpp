@@ -111,6 +111,38 @@ class Driver {
   std::vector<uint8_t> touched = std::vector<uint8_t>(3, 0);
 };
 
+// The picture's frustum (task_model.h): a 35° vertical view angle at 16:9 reaches
+// atan(16/9 tan 17.5°) = 29.27° to each side; the old cone of 17.5° called the sides out of view.
+TEST(TaskView, ATipAnywhereInTheSixteenByNinePictureIsInView) {
+  TaskModel m;
+  m.camera_W = Eigen::Vector3d::Zero();
+  m.view_dir_W = -Eigen::Vector3d::UnitZ();
+  m.view_up_W = Eigen::Vector3d::UnitY();
+  m.view_right_W = m.view_dir_W.cross(m.view_up_W);  // +x
+  m.cos_half_view = std::cos(17.5 * M_PI / 180.0);
+  m.tan_half_vertical = std::tan(17.5 * M_PI / 180.0);
+  m.tan_half_horizontal = TaskModel::kPictureAspect * m.tan_half_vertical;
+  const double half_h_deg = std::atan(m.tan_half_horizontal) * 180.0 / M_PI;
+  EXPECT_NEAR(half_h_deg, 29.27, 0.01);
+  auto at = [](double right_deg, double up_deg) {  // 0.1 m deep, turned by those angles
+    const double d = 0.1;
+    return Eigen::Vector3d(d * std::tan(right_deg * M_PI / 180.0),
+                           d * std::tan(up_deg * M_PI / 180.0), -d);
+  };
+  EXPECT_TRUE(m.in_view(at(0.0, 0.0)));
+  EXPECT_TRUE(m.in_view(at(25.0, 0.0)));  // beyond the old cone, inside the picture
+  EXPECT_TRUE(m.in_view(at(-29.0, 0.0)));
+  EXPECT_FALSE(m.in_view(at(29.6, 0.0)));  // past the picture's side
+  EXPECT_TRUE(m.in_view(at(0.0, 17.0)));
+  EXPECT_FALSE(m.in_view(at(0.0, 18.0)));                   // past its top
+  EXPECT_TRUE(m.in_view(at(28.0, -17.0)));                  // a corner
+  EXPECT_FALSE(m.in_view(Eigen::Vector3d(0.0, 0.0, 0.1)));  // behind the scope
+  // Without the frustum's fields (older models), the cone of half the vertical angle.
+  m.tan_half_vertical = 0.0;
+  EXPECT_FALSE(m.in_view(at(25.0, 0.0)));
+  EXPECT_TRUE(m.in_view(at(17.0, 0.0)));
+}
+
 TEST(TaskDepth, IsTheCatheterInsideTheLumenFromItsTipBackToWhereItEnters) {
   const TaskModel m = duct_model();
   EXPECT_EQ(lumen_depth_m(m, above(0.004)), 0.0);
