@@ -63,8 +63,6 @@ class LiveSession {
   /// The session has ended by itself (its task ended, its devices ran out, its time was up):
   /// the loops have stopped; stop() or stop_and_save() collects it.
   [[nodiscard]] bool finished() const { return finished_.load(std::memory_order_acquire); }
-  /// The running session (for the authoring panel's live tuning); null when none runs.
-  [[nodiscard]] sim::Session* session() { return session_.get(); }
   /// The last session's metrics, once it has stopped (its loops' statistics among them).
   [[nodiscard]] const sim::SessionMetrics& last_metrics() const { return metrics_; }
   /// The scenario file the running (or last) session is on.
@@ -111,7 +109,8 @@ class LiveSession {
   [[nodiscard]] const haptics::GripperGeometry& tool_geometry(int tool) const {
     return session_->tool_geometry(tool);
   }
-  /// The running session itself (null when none), for what the accessors above do not cover.
+  /// The running session itself (null when none), for what the accessors above do not cover
+  /// (the authoring panel's live tuning among them).
   [[nodiscard]] sim::Session* session() { return session_.get(); }
 
  private:
