@@ -70,7 +70,7 @@ const haptics::MeshDatabase& TissueWorld::contact_surface(int32_t organ) const {
 
 ModelFault TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double dt) noexcept {
   ModelFault fault;
-  grasp(tools);
+  grasp(tools, dt);
   // 1b. The incision's rim holds the catheter where it passes through it (incision_rim.h).
   const DuctTissue& duct = model_->duct();
   if (duct.has_incision)
@@ -107,7 +107,7 @@ ModelFault TissueWorld::step(const std::array<ToolModelInput, 2>& tools, double 
   return fault;
 }
 
-void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools) noexcept {
+void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools, double dt) noexcept {
   // 1. Grasps (their anchors are set afresh each step).
   const TissueWorldSettings& settings = model_->settings();
   const DuctTissue& duct = model_->duct();
@@ -120,7 +120,7 @@ void TissueWorld::grasp(const std::array<ToolModelInput, 2>& tools) noexcept {
     if (!tools[t].valid) continue;
     const models::GraspOutput g =
         models::update_grasp(settings.catheter_grasp, tools[t].jaws, model_->catheter_model(),
-                             catheter_.get(), &catheter_grasps_[t]);
+                             catheter_.get(), &catheter_grasps_[t], dt);
     squeeze_[t] = g.squeeze_n;
     if (duct_state_) {
       const models::DuctGraspOutput d =
