@@ -3,6 +3,7 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <charconv>
@@ -30,6 +31,8 @@
 #include "haptics/setup/mesh_validation.h"
 #include "hardware/device_spec.h"
 #include "hardware/libusb_transport.h"
+#include "hardware/replay_device.h"
+#include "hardware/scripted_device.h"
 #include "sim/authoring/expert_benchmarks.h"
 #include "sim/authoring/expert_run.h"
 #include "sim/report/session_pdf.h"
@@ -87,7 +90,9 @@ const char* const kUsage =
     "  run --scenario FILE --left DEV --right DEV [--duration S] [--fast] [--record DIR]\n"
     "      [--rate HZ] [--model-rate HZ] [--dominant-hand left|right]\n"
     "      a headless session with the three loops; DEV is simulated, scripted:FILE,\n"
-    "      replay:FILE or phantom[:NAME]; prints the metrics as JSON; SIGINT or SIGTERM\n"
+    "      replay:FILE or phantom[:NAME]; it ends with the task, at --duration, or (without\n"
+    "      it) when scripted and replayed devices run out (10 s with any other device);\n"
+    "      prints the metrics as JSON; SIGINT or SIGTERM\n"
     "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
     "  devices\n"
     "      list the actuated USB grippers plugged in (serial, bus path), to name each tool's\n"
@@ -103,11 +108,12 @@ const char* const kUsage =
     "      write the project's generated stand-in organ meshes (OBJ) into DIR; with --anatomy,\n"
     "      the generated anatomy instead (glTF 2.0): DIR/PRESET/ per preset (default, easy,\n"
     "      moderate, hard), each with its textures\n"
-    "  plan-expert --scenario FILE --out DIR [--mistake drop|overshoot|tear]\n"
+    "  plan-expert --scenario FILE --out DIR [--mistake drop|overshoot|tear|cbd|time_limit]\n"
     "      plan the expert's catheter insertion for the scenario and write it as keyframe\n"
     "      scripts DIR/expert_left.csv and DIR/expert_right.csv (run them with scripted:FILE);\n"
     "      with --mistake, a clumsy run instead (the catheter dropped, pushed through the wall,\n"
-    "      the duct torn), written as DIR/clumsy_MISTAKE_left.csv and _right.csv\n"
+    "      the duct torn, pushed on into the common bile duct, or held at the incision past the\n"
+    "      time limit), written as DIR/clumsy_MISTAKE_left.csv and _right.csv\n"
     "  expert-benchmarks --scenario FILE [--runs N]\n"
     "      plan N expert runs with their approach varied, run each --fast, and print the mean\n"
     "      and SD of the training metrics over those that succeed as the scenario's\n"
@@ -402,6 +408,24 @@ int cmd_probe(int argc, char** argv) {
   return kExitOk;
 }
 
+// Without --duration a session of scripted or replayed devices runs until every one of them has
+// run out (or the task ends): the longest of their lengths, a tick over so that the last
+// keyframe is reached. A session with any other device keeps the default.
+std::optional<double> scripts_length_s(
+    const std::array<std::unique_ptr<lap::hardware::HapticDevice>, 2>& devices, double tick_s) {
+  double longest = 0.0;
+  for (const auto& d : devices) {
+    if (const auto* s = dynamic_cast<const lap::hardware::ScriptedDevice*>(d.get())) {
+      longest = std::max(longest, s->trajectory().duration_s());
+    } else if (const auto* r = dynamic_cast<const lap::hardware::ReplayDevice*>(d.get())) {
+      longest = std::max(longest, r->length_s());
+    } else {
+      return std::nullopt;
+    }
+  }
+  return longest + tick_s;
+}
+
 int cmd_run(int argc, char** argv) {
   Args args(argc, argv, {"--fast"});
   const bool ok = args.only({"--scenario", "--left", "--right", "--duration", "--fast", "--record",
@@ -454,6 +478,11 @@ int cmd_run(int argc, char** argv) {
       return kExitProblems;
     }
     devices[static_cast<size_t>(side)] = std::move(device).value();
+  }
+  if (!args.has("--duration")) {
+    if (const std::optional<double> length = scripts_length_s(devices, 1.0 / rs.haptic_rate_hz)) {
+      rs.duration_s = std::max(*length, 1.0 / rs.haptic_rate_hz);
+    }
   }
   auto created = lap::sim::Session::create(r.value(), std::move(devices), rs);
   if (!created.ok()) {
@@ -708,15 +737,11 @@ int cmd_plan_expert(int argc, char** argv) {
   std::string prefix = "expert";
   if (args.has("--mistake")) {
     const std::string m = args.get("--mistake");
-    using lap::sim::ExpertMistake;
-    if (m == "drop") {
-      settings.mistake = ExpertMistake::kDropsCatheter;
-    } else if (m == "overshoot") {
-      settings.mistake = ExpertMistake::kOvershoots;
-    } else if (m == "tear") {
-      settings.mistake = ExpertMistake::kTearsDuct;
+    if (const std::optional<lap::sim::ExpertMistake> mistake = lap::sim::parse_mistake(m)) {
+      settings.mistake = *mistake;
     } else {
-      args.errors.push_back("--mistake: expected drop, overshoot or tear, got '" + m + "'");
+      args.errors.push_back("--mistake: expected drop, overshoot, tear, cbd or time_limit, got '" +
+                            m + "'");
     }
     prefix = "clumsy_" + m;
   }
@@ -746,11 +771,20 @@ int cmd_plan_expert(int argc, char** argv) {
       return print_problems(saved.diagnostics());
     }
   }
+  const std::optional<double> site = plan.value().steady_site_m;
+  char left[128];
+  if (site) {
+    std::snprintf(left, sizeof(left), "the left hand steadies the duct %.1f mm along it",
+                  *site * 1e3);
+  } else {
+    std::snprintf(left, sizeof(left), "%s",
+                  "the left hand waits in view (no clear line to the duct beside the incision)");
+  }
   std::printf(
       "wrote %s_left.csv, %s_right.csv to %s (%.1f s; the catheter within %.1f deg of "
-      "the planned entry direction)\n",
+      "the planned entry direction; %s)\n",
       prefix.c_str(), prefix.c_str(), dir.string().c_str(), plan.value().right.duration_s(),
-      plan.value().worst_direction_error_deg);
+      plan.value().worst_direction_error_deg, left);
   return kExitOk;
 }
 

@@ -25,6 +25,9 @@ class PerlinNoise final : public HeightField {
   /// cube-edge directions: noise is the sum over the 8 corners c of the point's cell of
   /// fade-weights times lattice_gradient(c) . (q - c) (Perlin 2002).
   [[nodiscard]] Eigen::Vector3d lattice_gradient(int64_t x, int64_t y, int64_t z) const noexcept;
+  /// The lattice's hash table (Perlin's permutation, doubled): FractalNoise evaluates its octaves
+  /// with it several at a time.
+  [[nodiscard]] const std::array<uint8_t, 512>& permutation() const noexcept { return perm_; }
   /// |noise| stays below this (checked by a test over many samples).
   static constexpr double kBound = 1.1;
 

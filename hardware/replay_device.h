@@ -15,6 +15,10 @@ class ReplayDevice final : public InputDevice {
 
   Status start() override;
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
+  /// How long the recording lasts [s] (its samples times its period).
+  [[nodiscard]] double length_s() const {
+    return static_cast<double>(recording_.samples.size()) * recording_.period_s;
+  }
 
  private:
   DeviceRecording recording_;

@@ -13,10 +13,6 @@ Eigen::Vector3d to_jaw(const JawFrame& j, const Eigen::Vector3d& p_W) {
 Eigen::Vector3d to_world(const JawFrame& j, const Eigen::Vector3d& p_J) {
   return j.hinge_W + j.rotation_WJ * p_J;
 }
-Eigen::Vector3d clamp_norm(const Eigen::Vector3d& f, double max) {
-  const double n = f.norm();
-  return n > max ? Eigen::Vector3d(f * (max / n)) : f;
-}
 double last_s(std::span<const Eigen::Vector3d> positions) {
   return static_cast<double>(positions.size()) - 1.0;
 }
@@ -141,39 +137,95 @@ double mean_axial_offset(const JawFrame& jaws, std::span<const Eigen::Vector3d> 
 
 // After a step in which the held section slipped (Coulomb, solved in the catheter's step:
 // catheter_model.h), the held material is re-read where it now lies at the jaws: the
-// section's material coordinate moves by the axial slide, so sticking starts unloaded.
-void follow_slide(const JawFrame& jaws, const CatheterModel& model,
+// section's material coordinate moves by the axial slide. The slip is between the catheter and
+// the jaws' faces; the coupling to the hand (the anchors) stays stretched by what it carries,
+// the friction F: the offset is reset to F / k_c, not to zero (reset to zero, the soft coupling
+// would let the catheter run F / k_c further every step it slips).
+void follow_slide(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model,
                   std::span<const Eigen::Vector3d> positions, GraspState* g) {
   const Eigen::Vector3d axis = jaws.rotation_WJ * g->axis_J;  // towards increasing s
   int count = 0;
   const double offset = mean_axial_offset(jaws, positions, *g, axis, &count);
+  // The friction on the catheter, −slide_sign F along the axis, is what the anchors bear once
+  // it sticks: −k_c × the offset.
+  const double carried = s.coupling_stiffness_n_per_m > 0.0
+                             ? g->slide_sign * g->friction_n / s.coupling_stiffness_n_per_m
+                             : 0.0;
   // Moving the held material by Δ along the centre line moves its points by Δ τ: the axial
   // offset changes by (τ · axis) Δ.
   const Eigen::Vector3d chord =
       point_at(positions, held_end_s(*g, 1)) - point_at(positions, held_end_s(*g, 0));
   const double along = std::max(chord.normalized().dot(axis), 0.3);
-  const double shift_m = -offset / along;
+  const double shift_m = -(offset - carried) / along;
   g->center_s += shift_m / model.rest_length_m();
   g->slid_m += std::abs(shift_m);
 }
 
-// Ties the catheter's point at material coordinate `at` to its place on the held line, and
-// adds the reaction to the tool's wrench (the model's step decides whether it sticks).
-void hold_point(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model, double at,
-                const GraspState& g, CatheterState* cath, GraspOutput* out) {
-  CenterlineAnchor a;
-  a.segment = std::min(static_cast<int32_t>(at), model.particle_count() - 2);
-  a.t = at - a.segment;
-  a.target_W = to_world(jaws, held_point_J(g, at));
-  a.stiffness_n_per_m = s.attach_stiffness_n_per_m;
-  a.damping_n_s_per_m = s.attach_damping_n_s_per_m;
-  if (!add_anchor(model, a, cath)) return;
-  const Eigen::Vector3d x = point_at(std::span<const Eigen::Vector3d>(cath->positions), at);
-  const Eigen::Vector3d v = point_at(std::span<const Eigen::Vector3d>(cath->velocities), at);
-  const Eigen::Vector3d on_tool =
-      -clamp_norm(a.stiffness_n_per_m * (a.target_W - x) - a.damping_n_s_per_m * v, s.max_force_n);
-  out->force_on_tool_W += on_tool;
-  out->torque_on_tool_W += (a.target_W - jaws.hinge_W).cross(on_tool);
+// The held points' material coordinates, in order (the section's ends and the particles
+// between them); at most kMaxHeldPoints (a section longer than the jaws has no more).
+constexpr int kMaxHeldPoints = 8;
+struct HeldPoints {
+  std::array<double, kMaxHeldPoints> s{};
+  int count = 0;
+};
+HeldPoints held_points(const GraspState& g, std::span<const Eigen::Vector3d> positions) {
+  HeldPoints h;
+  for_each_held_point(g, positions, [&](double at) {
+    if (h.count < kMaxHeldPoints) h.s[static_cast<size_t>(h.count++)] = at;
+  });
+  return h;
+}
+
+// A centre-line point (segment, t) for material coordinate `at`.
+void locate(const CatheterModel& model, double at, int32_t* segment, double* t) {
+  *segment = std::clamp(static_cast<int32_t>(at), 0, model.particle_count() - 2);
+  *t = std::clamp(at - *segment, 0.0, 1.0);
+}
+
+// Holds the section: each held point's anchor, its share of the coupling's spring and damper
+// towards its place on the held line in the jaws read for this step (their velocity from the
+// jaws at the last step); the links between consecutive points keeping the line's shape and
+// turn. Adds the anchors' reaction to the tool's wrench (the model's step decides whether they
+// stick).
+void hold_section(const GraspSettings& s, const JawFrame& jaws, const JawFrame& jaws_before,
+                  double dt, const CatheterModel& model, const GraspState& g, CatheterState* cath,
+                  GraspOutput* out) {
+  const HeldPoints h = held_points(g, cath->positions);
+  if (h.count == 0) return;
+  const double k = s.coupling_stiffness_n_per_m / h.count;
+  const double c = s.coupling_damping_n_s_per_m / h.count;
+  const double rate = dt > 0.0 ? 1.0 / dt : 0.0;
+  const std::span<const Eigen::Vector3d> positions(cath->positions);
+  const std::span<const Eigen::Vector3d> velocities(cath->velocities);
+  for (int i = 0; i < h.count; ++i) {
+    const double at = h.s[static_cast<size_t>(i)];
+    const Eigen::Vector3d p_J = held_point_J(g, at);
+    CenterlineAnchor a;
+    locate(model, at, &a.segment, &a.t);
+    a.target_W = to_world(jaws, p_J);
+    a.target_velocity_W = (a.target_W - to_world(jaws_before, p_J)) * rate;
+    a.stiffness_n_per_m = k;
+    a.damping_n_s_per_m = c;
+    if (!add_anchor(model, a, cath)) continue;
+    const Eigen::Vector3d x = point_at(positions, at);
+    const Eigen::Vector3d v = point_at(velocities, at);
+    const Eigen::Vector3d on_tool = -(k * (a.target_W - x) + c * (a.target_velocity_W - v));
+    out->force_on_tool_W += on_tool;
+    out->torque_on_tool_W += (a.target_W - jaws.hinge_W).cross(on_tool);
+  }
+  for (int i = 0; i + 1 < h.count; ++i) {
+    const double sa = h.s[static_cast<size_t>(i)];
+    const double sb = h.s[static_cast<size_t>(i) + 1];
+    const Eigen::Vector3d d_J = held_point_J(g, sb) - held_point_J(g, sa);
+    CenterlineLink l;
+    locate(model, sa, &l.segment_a, &l.t_a);
+    locate(model, sb, &l.segment_b, &l.t_b);
+    l.rest_W = jaws.rotation_WJ * d_J;
+    l.rest_velocity_W = (l.rest_W - jaws_before.rotation_WJ * d_J) * rate;
+    l.stiffness_n_per_m = s.hold_stiffness_n_per_m;
+    l.damping_n_s_per_m = s.hold_damping_n_s_per_m;
+    (void)add_link(model, l, cath);
+  }
 }
 
 }  // namespace
@@ -228,7 +280,7 @@ HeldSection section_between_jaws(const GraspSettings& s, const JawFrame& jaws, d
 }
 
 GraspOutput update_grasp(const GraspSettings& s, const JawFrame& jaws, const CatheterModel& model,
-                         CatheterState* cath, GraspState* grasp) noexcept {
+                         CatheterState* cath, GraspState* grasp, double dt) noexcept {
   GraspOutput out;
   const std::span<const Eigen::Vector3d> positions(cath->positions);
   // The opening from which the jaws are closing: a new peak whenever they open.
@@ -245,9 +297,11 @@ GraspOutput update_grasp(const GraspSettings& s, const JawFrame& jaws, const Cat
   if (!grasp->held) return out;
   // Follow a slide in the last step, then flatten the section further (flattening moves it
   // across the catheter, not along: it is no pull).
-  if (grasp->sliding) follow_slide(grasp->jaws, model, positions, grasp);
+  if (grasp->sliding) follow_slide(s, grasp->jaws, model, positions, grasp);
   out.squeeze_n = grasp_squeeze(s, jaws, model, *grasp);
   flatten(s, jaws, model.radius_m(), grasp);
+  // The jaws' motion since the last step, for the dampers (none on the step that caught it).
+  const JawFrame before = out.grasped_now ? jaws : grasp->jaws;
   grasp->jaws = jaws;
   if (grasp->center_s < 0.0 || grasp->center_s > last_s(positions)) {
     grasp->held = false;  // slid off the end
@@ -260,8 +314,7 @@ GraspOutput update_grasp(const GraspSettings& s, const JawFrame& jaws, const Cat
   // line (the jaws keep the section straight: a particle left free inside it would be a hinge),
   // with Coulomb friction 2 μ N along it, two jaw faces each pressed by the squeeze.
   const int32_t first = cath->anchor_count;
-  for_each_held_point(*grasp, positions,
-                      [&](double at) { hold_point(s, jaws, model, at, *grasp, cath, &out); });
+  hold_section(s, jaws, before, dt, model, *grasp, cath, &out);
   grasp->friction_slot = add_anchor_friction(jaws.rotation_WJ * grasp->axis_J,
                                              2.0 * s.friction * out.squeeze_n, first, cath);
   out.sliding = grasp->sliding;
@@ -300,35 +353,64 @@ GraspWrench coupling_wrench(const GraspSettings& s, const HapticJaws& now,
       !(now.tick_s > 0.0)) {
     return w;
   }
-  int count = 0;
-  for_each_held_point(grasp, catheter.positions, [&](double) { ++count; });
+  const HeldPoints h = held_points(grasp, catheter.positions);
+  if (h.count == 0) return w;
+  const double k = s.coupling_stiffness_n_per_m / h.count;
+  const double c = s.coupling_damping_n_s_per_m / h.count;
   const Eigen::Vector3d axis = grasp.jaws.rotation_WJ * grasp.axis_J;
   const Eigen::Matrix3d across =
       grasp.sliding ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() - axis * axis.transpose())
                     : Eigen::Matrix3d::Identity();
-  const double k_c = s.coupling_stiffness_n_per_m / count;
-  const double b_c = s.coupling_damping_n_s_per_m / count;
-  auto couple = [&](double at) {
+  // The anchors: the coupling's spring and damper between the jaws now and each held point as
+  // the model left it; while the section slid, the friction it met along the axis instead.
+  Eigen::Vector3d on_catheter_total = Eigen::Vector3d::Zero();
+  for (int i = 0; i < h.count; ++i) {
+    const double at = h.s[static_cast<size_t>(i)];
     const Eigen::Vector3d p_J = held_point_J(grasp, at);
-    const Eigen::Vector3d x = point_at(catheter.positions, at);
-    const Eigen::Vector3d v = point_at(catheter.velocities, at);
-    // The model's own anchor force when it stepped, and the friction share while slipping.
-    const Eigen::Vector3d at_step = to_world(grasp.jaws, p_J);
-    Eigen::Vector3d on_catheter =
-        across * (s.attach_stiffness_n_per_m * (at_step - x) - s.attach_damping_n_s_per_m * v);
-    if (grasp.sliding) on_catheter -= grasp.slide_sign * grasp.friction_n / count * axis;
-    // The jaws since then, against where the held point is heading.
     const Eigen::Vector3d target = to_world(now.jaws, p_J);
     const Eigen::Vector3d target_velocity = (target - to_world(now.jaws_before, p_J)) / now.tick_s;
-    on_catheter +=
-        across * (k_c * (target - at_step - now.since_step_s * v) + b_c * (target_velocity - v));
-    const Eigen::Vector3d on_tool = -clamp_norm(on_catheter, s.max_force_n);
-    w.force_W += on_tool;
-    w.torque_W += (target - now.jaws.hinge_W).cross(on_tool);
-  };
-  for_each_held_point(grasp, catheter.positions, couple);
+    const Eigen::Vector3d x = point_at(catheter.positions, at);
+    const Eigen::Vector3d v = point_at(catheter.velocities, at);
+    Eigen::Vector3d on_catheter = across * (k * (target - x) + c * (target_velocity - v));
+    if (grasp.sliding) on_catheter -= grasp.slide_sign * grasp.friction_n / h.count * axis;
+    on_catheter_total += on_catheter;
+    w.torque_W -= (target - now.jaws.hinge_W).cross(on_catheter);
+  }
+  // The links: no net force; the moment of their springs and dampers on the jaws' turn, the
+  // reaction of F = k (r − d) + c (ṙ − ḋ) at the pair's places in the jaws: −r × F.
+  for (int i = 0; i + 1 < h.count; ++i) {
+    const double sa = h.s[static_cast<size_t>(i)];
+    const double sb = h.s[static_cast<size_t>(i) + 1];
+    const Eigen::Vector3d d_J = held_point_J(grasp, sb) - held_point_J(grasp, sa);
+    const Eigen::Vector3d r = now.jaws.rotation_WJ * d_J;
+    const Eigen::Vector3d r_velocity = (r - now.jaws_before.rotation_WJ * d_J) / now.tick_s;
+    const Eigen::Vector3d d = point_at(catheter.positions, sb) - point_at(catheter.positions, sa);
+    const Eigen::Vector3d d_velocity =
+        point_at(catheter.velocities, sb) - point_at(catheter.velocities, sa);
+    const Eigen::Vector3d f =
+        s.hold_stiffness_n_per_m * (r - d) + s.hold_damping_n_s_per_m * (r_velocity - d_velocity);
+    w.torque_W -= r.cross(f);
+  }
+  const double norm = on_catheter_total.norm();
+  const double scale = norm > s.max_force_n ? s.max_force_n / norm : 1.0;
+  w.force_W = -scale * on_catheter_total;
+  w.torque_W *= scale;
   if (!w.force_W.allFinite() || !w.torque_W.allFinite()) return {};
   return w;
+}
+
+double coupling_rotational_stiffness(const GraspSettings& s, const CatheterModel& model,
+                                     std::span<const Eigen::Vector3d> positions,
+                                     const GraspState& grasp) noexcept {
+  if (!grasp.held || positions.size() != static_cast<size_t>(model.particle_count())) return 0.0;
+  const HeldPoints h = held_points(grasp, positions);
+  double k = 0.0;
+  for (int i = 0; i + 1 < h.count; ++i) {
+    const Eigen::Vector3d d_J = held_point_J(grasp, h.s[static_cast<size_t>(i) + 1]) -
+                                held_point_J(grasp, h.s[static_cast<size_t>(i)]);
+    k += s.hold_stiffness_n_per_m * d_J.squaredNorm();
+  }
+  return k;
 }
 
 }  // namespace lap::models

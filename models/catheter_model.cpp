@@ -90,6 +90,64 @@ BendTerm bend_term(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
   return b;
 }
 
+// The particles a centre-line point (segment, t) moves with, and their weights; a weight of zero
+// (a point on a particle) is left out, so that a link's span is what it really couples.
+struct PointWeights {
+  std::array<int, 2> particle{};
+  std::array<double, 2> weight{};
+  int count = 0;
+};
+PointWeights point_weights(int32_t segment, double t) {
+  PointWeights w;
+  if (1.0 - t != 0.0) {
+    w.particle[w.count] = segment;
+    w.weight[w.count++] = 1.0 - t;
+  }
+  if (t != 0.0) {
+    w.particle[w.count] = segment + 1;
+    w.weight[w.count++] = t;
+  }
+  return w;
+}
+
+// A link's difference x_b − x_a as Σ c_p x_p over at most four particles (merged where a and b
+// share one), in particle order.
+struct LinkWeights {
+  std::array<int, 4> particle{};
+  std::array<double, 4> coeff{};
+  int count = 0;
+  void add(int p, double c) {
+    for (int k = 0; k < count; ++k) {
+      if (particle[k] == p) {
+        coeff[k] += c;
+        return;
+      }
+    }
+    int k = count++;
+    while (k > 0 && particle[k - 1] > p) {
+      particle[k] = particle[k - 1];
+      coeff[k] = coeff[k - 1];
+      --k;
+    }
+    particle[k] = p;
+    coeff[k] = c;
+  }
+};
+LinkWeights link_weights(const CenterlineLink& link) {
+  LinkWeights lw;
+  const PointWeights a = point_weights(link.segment_a, link.t_a);
+  const PointWeights b = point_weights(link.segment_b, link.t_b);
+  for (int k = 0; k < a.count; ++k) lw.add(a.particle[k], -a.weight[k]);
+  for (int k = 0; k < b.count; ++k) lw.add(b.particle[k], b.weight[k]);
+  return lw;
+}
+
+Vec3 link_difference(const LinkWeights& lw, const std::vector<Vec3>& x) {
+  Vec3 d = Vec3::Zero();
+  for (int k = 0; k < lw.count; ++k) d += lw.coeff[k] * x[static_cast<size_t>(lw.particle[k])];
+  return d;
+}
+
 }  // namespace
 
 CatheterModel CatheterModel::build(const CatheterSettings& s) {
@@ -154,6 +212,11 @@ double catheter_energy(const CatheterModel& model, const CatheterState& state) {
     const Vec3 d = an.target_W - centerline_point(model, state.positions, an.segment, an.t);
     e += 0.5 * an.stiffness_n_per_m * d.squaredNorm();
   }
+  for (int32_t l = 0; l < state.link_count; ++l) {
+    const CenterlineLink& link = state.links[static_cast<size_t>(l)];
+    const Vec3 d = link_difference(link_weights(link), state.positions) - link.rest_W;
+    e += 0.5 * link.stiffness_n_per_m * d.squaredNorm();
+  }
   for (int i = 0; i < n; ++i) {
     // A contact is linearised as a two-sided spring over a step; its energy likewise.
     const double gap = state.contact_offset[i] - state.contact_normal[i].dot(state.positions[i]);
@@ -197,8 +260,26 @@ int32_t add_anchor_friction(const Eigen::Vector3d& axis_W, double limit_n, int32
   return slot;
 }
 
+bool add_link(const CatheterModel& model, const CenterlineLink& link,
+              CatheterState* state) noexcept {
+  auto on_catheter = [&](int32_t segment, double t) {
+    return segment >= 0 && segment + 1 < model.particle_count() && t >= 0.0 && t <= 1.0;
+  };
+  if (!on_catheter(link.segment_a, link.t_a) || !on_catheter(link.segment_b, link.t_b) ||
+      state->link_count >= CatheterState::kMaxLinks || !link.rest_W.allFinite() ||
+      !link.rest_velocity_W.allFinite() || !(link.stiffness_n_per_m >= 0.0) ||
+      !(link.damping_n_s_per_m >= 0.0)) {
+    return false;
+  }
+  const LinkWeights lw = link_weights(link);
+  if (lw.count == 0 || lw.particle[lw.count - 1] - lw.particle[0] > 2) return false;  // the band
+  state->links[static_cast<size_t>(state->link_count++)] = link;
+  return true;
+}
+
 void clear_anchors(CatheterState* state) noexcept {
   state->anchor_count = 0;
+  state->link_count = 0;
   state->friction_count = 0;
 }
 
@@ -275,9 +356,10 @@ int32_t friction_of(const CatheterState& state, int32_t anchor) {
 }
 
 // Anchors on the centre line: x_a = (1 − t) x_i + t x_{i+1} = wᵀ x with w = (1 − t, t);
-// f = P (k (target − x_a) − c v_a) acts on the two particles by w, with P = I − a aᵀ across
-// the axis a of a slipping friction group (else I); K = k w wᵀ ⊗ P, D = c w wᵀ ⊗ P. A slipping
-// group's anchors also carry their share of its limit, against the direction it slipped.
+// f = P (k (target − x_a) + c (v_target − v_a)) acts on the two particles by w, with
+// P = I − a aᵀ across the axis a of a slipping friction group (else I); K = k w wᵀ ⊗ P,
+// D = c w wᵀ ⊗ P. A slipping group's anchors also carry their share of its limit, against the
+// direction it slipped.
 void assemble_anchors(const CatheterModel& model, CatheterState* state, double dt) noexcept {
   const auto& x = state->positions;
   const auto& v = state->velocities;
@@ -301,13 +383,40 @@ void assemble_anchors(const CatheterModel& model, CatheterState* state, double d
     const Vec3 va = w[0] * v[i] + w[1] * v[i + 1];
     const double k = an.stiffness_n_per_m;
     const double c = an.damping_n_s_per_m;
-    const Vec3 f = across * (k * (an.target_W - xa) - c * va - dt * k * va) + friction;
+    const Vec3 f =
+        across * (k * (an.target_W - xa) + c * (an.target_velocity_W - va) - dt * k * va) +
+        friction;
     add_rhs(state, i, w[0] * f);
     add_rhs(state, i + 1, w[1] * f);
     const Mat3 s = (dt * dt * k + dt * c) * across;
     add_block(&state->band, i, i, w[0] * w[0] * s);
     add_block(&state->band, i + 1, i + 1, w[1] * w[1] * s);
     add_block(&state->band, i + 1, i, w[0] * w[1] * s);
+  }
+}
+
+// Links between centre-line points: d = x_b − x_a = Σ c_p x_p (link_weights), E = ½ k |d − r|²,
+// damper c (ṙ − ḋ): the force F = k (r − d) + c (ṙ − ḋ) acts on particle p by c_p; K = k c cᵀ,
+// D = c c cᵀ (⊗ I). Its particles lie within ±2 of each other (add_link), inside the band.
+void assemble_links(CatheterState* state, double dt) noexcept {
+  const auto& x = state->positions;
+  const auto& v = state->velocities;
+  for (int32_t l = 0; l < state->link_count; ++l) {
+    const CenterlineLink& link = state->links[static_cast<size_t>(l)];
+    const LinkWeights lw = link_weights(link);
+    const double k = link.stiffness_n_per_m;
+    const double c = link.damping_n_s_per_m;
+    const Vec3 d = link_difference(lw, x);
+    const Vec3 dv = link_difference(lw, v);
+    const Vec3 f = k * (link.rest_W - d) + c * (link.rest_velocity_W - dv) - dt * k * dv;
+    const double s = dt * dt * k + dt * c;
+    for (int p = 0; p < lw.count; ++p) {
+      add_rhs(state, lw.particle[p], lw.coeff[p] * f);
+      for (int q = 0; q <= p; ++q) {
+        add_block(&state->band, lw.particle[p], lw.particle[q],
+                  (s * lw.coeff[p] * lw.coeff[q]) * Mat3::Identity());
+      }
+    }
   }
 }
 
@@ -327,7 +436,9 @@ double sticking_axial_force(const CatheterModel& model, const CatheterState& sta
     };
     const Vec3 va = (1.0 - an.t) * v_new(i) + an.t * v_new(i + 1);
     const Vec3 xa = (1.0 - an.t) * state.positions[i] + an.t * state.positions[i + 1] + dt * va;
-    f += (an.stiffness_n_per_m * (an.target_W - xa) - an.damping_n_s_per_m * va).dot(fr.axis_W);
+    f += (an.stiffness_n_per_m * (an.target_W - xa) +
+          an.damping_n_s_per_m * (an.target_velocity_W - va))
+             .dot(fr.axis_W);
   }
   return f;
 }
@@ -409,6 +520,7 @@ bool assemble_and_solve(const CatheterModel& model, CatheterState* state, double
   std::fill(state->band.begin(), state->band.end(), 0.0);
   assemble_particle_terms(model, state, dt);
   assemble_anchors(model, state, dt);
+  assemble_links(state, dt);
   if (!assemble_stretch(model, state, dt)) return false;
   assemble_bending(model, state, dt);
   for (double& r : state->rhs) r *= dt;
@@ -504,6 +616,36 @@ double surface_friction_work(const CatheterState& state, int depth, int n) {
   return work;
 }
 
+// The work the anchors' and links' dampers did in the step through their targets' own motion:
+// c v_target (the rest, −c v, only dissipates), over each point's displacement.
+double moving_target_work(const CatheterModel& model, const CatheterState& state, int depth,
+                          int n) {
+  const std::span<const Vec3> before(
+      state.saved_positions.data() + static_cast<ptrdiff_t>(depth) * n, static_cast<size_t>(n));
+  double work = 0.0;
+  for (int32_t a = 0; a < state.anchor_count; ++a) {
+    const CenterlineAnchor& an = state.anchors[static_cast<size_t>(a)];
+    if (an.damping_n_s_per_m == 0.0 || an.target_velocity_W.isZero()) continue;
+    const auto i = static_cast<size_t>(an.segment);
+    if (an.segment < 0 || an.segment + 1 >= model.particle_count()) continue;
+    const Vec3 moved = (1.0 - an.t) * (state.positions[i] - before[i]) +
+                       an.t * (state.positions[i + 1] - before[i + 1]);
+    work += an.damping_n_s_per_m * an.target_velocity_W.dot(moved);
+  }
+  for (int32_t l = 0; l < state.link_count; ++l) {
+    const CenterlineLink& link = state.links[static_cast<size_t>(l)];
+    if (link.damping_n_s_per_m == 0.0 || link.rest_velocity_W.isZero()) continue;
+    const LinkWeights lw = link_weights(link);
+    Vec3 moved = Vec3::Zero();
+    for (int p = 0; p < lw.count; ++p) {
+      const auto i = static_cast<size_t>(lw.particle[p]);
+      moved += lw.coeff[p] * (state.positions[i] - before[i]);
+    }
+    work += link.damping_n_s_per_m * link.rest_velocity_W.dot(moved);
+  }
+  return work;
+}
+
 // Implicit step(s) over dt; a step that gains more energy than the external forces put in is
 // redone as two half steps (linearly implicit Euler is dissipative only as dt shrinks on a
 // strongly nonlinear, non-convex bending energy), down to dt / 2^depth.
@@ -525,7 +667,8 @@ bool guarded_step(const CatheterModel& model, CatheterState* state, double dt, i
       *state,
       std::span<const Vec3>(state->saved_positions.data() + static_cast<ptrdiff_t>(depth) * n,
                             static_cast<size_t>(n)));
-  work += slip.friction_work + surface_friction_work(*state, depth, n);
+  work += slip.friction_work + surface_friction_work(*state, depth, n) +
+          moving_target_work(model, *state, depth, n);
   const double e1 = total_energy(model, *state) - slip.axial_energy_after;
   e0 -= slip.axial_energy_before;
   // Rises below rounding (relative 1e-13, or 1e-16 J near rest) are not energy gained.

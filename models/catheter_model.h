@@ -83,6 +83,27 @@ struct CenterlineAnchor {
   int32_t segment = 0;
   double t = 0.0;  ///< in [0, 1]
   Eigen::Vector3d target_W = Eigen::Vector3d::Zero();
+  /// The target's own velocity: the damper acts on the point's velocity relative to it,
+  /// c (target_velocity − v) (a grasp's jaws moving; zero for a fixed target).
+  Eigen::Vector3d target_velocity_W = Eigen::Vector3d::Zero();
+  double stiffness_n_per_m = 0.0;
+  double damping_n_s_per_m = 0.0;
+};
+
+/// A spring (and damper) between two points of the centre line, a (segment_a, t_a) and
+/// b (segment_b, t_b), holding b − a at `rest_W`: E = ½ k |x_b − x_a − rest|², the damper
+/// c (rest_velocity − (v_b − v_a)). It carries no net force, only a moment: a grasp holds its
+/// section's shape and orientation by a chain of these while its anchors, which carry the
+/// section's translation, stay as soft as the virtual coupling to the hand
+/// (models/catheter_grasp.h). Its points must lie within three consecutive particles (the
+/// system's band); add_link() refuses others.
+struct CenterlineLink {
+  int32_t segment_a = 0;
+  double t_a = 0.0;
+  int32_t segment_b = 0;
+  double t_b = 0.0;
+  Eigen::Vector3d rest_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rest_velocity_W = Eigen::Vector3d::Zero();
   double stiffness_n_per_m = 0.0;
   double damping_n_s_per_m = 0.0;
 };
@@ -114,6 +135,10 @@ struct CatheterState {
   static constexpr int32_t kMaxAnchors = 16;  ///< two grasps of up to 6 anchors, and spare
   std::array<CenterlineAnchor, kMaxAnchors> anchors{};
   int32_t anchor_count = 0;
+  /// Links between centre-line points (grasps' held sections); the first link_count count.
+  static constexpr int32_t kMaxLinks = 14;  ///< two grasps of up to 7 held points each
+  std::array<CenterlineLink, kMaxLinks> links{};
+  int32_t link_count = 0;
   static constexpr int32_t kMaxFrictions = 3;  ///< a grasp per tool, the incision's rim
   std::array<AnchorFriction, kMaxFrictions> frictions{};
   int32_t friction_count = 0;
@@ -158,20 +183,24 @@ struct CatheterState {
 /// catheter.
 bool add_anchor(const CatheterModel& model, const CenterlineAnchor& anchor,
                 CatheterState* state) noexcept;
+/// Adds a link; false (nothing added) when all kMaxLinks are in use, it is not on the catheter,
+/// or its points span more than three consecutive particles.
+bool add_link(const CatheterModel& model, const CenterlineLink& link,
+              CatheterState* state) noexcept;
 /// Adds friction to the anchors from `first_anchor` to the last one added; its slot, or -1 when
 /// all are in use.
 int32_t add_anchor_friction(const Eigen::Vector3d& axis_W, double limit_n, int32_t first_anchor,
                             CatheterState* state) noexcept;
-/// Removes the anchors and their friction (before the grasps set them for the next step); the
-/// last step's friction results stay readable.
+/// Removes the anchors, the links and the anchors' friction (before the grasps set them for the
+/// next step); the last step's friction results stay readable.
 void clear_anchors(CatheterState* state) noexcept;
 
 /// The friction force on particle i at its velocity now, as the last step applied it [N]: along
 /// its contact plane, against its slip (zero without a contact or friction).
 [[nodiscard]] Eigen::Vector3d contact_friction_force(const CatheterState& state, int32_t i);
 
-/// Kinetic + stretch + bending + anchor-spring + contact energy (gravity and external forces
-/// excluded) [J].
+/// Kinetic + stretch + bending + anchor- and link-spring + contact energy (gravity and external
+/// forces excluded) [J].
 [[nodiscard]] double catheter_energy(const CatheterModel& model, const CatheterState& state);
 /// Potential energy in gravity [J] (relative to the origin).
 [[nodiscard]] double catheter_gravity_energy(const CatheterModel& model,

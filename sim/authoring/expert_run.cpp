@@ -1,10 +1,40 @@
 #include "sim/authoring/expert_run.h"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <numbers>
+#include <optional>
 
 namespace lap::sim {
+
+std::string_view to_string(ExpertMistake mistake) {
+  switch (mistake) {
+    case ExpertMistake::kNone:
+      return "";
+    case ExpertMistake::kDropsCatheter:
+      return "drop";
+    case ExpertMistake::kOvershoots:
+      return "overshoot";
+    case ExpertMistake::kTearsDuct:
+      return "tear";
+    case ExpertMistake::kEntersCommonBileDuct:
+      return "cbd";
+    case ExpertMistake::kHesitates:
+      return "time_limit";
+  }
+  return "";
+}
+
+std::optional<ExpertMistake> parse_mistake(std::string_view name) {
+  for (const ExpertMistake m : kClumsyRuns) {
+    if (to_string(m) == name) return m;
+  }
+  return std::nullopt;
+}
+
 namespace {
 
 using V = Eigen::Vector3d;
@@ -129,6 +159,10 @@ struct Planner {
   PortTool right;
   PortTool left;
   ExpertRun run;
+  double time_limit_s = 600.0;  ///< the task's (the hesitant run outlasts it)
+  const haptics::MeshDatabase* cbd_surface = nullptr;   ///< the common bile duct, where named
+  const haptics::MeshDatabase* duct_surface = nullptr;  ///< the cystic duct, at rest
+  V camera_W = V::Zero();
 
   void key(hardware::ScriptedTrajectory* traj, const PortTool& tool, double time, const V& hinge,
            const V& roll_x, double grip) {
@@ -174,6 +208,8 @@ struct Planner {
     move(&r, right, 0.5, hinge, hinge, x, x, open, closed);
     move(&r, right, 0.5, hinge, hinge, x, x, closed, closed);
     Pose pose{hinge, x, 0.0, g.cath_dir};
+    if (s.mistake == ExpertMistake::kEntersCommonBileDuct)
+      return into_common_bile_duct(hold, &pose);
     const V out_front = g.incision - 0.025 * g.in_dir + 0.01 * g.normal;
     const V start = g.incision - s.start_out_m * g.in_dir;
     carry(hold, &pose, 2.5, g.cath_tip, out_front, g.cath_dir, g.in_dir);
@@ -187,9 +223,11 @@ struct Planner {
     }
     carry(hold, &pose, 1.5, out_front, start, g.in_dir, g.in_dir);
     along_line(hold, &pose, 0.5, -s.start_out_m, -s.start_out_m);
+    if (s.mistake == ExpertMistake::kHesitates) return hesitate(hold, &pose);
     // The clumsy push goes on 2 cm past where the expert stops, as fast.
     const double advance = s.advance_m + (s.mistake == ExpertMistake::kOvershoots ? 0.02 : 0.0);
     along_line(hold, &pose, 6.0 * advance / s.advance_m, -s.start_out_m, advance - s.start_out_m);
+
     if (s.mistake == ExpertMistake::kDropsCatheter) {
       for (hardware::Keyframe& k : r.keyframes) {
         if (k.time_s > 6.0) k.gripper_angle_rad = open;
@@ -197,6 +235,60 @@ struct Planner {
     }
     hardware::Keyframe last = r.keyframes.back();
     last.time_s += s.hold_after_s;
+    r.keyframes.push_back(last);
+    return last.time_s;
+  }
+
+  // The clumsy hand that takes the common bile duct beside the cystic duct for it: the tip
+  // carried in front of the common bile duct's wall, pointing into it, and pushed on through the
+  // wall into its lumen. The wall: facing the laparoscope, cbd_clear_m on from the junction with
+  // the cystic duct along the common bile duct (at the junction the cystic duct is in the way).
+  // Returns the end of the run.
+  double into_common_bile_duct(const HeldCatheter& hold, Pose* pose) {
+    const haptics::MeshDatabase& cbd = *cbd_surface;
+    // The common bile duct's axis: its vertices' principal direction.
+    V centre = V::Zero();
+    for (int32_t v = 0; v < cbd.vertex_count(); ++v) centre += cbd.position(v);
+    centre /= std::max(1, cbd.vertex_count());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int32_t v = 0; v < cbd.vertex_count(); ++v) {
+      const V d = cbd.position(v) - centre;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    V along = eig.eigenvectors().col(2);
+    // Where the cystic duct meets it (the axis' point nearest the incision), and from there
+    // along the common bile duct away from the gallbladder (towards the duodenum: away from the
+    // incision's side of the duct), cbd_clear_m on.
+    const V junction = centre + along.dot(g.incision - centre) * along;
+    if (along.dot(g.axis) < 0.0) along = -along;
+    const V aim = junction + s.cbd_clear_m * along;
+    V wall = aim;
+    const int32_t f = cbd.nearest_face(aim + 0.02 * (camera_W - aim).normalized(), &wall, nullptr);
+    const V out = f >= 0 ? V(cbd.face_normal(f)) : g.normal;
+    const V front = wall + 0.012 * out;
+    carry(hold, pose, 2.5, g.cath_tip, front, g.cath_dir, -out);
+    carry(hold, pose, 1.5, front, wall + 0.008 * out, -out, -out);
+    carry(hold, pose, 3.0, wall + 0.008 * out, wall - s.cbd_push_m * out, -out, -out);
+    hardware::ScriptedTrajectory& r = run.right;
+    hardware::Keyframe last = r.keyframes.back();
+    last.time_s += s.hold_after_s;
+    r.keyframes.push_back(last);
+    return last.time_s;
+  }
+
+  // The clumsy hand that brings the tip in front of the incision and hesitates: it draws back
+  // and comes up again three times, never going in, then stays there until the time limit has
+  // passed. Returns the end of the run.
+  double hesitate(const HeldCatheter& hold, Pose* pose) {
+    const double back = -s.start_out_m - 0.006;
+    for (int k = 0; k < 3; ++k) {
+      along_line(hold, pose, 2.0, -s.start_out_m, back);
+      along_line(hold, pose, 2.0, back, -s.start_out_m);
+    }
+    hardware::ScriptedTrajectory& r = run.right;
+    hardware::Keyframe last = r.keyframes.back();
+    last.time_s = std::max(last.time_s, time_limit_s) + 1.0;
     r.keyframes.push_back(last);
     return last.time_s;
   }
@@ -262,6 +354,82 @@ struct Planner {
     key(&l, left, end_s, park, x, s.grip_open_rad);
   }
 
+  // How far along the left jaws, from the hinge, the duct's axis lies when they steady it.
+  [[nodiscard]] double steady_depth_m() const { return s.steady_depth * 2.0 * g.jaw_mid_m; }
+
+  // Whether the left tool, its hinge at `hinge` on its port's line, keeps its shaft (port to
+  // hinge) `shaft_margin` and its closed jaws (hinge to their tips) `jaw_margin` from every
+  // organ but the duct (sampled every 1 mm).
+  [[nodiscard]] bool left_clear(const SessionModel& model, const V& hinge) const {
+    const std::vector<const haptics::MeshDatabase*> organs = model.rest_databases();
+    const int32_t duct = model.tissue().duct_organ();
+    const V u = (hinge - left.port_W).normalized();
+    const double shaft = (hinge - left.port_W).norm();
+    const double tips = shaft + 2.0 * g.jaw_mid_m;
+    for (size_t o = 0; o < organs.size(); ++o) {
+      if (static_cast<int32_t>(o) == duct) continue;
+      for (double d = 0.0; d <= tips; d += 0.001) {
+        const V x = left.port_W + d * u;
+        const double margin = d <= shaft ? s.steady_clearance_m : s.steady_jaw_clearance_m;
+        V q;
+        if (organs[o]->nearest_face(x, &q, nullptr) >= 0 && (q - x).norm() < margin) return false;
+      }
+    }
+    return true;
+  }
+
+  // Where the left hand takes the duct: the point of its axis (duct frame) the jaws' middle
+  // goes to, jaws across the duct (so that they bite a jaw's width along it), its shaft and
+  // jaws clear of the other organs. Preferred beyond where the catheter's tip stops, on the
+  // line it comes along (the side towards the common bile duct); then further on, then behind
+  // the incision (towards the gallbladder's neck, where in the default and the easy patient
+  // the jaws pressed the gallbladder with 9-22 N), 1 mm at a time. Nothing when none fits.
+  [[nodiscard]] std::optional<double> steady_site(const SessionModel& model) const {
+    const models::IncisionRim& rim = *g.rim;
+    const double forward = rim.z_m < 0.5 * rim.length_m ? 1.0 : -1.0;  // along g.axis
+    const double bite = model.tissue().settings().duct_grasp.jaw_half_width_m;
+    const double depth = model.task().spec.insertion_depth_m;
+    auto usable = [&](double z) {
+      if (z - bite < 0.0 || z + bite > rim.length_m) return false;
+      const V hinge = hinge_holding(left, g.pose_WD * V(0.0, 0.0, z), steady_depth_m());
+      return left_clear(model, hinge);
+    };
+    const double beyond = rim.z_m + forward * (rim.half_length_m + s.steady_gap_m + bite);
+    (void)depth;
+    for (double z = beyond; z >= 0.0 && z <= rim.length_m; z += forward * 0.001) {
+      if (usable(z)) return z;
+    }
+    const double behind = rim.z_m - forward * (rim.half_length_m + s.steady_gap_m + bite);
+    for (double z = behind; z >= 0.0 && z <= rim.length_m; z -= forward * 0.001) {
+      if (usable(z)) return z;
+    }
+    return std::nullopt;
+  }
+
+  // The left hand: into view, over the duct beside the incision with its jaws open across it,
+  // down onto it, closed just past the grasp angle; holds it there to the end. Where there is
+  // no room beside the incision, it waits in view instead (waiting_hand).
+  void steadying_hand(const SessionModel& model, double end_s) {
+    const std::optional<double> site = steady_site(model);
+    if (!site) {
+      waiting_hand(model, end_s);
+      return;
+    }
+    run.steady_site_m = *site;
+    const V on_axis = g.pose_WD * V(0.0, 0.0, *site);
+    const V hinge = hinge_holding(left, on_axis, steady_depth_m());
+    const V x = left.shaft_dir(hinge).cross(g.axis).normalized();
+    const V over = hinge + 0.02 * left.shaft_dir(hinge);
+    const V entry = left.port_W + 0.05 * (over - left.port_W).normalized();
+    const double open = s.grip_open_rad;
+    hardware::ScriptedTrajectory& l = run.left;
+    key(&l, left, 0.0, entry, x, open);
+    move(&l, left, 1.5, entry, over, x, x, open, open);
+    move(&l, left, 1.0, over, hinge, x, x, open, open);
+    move(&l, left, 1.0, hinge, hinge, x, x, open, s.steady_grip_rad);
+    key(&l, left, std::max(end_s, l.keyframes.back().time_s), hinge, x, s.steady_grip_rad);
+  }
+
   // The clumsy right hand that takes the duct beside the incision instead of the catheter
   // (across its jaws, at mid-jaw), shuts them and pulls it 3 cm towards its port.
   void duct_tearing_hand(double end_s) {
@@ -297,14 +465,23 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
   }
   if (!model.tissue().duct().has_incision) return problem("the target duct has no incision");
   const Geometry g = measure(model, settings);
-  Planner p{settings, g, {}, {}, {}};
+  if (settings.mistake == ExpertMistake::kEntersCommonBileDuct && model.task().cbd_organ < 0) {
+    return problem("the clumsy run into the common bile duct needs task.common_bile_duct");
+  }
+  Planner p{settings, g, {}, {}, {}, model.task().spec.time_limit_s};
+  if (model.task().cbd_organ >= 0) {
+    const std::vector<const haptics::MeshDatabase*> dbs = model.rest_databases();
+    p.cbd_surface = dbs[static_cast<size_t>(model.task().cbd_organ)];
+    p.duct_surface = dbs[static_cast<size_t>(model.tissue().duct_organ())];
+    p.camera_W = model.task().camera_W;
+  }
   for (size_t side : {size_t{0}, size_t{1}}) {
     PortTool& tool = side == 0 ? p.left : p.right;
     tool.port_W = model.tool(side).trocar.port_W;
     tool.shaft_length_m = model.tool(side).trocar.shaft_length_m;
   }
   const double end_s = p.catheter_hand();
-  p.waiting_hand(model, end_s);
+  p.steadying_hand(model, end_s);
   if (settings.mistake == ExpertMistake::kTearsDuct) p.duct_tearing_hand(end_s);
   return std::move(p.run);
 }

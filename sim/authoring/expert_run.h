@@ -4,8 +4,10 @@
 /// a scenario's geometry as keyframe scripts for the two hands (hardware/scripted_trajectory.h):
 /// the right hand grasps the catheter a little behind its tip with the jaws across it, carries
 /// the tip in front of the incision pointing into the lumen at a slant towards the duct's far
-/// end, and pushes it in along that line until the target depth is passed, then holds still; the
-/// left hand brings its tool into view clear of every organ and keeps it there. Written by
+/// end, and pushes it in along that line until the target depth is passed, then holds still;
+/// meanwhile the left hand takes the duct beside the incision, its jaws across it and closed
+/// just enough to hold it (gently: below the task's squeeze and force thresholds), and steadies
+/// it there while the catheter goes in. Written by
 /// `laptrainer-cli plan-expert`; the scripts shipped in scenarios/scripts/<stem>/ come from it,
 /// and a test runs them to success.
 ///
@@ -18,6 +20,9 @@
 /// hole while it advances.
 
 #include <Eigen/Geometry>
+#include <array>
+#include <optional>
+#include <string_view>
 
 #include "core/result.h"
 #include "hardware/scripted_trajectory.h"
@@ -30,12 +35,31 @@ namespace lap::sim {
 /// opens its jaws on the way to the incision and leaves the catheter lying (catheter_dropped);
 /// it pushes on 2 cm past where the expert stops, and the tip goes through the duct's wall
 /// (wall_perforation); instead of taking the catheter it takes the duct beside the incision and
-/// pulls it 3 cm towards its port (duct_injury: the grasp's pull on the duct). The time limit's
-/// clumsy run is the expert's own, too slow for a shorter limit (tests/sim/expert_run_test.cpp).
+/// pulls it 3 cm towards its port (duct_injury: the grasp's pull on the duct); it takes the
+/// common bile duct beside the cystic duct for it and pushes the catheter in through its wall
+/// (common_bile_duct: the scenario's task names that organ); or it carries the
+/// catheter to the incision and hesitates there, never putting it in, until the scenario's time
+/// limit has passed (time_limit).
 /// Pushing the duct is not among them: a soft tube held only at its ends (20–60 N/m to a push
 /// at its middle) moves away long before the 2 N threshold, and the jaws' squeeze on it stays
 /// under 0.5 N shut (models/duct_grasp.h).
-enum class ExpertMistake { kNone, kDropsCatheter, kOvershoots, kTearsDuct };
+enum class ExpertMistake {
+  kNone,
+  kDropsCatheter,
+  kOvershoots,
+  kTearsDuct,
+  kEntersCommonBileDuct,
+  kHesitates,
+};
+/// The mistake's name on the command line (`plan-expert --mistake NAME`) and in its scripts'
+/// names (clumsy_NAME_left.csv): "drop", "overshoot", "tear", "cbd", "time_limit"; "" for kNone.
+[[nodiscard]] std::string_view to_string(ExpertMistake mistake);
+/// The mistake named so, if any (kNone is not named).
+[[nodiscard]] std::optional<ExpertMistake> parse_mistake(std::string_view name);
+/// Every clumsy run, in the order above.
+inline constexpr std::array<ExpertMistake, 5> kClumsyRuns = {
+    ExpertMistake::kDropsCatheter, ExpertMistake::kOvershoots, ExpertMistake::kTearsDuct,
+    ExpertMistake::kEntersCommonBileDuct, ExpertMistake::kHesitates};
 
 struct ExpertRunSettings {
   ExpertMistake mistake = ExpertMistake::kNone;
@@ -47,12 +71,37 @@ struct ExpertRunSettings {
   double grasp_depth = 0.5;         ///< how far along the jaws it lies, from the hinge (of 1)
   double start_out_m = 0.010;       ///< the tip's start in front of the incision, along the line
   /// How far the line is pushed past the incision: the target depth and what the catheter's
-  /// bend in the lumen takes up.
-  double advance_m = 0.027;
+  /// bend in the lumen and the grasp's virtual coupling (its give F / k under the lumen's
+  /// friction, models/catheter_grasp.h) take up. 27 mm before the grasp was a virtual
+  /// coupling: with it, 3 of the default's 12 varied expert runs then stopped at 9.86 mm; at
+  /// 29 mm moderate's expert run goes out through the wall.
+  double advance_m = 0.0275;
   double grip_open_rad = 0.8;
   double grip_closed_rad = 0.1;  ///< below the grasp angle (models/catheter_grasp.h)
   double keyframe_step_s = 0.1;
   double hold_after_s = 6.0;  ///< still at the end: the task's hold and some more
+  /// The left hand steadies the duct beside the incision: its jaws across the duct, closed to
+  /// this (just past the grasp angle of models/duct_grasp.h, 0.30 rad: the duct is taken but
+  /// hardly squeezed), `steady_gap_m` from the incision's edge along the duct to the jaws'.
+  double steady_grip_rad = 0.26;
+  /// Where the duct lies along the jaws, from the hinge (of 1): towards their tips, which then
+  /// reach only a few millimetres past it (the liver, the fat and the common bile duct lie
+  /// close under it in the patients).
+  double steady_depth = 0.75;
+  double steady_gap_m = 0.0015;
+  /// The left tool's shaft (its axis, port to hinge) stays this far from every organ but the
+  /// duct: its radius, 2.5 mm, less 0.2 mm (it may graze a soft organ by as much: a few hundredths
+  /// of a newton).
+  double steady_clearance_m = 0.0023;
+  /// Its closed jaws (the axis, hinge to their tips) this far: about their half-thickness,
+  /// 1.5 mm, and 0.5 mm more (estimate).
+  double steady_jaw_clearance_m = 0.002;
+  /// The clumsy run into the common bile duct: how far past its wall the tip is pushed [m],
+  /// and how far along it from its junction with the cystic duct (nearer, the cystic duct and
+  /// the fat round the junction are in the way: at 6 and 10 mm the tip did not get in on every
+  /// patient).
+  double cbd_push_m = 0.015;
+  double cbd_clear_m = 0.015;
 };
 
 struct ExpertRun {
@@ -61,10 +110,14 @@ struct ExpertRun {
   /// The largest angle between the catheter's wanted and achieved directions on the way in
   /// (the fulcrum's limit) [deg].
   double worst_direction_error_deg = 0.0;
+  /// Where the left hand steadies the duct: the jaws' middle along the duct's axis from its end
+  /// [m] (the incision is at IncisionRim::z_m); empty where no line from the left tool's port
+  /// reaches the duct beside the incision clear of the other organs, and it waits in view.
+  std::optional<double> steady_site_m;
 };
 
 /// Fails, saying why, for a scenario without a catheter-insertion task, a catheter port or an
-/// incision.
+/// incision, and for the clumsy run into the common bile duct where the task names none.
 [[nodiscard]] Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
                                                 const ExpertRunSettings& settings = {});
 

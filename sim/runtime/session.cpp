@@ -414,9 +414,10 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   now.tick_s = model_->timing().dt_s;
   now.since_step_s = static_cast<double>(std::max<int64_t>(tick - model.tick, 0)) * now.tick_s;
   if (grasp.grasping()) {
-    // The virtual coupling to the grasped catheter at the haptic rate: the model's force at its
-    // last step and a local spring-damper on the jaws' motion since (catheter_grasp.h); the
-    // squeeze from the jaws' closure on it.
+    // The virtual coupling to the grasped catheter at the haptic rate: the coupling's spring
+    // and damper between the jaws now and the held section as the model last left it, the
+    // force the model's next step integrates (catheter_grasp.h); the squeeze from the jaws'
+    // closure on it.
     const models::GraspWrench w =
         models::coupling_wrench(tissue.settings().catheter_grasp, now, tissue.catheter_model(),
                                 {model.catheter, model.catheter_velocities}, grasp);
@@ -491,6 +492,12 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
       k.pose.hinge_W - tool.gripper.geometry().jaw_length_m * k.pose.shaft_dir_W;
   if (grasp.grasping()) {  // the coupling to the held section (catheter_grasp.h)
     budget.add(tissue.settings().catheter_grasp.coupling_stiffness_n_per_m, jaw_tip_W);
+    // and its moment on the jaws' turn, felt at the handle as K / a² (trocar_tool.h)
+    budget.add(models::coupling_rotational_stiffness(tissue.settings().catheter_grasp,
+                                                     tissue.catheter_model(), model.catheter,
+                                                     grasp) /
+                   (k.outside_m * k.outside_m),
+               k.handle_W);
   }
   if (duct_grasp.grasping()) {  // a spring per grasped node (duct_grasp.h)
     budget.add(duct_grasp.count * tissue.settings().duct_grasp.attach_stiffness_n_per_m, jaw_tip_W);

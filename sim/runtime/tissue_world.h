@@ -168,7 +168,7 @@ class TissueWorld {
     double catheter_push_n = 0.0;  // the norm of the settled reactions' sum [N]
   };
   TissueWorld() = default;
-  void grasp(const std::array<ToolModelInput, 2>& tools) noexcept;
+  void grasp(const std::array<ToolModelInput, 2>& tools, double dt) noexcept;
   void find_catheter_contacts() noexcept;
   void set_duct_wall_velocities(const OrganState& s) noexcept;
   bool dent_local_organ(int32_t organ, const std::array<ToolModelInput, 2>& tools,

@@ -119,6 +119,40 @@ TEST(ProceduralTextures, PerlinNoiseIsTheCornerSumOfItsDefinition) {
   EXPECT_LT(worst_gradient, 1e-11);
 }
 
+// The fractal is the gain-weighted sum of its octaves, each Perlin's noise at lacunarity^o times
+// the point over the wavelength (shifted by the octave's offset), as the definition has it: with
+// the sums formed in the same order it is the same to the bit, whether the octaves are evaluated
+// one at a time or several at once (FractalNoise::sample, four at a time with AVX2).
+TEST(ProceduralTextures, FractalNoiseIsTheSumOfItsOctavesToTheBit) {
+  constexpr double kAmplitude = 0.0001;
+  constexpr double kWavelength = 0.004;
+  constexpr double kLacunarity = 2.0;
+  constexpr double kGain = 0.5;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (const int octaves : {1, 3, 4, 5, 8}) {
+    const FractalNoise fbm(kAmplitude, kWavelength, octaves, kLacunarity, kGain, 9);
+    const PerlinNoise base(1.0, 1.0, 9);
+    int differing = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+      double height = 0.0;
+      Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+      double amplitude = kAmplitude;
+      double scale = 1.0 / kWavelength;
+      for (int o = 0; o < octaves; ++o, amplitude *= kGain, scale *= kLacunarity) {
+        const Eigen::Vector3d offset(17.13 * o, 31.71 * o, 7.37 * o);
+        Eigen::Vector3d g;
+        height += amplitude * base.noise(p * scale + offset, &g);
+        gradient += (amplitude * scale) * g;
+      }
+      const HeightSample got = fbm.sample(p);
+      if (got.height_m != height || got.gradient != gradient) ++differing;
+    }
+    EXPECT_EQ(differing, 0) << octaves << " octaves";
+  }
+}
+
 TEST(ProceduralTextures, PerlinAndFractalAreC1AcrossLatticePlanes) {
   const PerlinNoise perlin(kA, 0.002, 5);
   const FractalNoise fbm(kA, 0.002, 3, 2.0, 0.5, 5);

@@ -516,6 +516,11 @@ struct Entry {
   double inside_m = 0.0;                     ///< catheter length inside the lumen at the end
   double max_push_n = 0.0;                   ///< the largest push the holding anchors gave
   std::vector<std::array<double, 2>> curve;  ///< (length inside [m], push along the motion [N])
+  /// At the curve's samples: the wall's normal reactions summed, Σ N [N], and their tangential
+  /// parts (the friction) summed, Σ |F_t| [N].
+  std::vector<std::array<double, 2>> wall;
+  double push_work_j = 0.0;      ///< Σ push × the hand's travel
+  double friction_loss_j = 0.0;  ///< Σ |F_t| |v_slip| dt: what the wall's friction dissipated
 };
 
 // Faces of the triangulated tube whose centroid is within `radius` (arc and axial distance)
@@ -607,12 +612,33 @@ Entry push_into_duct(const Eigen::Vector3d& tip, const Eigen::Vector3d& directio
       push += an.stiffness_n_per_m * d.dot(an.target_W - x);
     }
     out.max_push_n = std::max(out.max_push_n, push);
+    out.push_work_j += push * speed * dt;
+    for (int32_t i = 0; i < n; ++i) {
+      const SurfaceReaction& r = reactions[static_cast<size_t>(i)];
+      const auto p = static_cast<size_t>(r.particle);
+      const Eigen::Vector3d& nc = cath.contact_normal[p];
+      const Eigen::Vector3d ft = r.force_on_surface_W - r.force_on_surface_W.dot(nc) * nc;
+      const Eigen::Vector3d slip = cath.velocities[p] - cath.contact_surface_velocity[p];
+      out.friction_loss_j += ft.norm() * (slip - slip.dot(nc) * nc).norm() * dt;
+    }
     // The depth: how far along the lumen the tip has gone since it passed the wall.
     const Eigen::Vector3d& t = cath.positions.front();
     if (std::isnan(out.entry_z) && tracking.side[0] < 0) out.entry_z = t.z();
     const bool in = t.head<2>().norm() < mid_radius && t.z() > 0.0 && t.z() < duct.length_m;
     const double inside = in && !std::isnan(out.entry_z) ? std::abs(t.z() - out.entry_z) : 0.0;
-    if (k % 20 == 0) out.curve.push_back({inside, push});
+    if (k % 20 == 0) {
+      out.curve.push_back({inside, push});
+      double normal = 0.0;
+      double tangential = 0.0;
+      for (int32_t i = 0; i < n; ++i) {
+        const SurfaceReaction& r = reactions[static_cast<size_t>(i)];
+        const Eigen::Vector3d& nc = cath.contact_normal[static_cast<size_t>(r.particle)];
+        const double fn = r.force_on_surface_W.dot(nc);
+        normal += std::abs(fn);
+        tangential += (r.force_on_surface_W - fn * nc).norm();
+      }
+      out.wall.push_back({normal, tangential});
+    }
     out.inside_m = inside;
   }
   const Eigen::Vector3d& t = cath.positions.front();
@@ -668,26 +694,48 @@ TEST(CatheterContacts, TheCatheterEntersAnOpenEndOfTheDuct) {
 }
 
 // The insertion curve: the push against the tip's depth in the lumen, with and without friction in
-// the lumen (μ = 0.3 and 0). Past the incision, friction alone adds to the push: the mean push over
-// the insertion is larger with it.
+// the lumen (μ = 0.3 and 0; docs/tissue-parameters.md prints it). Coulomb's law, checked two ways
+// against what the wall bears: at every sample once the tip is 2 mm in, the wall's tangential
+// reactions are μ times its normal ones (every contact slides: Σ |F_t| = μ Σ N); and over the
+// whole insertion the hand's extra work with friction is what Coulomb friction dissipated,
+// ∫ (P_μ − P_0) v dt = Σ ∫ μ N |v_slip| dt (the catheter's bending and the wall's dent being
+// path-independent, their energy is the same with and without friction), both within 5 %.
 TEST(CatheterContacts, InsertionForceAgainstDepth) {
+  const double mu = 0.3;
   const IncisionApproach a(DuctSettings{}.length_m / 4.0);
-  const Entry with = push_into_duct(a.tip, a.dir, 0.016, &a.open, 0.3);
+  const Entry with = push_into_duct(a.tip, a.dir, 0.016, &a.open, mu);
   const Entry without = push_into_duct(a.tip, a.dir, 0.016, &a.open, 0.0);
   ASSERT_TRUE(with.entered);
   ASSERT_TRUE(without.entered);
   double mean_with = 0.0;
   double mean_without = 0.0;
+  int checked = 0;
   std::printf("[ contacts ] insertion through the incision at 5 mm/s (every 0.1 s):\n");
-  std::printf("[ contacts ]   depth [mm]   push mu=0.3 [N]  |  depth [mm]   push mu=0 [N]\n");
+  std::printf(
+      "[ contacts ]   depth [mm]  push mu=0.3 [N]  sum N [N]  sum |F_t| / sum N  |  depth [mm]  "
+      "push mu=0 [N]\n");
   for (size_t i = 0; i < with.curve.size() && i < without.curve.size(); ++i) {
-    std::printf("[ contacts ]   %8.1f     %8.4f         |  %8.1f     %8.4f\n",
-                1e3 * with.curve[i][0], with.curve[i][1], 1e3 * without.curve[i][0],
-                without.curve[i][1]);
+    const double ratio = with.wall[i][0] > 0.0 ? with.wall[i][1] / with.wall[i][0] : 0.0;
+    std::printf("[ contacts ]   %8.1f    %8.4f      %8.4f     %6.3f           |  %8.1f    %8.4f\n",
+                1e3 * with.curve[i][0], with.curve[i][1], with.wall[i][0], ratio,
+                1e3 * without.curve[i][0], without.curve[i][1]);
     mean_with += with.curve[i][1];
     mean_without += without.curve[i][1];
+    if (with.curve[i][0] >= 0.002) {
+      EXPECT_NEAR(ratio, mu, 0.05 * mu) << "at " << 1e3 * with.curve[i][0] << " mm";
+      ++checked;
+    }
   }
+  EXPECT_GT(checked, 10);
   EXPECT_GT(mean_with, mean_without);
+  const double extra_work = with.push_work_j - without.push_work_j;
+  std::printf(
+      "[ contacts ] the hand's work over the insertion: %.4e J with friction, %.4e J without; "
+      "the extra %.4e J against Coulomb's dissipation %.4e J (%.1f %%)\n",
+      with.push_work_j, without.push_work_j, extra_work, with.friction_loss_j,
+      100.0 * (extra_work - with.friction_loss_j) / with.friction_loss_j);
+  EXPECT_NEAR(extra_work, with.friction_loss_j, 0.05 * with.friction_loss_j);
+  EXPECT_NEAR(without.friction_loss_j, 0.0, 1e-12);
 }
 
 }  // namespace

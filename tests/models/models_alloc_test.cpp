@@ -101,7 +101,7 @@ TEST(ModelsAllocation, StepsAllocateNothing) {
       // Over particle 21 while open (the tool follows the catheter), still while closed.
       if (jaws.opening_rad > 0.45) jaws.hinge_W = cath.positions[21] + Eigen::Vector3d(0, 0.01, 0);
       clear_anchors(&cath);
-      catheter_grasps += update_grasp({}, jaws, catheter, &cath, &grasp).grasped_now ? 1 : 0;
+      catheter_grasps += update_grasp({}, jaws, catheter, &cath, &grasp, 0.005).grasped_now ? 1 : 0;
       (void)coupling_wrench({}, {jaws, jaws, 0.001, 0.002}, catheter,
                             {cath.positions, cath.velocities}, grasp);
       clear_contacts(&cath);

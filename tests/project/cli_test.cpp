@@ -409,6 +409,29 @@ TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
   EXPECT_EQ(metrics["catheter_drops"], 0.0);
 }
 
+TEST(CliRun, WithoutADurationScriptedDevicesRunUntilTheScriptsOrTheTaskEnd) {
+  // The default's expert takes 15.9 s, longer than the default --duration of 10 s: without one,
+  // a session of scripted devices runs on to the task's end (or the scripts'), not to 10 s.
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const CommandResult r =
+      run_command(cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+                  " --left scripted:" + (scripts / "expert_left.csv").string() +
+                  " --right scripted:" + (scripts / "expert_right.csv").string() + " --fast");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto out = nlohmann::ordered_json::parse(r.out, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(out.is_discarded()) << r.out;
+  EXPECT_EQ(out["task"]["result"], "success") << out["task"].dump();
+  EXPECT_GT(out["haptic"]["ticks"].get<int64_t>(), 10'000);
+  // With a simulated device (it never runs out) the default stays 10 s.
+  const CommandResult sim = run_command(
+      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+      " --left simulated --right scripted:" + (scripts / "expert_right.csv").string() + " --fast");
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const auto sim_out = nlohmann::ordered_json::parse(sim.out, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(sim_out.is_discarded()) << sim.out;
+  EXPECT_EQ(sim_out["haptic"]["ticks"].get<int64_t>(), 10'000);
+}
+
 TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
   TempDir dir;
   const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
@@ -535,8 +558,9 @@ TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {
   const CommandResult bad = run_command(cli() + " plan-expert --scenario " + scenario + " --out " +
                                         dir.path().string() + " --mistake sneeze");
   EXPECT_EQ(bad.exit_code, 64);
-  EXPECT_NE(bad.err.find("--mistake: expected drop, overshoot or tear, got 'sneeze'"),
-            std::string::npos)
+  EXPECT_NE(
+      bad.err.find("--mistake: expected drop, overshoot, tear, cbd or time_limit, got 'sneeze'"),
+      std::string::npos)
       << bad.err;
   // A scenario without a task has no insertion to plan: exit 2, saying so.
   const auto no_task = default_scenario_copy(dir, [](std::string& t) {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <map>
 #include <string>
 
@@ -16,10 +17,20 @@
 namespace lap::sim {
 namespace {
 
+double metric(const SessionMetrics& m, const std::string& name) {
+  for (const Metric& x : m.training) {
+    if (x.name == name) return x.value;
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return 0.0;
+}
+
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
 struct Patient {
   std::string stem;  ///< scenarios/<stem>.yaml, scripts in scenarios/scripts/<stem>/
+  /// The left hand steadies the duct (else it waits in view: no clear line from its port).
+  bool steadies_duct = true;
 };
 
 const Scene& scene_of(const Patient& p) {
@@ -37,16 +48,32 @@ const Scene& scene_of(const Patient& p) {
 
 fs::path scripts_of(const Patient& p) { return test::source_dir() / "scenarios/scripts" / p.stem; }
 
+// Whether the planner has the left hand steady the duct (ExpertRun::steady_site_m): where a line
+// from the left tool's port reaches the duct beside the incision clear of the other organs.
+bool steadies(const Patient& p) {
+  RuntimeSettings rs;
+  rs.fast = true;
+  const auto model =
+      SessionModel::build(scene_of(p), rs, {DeviceDescription{"left", {}}, {"right", {}}});
+  EXPECT_TRUE(model.ok()) << model.message();
+  const Result<ExpertRun> plan = plan_expert_run(scene_of(p), *model.value());
+  EXPECT_TRUE(plan.ok()) << plan.message();
+  return plan.ok() && plan.value().steady_site_m.has_value();
+}
+
 class PatientRun : public ::testing::TestWithParam<Patient> {};
 
 TEST_P(PatientRun, TheShippedScriptsAreWhatThePlannerWritesFromTheScenario) {
-  for (const auto& [mistake, stem] : {std::pair{ExpertMistake::kNone, "expert"},
-                                      std::pair{ExpertMistake::kDropsCatheter, "clumsy_drop"},
-                                      std::pair{ExpertMistake::kOvershoots, "clumsy_overshoot"},
-                                      std::pair{ExpertMistake::kTearsDuct, "clumsy_tear"}}) {
+  expect_planned_scripts(scene_of(GetParam()), {}, scripts_of(GetParam()), "expert");
+  for (const ExpertMistake mistake : kClumsyRuns) {
+    if (mistake == ExpertMistake::kEntersCommonBileDuct &&
+        scene_of(GetParam()).scenario.task->common_bile_duct.empty()) {
+      continue;  // the default scene has no common bile duct: no such run
+    }
     ExpertRunSettings settings;
     settings.mistake = mistake;
-    expect_planned_scripts(scene_of(GetParam()), settings, scripts_of(GetParam()), stem);
+    expect_planned_scripts(scene_of(GetParam()), settings, scripts_of(GetParam()),
+                           "clumsy_" + std::string(to_string(mistake)));
   }
 }
 
@@ -66,6 +93,61 @@ TEST_P(PatientRun, TheExpertInsertsTheCatheterAndHoldsIt) {
   // Gently: a fraction of a newton at the hands (nothing pressed on the way).
   EXPECT_LT(m.max_force_sent_n, 1.0);
   EXPECT_FALSE(m.paused);
+}
+
+// The left hand steadies the duct beside the incision while the catheter goes in (issue 22,
+// "the procedure, as it is done"): it has taken the duct before the tip reaches the incision and
+// holds it to the end, gently: its jaws' squeeze below a tenth of the task's threshold, the
+// duct's load below the injury threshold (the run's events above have no duct_injury).
+TEST_P(PatientRun, TheLeftHandSteadiesTheDuctWhileTheCatheterGoesIn) {
+  const Scene& scene = scene_of(GetParam());
+  Devices devices = scripted_devices(scripts_of(GetParam()), "expert");
+  auto left = hardware::load_scripted_trajectory(scripts_of(GetParam()) / "expert_left.csv");
+  ASSERT_TRUE(left.ok()) << left.message();
+  auto watched =
+      std::make_unique<FaultyDevice>(std::move(left).value(), FaultyDevice::Fault::kNone, -1);
+  FaultyDevice* watch = watched.get();
+  watch->commands.reserve(60001);
+  devices[0] = std::move(watched);
+  auto created = Session::create(scene, std::move(devices), fast(60.0));
+  ASSERT_TRUE(created.ok()) << created.message();
+  Session& session = *created.value();
+  double held_from_s = -1.0;
+  int64_t held_ticks = 0;
+  int64_t ticks = 0;
+  watch->on_read = [&](int64_t tick) {
+    if (tick == 0) return;
+    ++ticks;
+    if (session.graphics_model().duct_grasps[0].grasping()) {
+      if (held_from_s < 0.0) held_from_s = 1e-3 * static_cast<double>(tick);
+      ++held_ticks;
+    } else {
+      held_from_s = -1.0;  // held without letting go from then on
+      held_ticks = 0;
+    }
+  };
+  const SessionMetrics m = session.run();
+  ASSERT_EQ(m.task.result, TaskResult::kSuccess);
+  ASSERT_GE(m.task.phase_s[1], 0.0);
+  ASSERT_EQ(steadies(GetParam()), GetParam().steadies_duct);
+  if (!GetParam().steadies_duct) {
+    // From the left tool's port every line to the duct beside the incision passes through the
+    // gallbladder: the planner has it wait in view instead, and it never holds the duct.
+    EXPECT_LT(held_from_s, 0.0);
+    std::printf("[ steady ] %s: the left hand waits in view\n", GetParam().stem.c_str());
+    return;
+  }
+  std::printf(
+      "[ steady ] %s: the left hand holds the duct from %.3f s (the tip at the incision at "
+      "%.3f s) to the end (%lld of %lld ticks); its squeeze at most %.3f N, the duct's load "
+      "at most %.3f N\n",
+      GetParam().stem.c_str(), held_from_s, m.task.phase_s[1], static_cast<long long>(held_ticks),
+      static_cast<long long>(ticks), metric(m, "max_squeeze_duct_n"),
+      metric(m, "max_force_duct_n"));
+  EXPECT_GE(held_from_s, 0.0);
+  EXPECT_LT(held_from_s, m.task.phase_s[1]);
+  EXPECT_LT(metric(m, "max_squeeze_duct_n"), 0.1 * scene.scenario.task->duct_squeeze_n);
+  EXPECT_LT(metric(m, "max_force_duct_n"), scene.scenario.task->duct_injury_force_n);
 }
 
 TEST_P(PatientRun, ACatheterLetGoOnTheWayIsDropped) {
@@ -91,6 +173,42 @@ TEST_P(PatientRun, PushingOnPastTheTargetPerforatesTheWall) {
   EXPECT_EQ(m.task.reasons[0], TaskReason::kWallPerforation);
 }
 
+// The common bile duct taken for the cystic duct: the catheter pushed in through its wall, the
+// task's error for a catheter meant for the cystic duct alone. The default scene has no common
+// bile duct (its stand-in organs are the liver, the gallbladder and the cystic duct), so no
+// such run (tests/sim/expert_run_test.cpp checks the error there with the duct standing in).
+TEST_P(PatientRun, TheCommonBileDuctTakenForTheCysticDuctIsAnError) {
+  const Scene& scene = scene_of(GetParam());
+  if (scene.scenario.task->common_bile_duct.empty()) GTEST_SKIP() << "no common bile duct";
+  const SessionMetrics m = run_scripts(scene, scripts_of(GetParam()), "clumsy_cbd");
+  EXPECT_EQ(m.task.result, TaskResult::kFailure);
+  EXPECT_EQ(event_kinds(m.task), "catheter_grasped, tip_in_common_bile_duct, failure");
+  ASSERT_EQ(m.task.reason_count, 1U);
+  EXPECT_EQ(m.task.reasons[0], TaskReason::kCommonBileDuct);
+  ASSERT_EQ(m.task.events.size(), 3U);
+  EXPECT_EQ(scene.scenario.organs[static_cast<size_t>(m.task.events[1].organ)].name,
+            scene.scenario.task->common_bile_duct);
+}
+
+// The hesitant hand brings the tip in front of the incision and never puts it in: the time
+// limit ends the task. The shipped script outlasts the scenario's own limit (600 s); run here
+// against a limit of 25 s, which it outlasts the same way, to keep the test short (the full
+// run's events are in each scenario's STATUS comment).
+TEST_P(PatientRun, HesitatingAtTheIncisionRunsOutOfTime) {
+  Scene scene = scene_of(GetParam());
+  const auto right =
+      hardware::load_scripted_trajectory(scripts_of(GetParam()) / "clumsy_time_limit_right.csv");
+  ASSERT_TRUE(right.ok()) << right.message();
+  EXPECT_GT(right.value().duration_s(), scene.scenario.task->time_limit_s);
+  scene.scenario.task->time_limit_s = 25.0;
+  const SessionMetrics m = run_scripts(scene, scripts_of(GetParam()), "clumsy_time_limit");
+  EXPECT_EQ(m.task.result, TaskResult::kFailure);
+  EXPECT_EQ(event_kinds(m.task), "catheter_grasped, time_limit, failure");
+  ASSERT_EQ(m.task.reason_count, 1U);
+  EXPECT_EQ(m.task.reasons[0], TaskReason::kTimeLimit);
+  EXPECT_NEAR(m.task.end_s, 25.0, 0.006);
+}
+
 TEST_P(PatientRun, PullingTheGraspedDuctInjuresIt) {
   const Scene& scene = scene_of(GetParam());
   const SessionMetrics m = run_scripts(scene, scripts_of(GetParam()), "clumsy_tear");
@@ -105,8 +223,9 @@ TEST_P(PatientRun, PullingTheGraspedDuctInjuresIt) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Patients, PatientRun,
-                         ::testing::Values(Patient{"default"}, Patient{"patient_easy"},
-                                           Patient{"patient_moderate"}, Patient{"patient_hard"}),
+                         ::testing::Values(Patient{"default", false}, Patient{"patient_easy"},
+                                           Patient{"patient_moderate", false},
+                                           Patient{"patient_hard"}),
                          [](const ::testing::TestParamInfo<Patient>& info) {
                            return info.param.stem;
                          });

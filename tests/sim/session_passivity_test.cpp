@@ -3,8 +3,13 @@
 // catheter and the duct, and letting go. Over every prefix of the run the energy the device
 // gives the hand never exceeds what it took from the hand by more than a stated tolerance, and
 // while the hand holds still against a surface or a grasp the force's fast part dies out.
-// Fast (lockstep, one thread) runs, 3.5 s of wall time each in Release: the suite is named apart
-// from Session* so that the ThreadSanitizer stage, which has no thread to check here, skips it.
+// The shipped default and the hardest patient each run a shorter script (kCatheterTaut): both
+// tools take the catheter, hold it taut between them, let go, and press the organ nearest their
+// port, twice. Every run twice, with and without the passivity controllers: the grasp couplings
+// are passive by themselves (models/catheter_grasp.h).
+// Fast (lockstep, one thread) runs, 4 s of wall time for the minute in Release, about 1 s for
+// the shorter ones: the suite is named apart from Session* so that the ThreadSanitizer stage,
+// which has no thread to check here, skips it.
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -13,6 +18,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,6 +29,7 @@
 namespace lap::sim::session_test {
 namespace {
 
+// The frozen scene's run: every organ, the catheter and the duct, twice over.
 constexpr double kDuration = 60.0;
 
 // Where the script sends the tool's tip: an anchor (a point on an organ, the duct, or a particle
@@ -56,9 +64,9 @@ struct Trocar {
 // energy exchanged.
 class HandDevice final : public hardware::HapticDevice {
  public:
-  HandDevice(std::string name, Trocar trocar, const test::SimulatedHand& hand)
+  HandDevice(std::string name, Trocar trocar, const test::SimulatedHand& hand, double duration_s)
       : name_(std::move(name)), trocar_(std::move(trocar)), hand_(hand) {
-    const auto ticks = static_cast<size_t>(kDuration * 1000.0) + 2;
+    const auto ticks = static_cast<size_t>(duration_s * 1000.0) + 2;
     force_.reserve(ticks);
     holding_.reserve(ticks);
   }
@@ -286,10 +294,86 @@ void script_tool(Session& session, HandDevice* hand, const Trocar& trocar, int s
   hand->watch(&session, side);
 }
 
+// The shipped scenarios' run (the default, the hardest patient): both tools take the catheter
+// at two places a few centimetres apart, pull them apart along it so that it is taut between the
+// jaws, and hold it so (the case that kept a limit cycle while the hand felt the model's own
+// anchor force: docs/architecture.md); let go; push the organ nearest their port and hold;
+// twice, at other places the second time. 13.3 s a round.
+constexpr double kTautDuration = 27.5;
+
+// The catheter's particles the two tools take in round r: the proximal one (the left tool's)
+// and the distal one (the right tool's), as fractions of its length.
+std::array<int32_t, 2> taut_particles(const Session& session, int round) {
+  const auto last =
+      static_cast<double>(session.model().tissue().catheter_model().particle_count() - 1);
+  const double near = round == 0 ? 0.65 : 0.60;
+  const double far = round == 0 ? 0.85 : 0.80;
+  return {static_cast<int32_t>(std::lround(near * last)),
+          static_cast<int32_t>(std::lround(far * last))};
+}
+
+void script_taut(Session& session, HandDevice* hand, const Trocar& trocar, int side) {
+  std::vector<Anchor> anchors;
+  // The organ nearest the port, where the tool meets it coming straight from there.
+  Anchor organ;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int32_t o = 0; o < session.organ_count(); ++o) {
+    const Eigen::Vector3d p = nearest_vertex(session.organ_surface(o), trocar.port_W);
+    if ((p - trocar.port_W).norm() < nearest) {
+      nearest = (p - trocar.port_W).norm();
+      organ.point_W = p;
+    }
+  }
+  anchors.push_back(organ);
+  const auto home = static_cast<int32_t>(anchors.size());
+  Anchor rest;
+  rest.point_W = trocar.port_W +
+                 0.08 * (session.organ_surface(0).bounds().center() - trocar.port_W).normalized();
+  anchors.push_back(rest);
+  std::vector<Key> keys;
+  double t = 0.0;
+  keys.push_back({t, home, 0.0, {}, 0.8, false});
+  auto add = [&](double dt, int32_t anchor, double depth, Eigen::Vector3d offset, double grip,
+                 bool hold) {
+    t += dt;
+    keys.push_back({t, anchor, depth, offset, grip, hold});
+  };
+  const Eigen::Vector3d none = Eigen::Vector3d::Zero();
+  const std::vector<Eigen::Vector3d>& c = session.graphics_model().catheter;
+  for (int round = 0; round < 2; ++round) {
+    const std::array<int32_t, 2> p = taut_particles(session, round);
+    Anchor cath;
+    cath.catheter_particle = p[static_cast<size_t>(side)];
+    const auto a = static_cast<int32_t>(anchors.size());
+    anchors.push_back(cath);
+    // Apart along the catheter: 5 mm each, the proximal tool towards the port's end.
+    const Eigen::Vector3d along =
+        (c[static_cast<size_t>(p[1])] - c[static_cast<size_t>(p[0])]).normalized();
+    const Eigen::Vector3d apart = (side == 0 ? -0.005 : 0.005) * along;
+    add(1.5, a, -0.020, none, 0.8, false);   // the jaws open short of it
+    add(0.7, a, -0.010, none, 0.8, false);   // it lies between them
+    add(0.5, a, -0.010, none, 0.1, false);   // closed on it
+    add(1.0, a, -0.010, none, 0.1, true);    // held
+    add(1.5, a, -0.010, apart, 0.1, false);  // pulled apart: taut
+    add(3.0, a, -0.010, apart, 0.1, true);   // held taut
+    add(0.3, a, -0.010, apart, 0.8, false);  // let go
+    add(0.5, a, -0.030, apart, 0.8, false);  // away
+    add(1.0, 0, -0.015, none, 0.8, false);   // in front of the organ
+    add(1.0, 0, 0.010, none, 0.8, false);    // 1 cm into it
+    add(1.5, 0, 0.010, none, 0.8, true);     // held there
+    add(0.8, 0, -0.015, none, 0.8, false);   // back off
+  }
+  add(std::max(0.5, kTautDuration - t), home, 0.0, none, 0.8, true);
+  hand->script(std::move(anchors), std::move(keys));
+  hand->watch(&session, side);
+}
+
 struct Oscillation {
   double worst_rms_n = 0.0;  ///< of the fast part over a hold's last half
   double worst_first_rms_n = 0.0;
   int holds = 0;
+  /// The largest mean |F| over the last half of a hold in which the tool held the catheter.
+  double strongest_catheter_hold_n = 0.0;
 };
 
 // The force's fast part: F minus its mean over a centred 50 ms window (a moving average's first
@@ -313,8 +397,16 @@ Oscillation oscillation(const HandDevice& hand) {
     if (b - a < 200) continue;
     double first = 0.0;
     double second = 0.0;
+    double held = 0.0;
+    bool catheter = true;
     const int mid = (a + b) / 2;
     for (int k = a; k < b; ++k) {
+      if (k >= mid) {
+        held += f[static_cast<size_t>(k)].norm();
+        // cath_ starts at tick 1
+        catheter = catheter && k >= 1 && static_cast<size_t>(k - 1) < hand.cath_.size() &&
+                   hand.cath_[static_cast<size_t>(k - 1)] != 0;
+      }
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       for (int j = k - kHalf; j <= k + kHalf; ++j) mean += f[static_cast<size_t>(j)];
       mean /= 2 * kHalf + 1;
@@ -326,6 +418,9 @@ Oscillation oscillation(const HandDevice& hand) {
                   std::sqrt(first / (mid - a)), std::sqrt(second / (b - mid)));
     }
     o.worst_rms_n = std::max(o.worst_rms_n, std::sqrt(second / (b - mid)));
+    if (catheter) {
+      o.strongest_catheter_hold_n = std::max(o.strongest_catheter_hold_n, held / (b - mid));
+    }
     o.worst_first_rms_n = std::max(o.worst_first_rms_n, std::sqrt(first / (mid - a)));
     ++o.holds;
   }
@@ -349,29 +444,52 @@ struct Outcome {
   std::array<ToolFigures, 2> tools{};
   SessionMetrics metrics;
   double wall_s = 0.0;
+  double duration_s = 0.0;
 };
 
-Outcome run_hands(bool passivity_control) {
-  // The task engine watches the whole minute, its injury thresholds and graces out of the
+// Which scene and which script the hands run.
+enum class Script { kEveryOrgan, kCatheterTaut };
+struct Run {
+  const char* scene;  ///< from the source folder
+  Script script;
+  double duration_s;
+};
+// The scene the hands were placed in (tests/data/README.md): every organ, twice over.
+const Run kFrozenScene{"tests/data/passivity_scene.yaml", Script::kEveryOrgan, kDuration};
+const Run kShippedDefault{"scenarios/default.yaml", Script::kCatheterTaut, kTautDuration};
+const Run kHardestPatient{"scenarios/patient_hard.yaml", Script::kCatheterTaut, kTautDuration};
+
+const Scene& scene_of(const char* file) {
+  static std::map<std::string, SceneLoadResult> loaded;
+  auto it = loaded.find(file);
+  if (it == loaded.end()) {
+    it = loaded.emplace(file, load_scene_file(test::source_dir() / file)).first;
+  }
+  EXPECT_TRUE(it->second.ok()) << it->second.message();
+  return it->second.value();
+}
+
+Outcome run_hands(const Run& run, bool passivity_control) {
+  // The task engine watches the whole run, its injury thresholds and graces out of the
   // hands' reach (a hand presses the gallbladder with about 10 N): the hands' grasps of the
   // catheter show as its events (tested below).
-  // The scene the hands were placed in (tests/data/README.md).
-  static const SceneLoadResult loaded =
-      load_scene_file(test::source_dir() / "tests/data/passivity_scene.yaml");
-  EXPECT_TRUE(loaded.ok()) << loaded.message();
-  Scene scene = loaded.value();
+  Scene scene = scene_of(run.scene);
   TaskSpec& task = *scene.scenario.task;
   task.duct_injury_force_n = task.duct_squeeze_n = task.organ_injury_force_n = 100.0;
   task.drop_grace_s = 60.0;
   task.out_of_view_grace_s = 600.0;
-  RuntimeSettings rs = fast(kDuration);
+  task.time_limit_s = 600.0;
+  task.forbidden_organs.clear();
+  task.common_bile_duct.clear();
+  RuntimeSettings rs = fast(run.duration_s);
   rs.passivity_control = passivity_control;
   rs.end_with_task = false;  // the hands' whole minute, whatever the task engine makes of it
   Devices devices;
   std::array<HandDevice*, 2> hands{};
   for (int side = 0; side < 2; ++side) {
-    auto d = std::make_unique<HandDevice>(side == 0 ? "left hand" : "right hand",
-                                          trocar_of(scene, side), test::SimulatedHand{});
+    auto d =
+        std::make_unique<HandDevice>(side == 0 ? "left hand" : "right hand", trocar_of(scene, side),
+                                     test::SimulatedHand{}, run.duration_s);
     hands[static_cast<size_t>(side)] = d.get();
     devices[static_cast<size_t>(side)] = std::move(d);
   }
@@ -381,10 +499,16 @@ Outcome run_hands(bool passivity_control) {
   if (!created.ok()) return out;
   std::unique_ptr<Session> session = std::move(created).value();
   for (int side = 0; side < 2; ++side) {
-    script_tool(*session, hands[static_cast<size_t>(side)], trocar_of(scene, side), side);
+    HandDevice* hand = hands[static_cast<size_t>(side)];
+    if (run.script == Script::kEveryOrgan) {
+      script_tool(*session, hand, trocar_of(scene, side), side);
+    } else {
+      script_taut(*session, hand, trocar_of(scene, side), side);
+    }
   }
   const auto t0 = std::chrono::steady_clock::now();
   out.metrics = session->run();
+  out.duration_s = run.duration_s;
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (size_t i = 0; i < 2; ++i) {  // the devices go with the session
     const HandDevice& h = *hands[i];
@@ -420,7 +544,7 @@ void print(const char* what, const Outcome& o) {
         "force above ~20 Hz in holds: worst RMS %.4f N over a hold's second half (%.4f N over its "
         "first), %d holds; catheter held %lld ticks, duct %lld; controller active %lld ticks, "
         "dissipated %.4f J, largest damping %.2f N s/m, observer's lowest %.3e J\n",
-        what, i == 0 ? "left" : "right", kDuration, f.given_j, f.taken_j,
+        what, i == 0 ? "left" : "right", o.duration_s, f.given_j, f.taken_j,
         f.taken_j > 0.0 ? f.given_j / f.taken_j : 0.0, f.worst_excess_j, f.hand_work_j,
         f.oscillation.worst_rms_n, f.oscillation.worst_first_rms_n, f.oscillation.holds,
         static_cast<long long>(f.catheter_ticks), static_cast<long long>(f.duct_ticks),
@@ -456,7 +580,7 @@ constexpr double kEnergyToleranceJ = 1e-3;
 constexpr double kOscillationN = 0.08;
 
 TEST(PortPassivity, AHandGetsNoMoreEnergyThanItGaveAndNoSustainedOscillation) {
-  const Outcome o = run_hands(true);
+  const Outcome o = run_hands(kFrozenScene, true);
   print("with the controllers", o);
   EXPECT_TRUE(o.metrics.events.empty());
   // The task engine saw each hand take hold of the catheter.
@@ -490,27 +614,88 @@ TEST(PortPassivity, AHandGetsNoMoreEnergyThanItGaveAndNoSustainedOscillation) {
     worst_rms = std::max(worst_rms, f.oscillation.worst_rms_n);
   }
   RecordProperty("worst_excess_uj", std::to_string(std::lround(worst_excess * 1e6)));
-  RecordProperty("worst_given_over_taken_permille", std::to_string(std::lround(worst_ratio * 1e3)));
+  ::testing::Test::RecordProperty("worst_given_over_taken_permille",
+                                  std::to_string(std::lround(worst_ratio * 1e3)));
   RecordProperty("worst_hold_rms_mn", std::to_string(std::lround(worst_rms * 1e3)));
   RecordProperty("wall_ms", std::to_string(std::lround(o.wall_s * 1e3)));
 }
 
-// The same run with both controllers off shows what they guard against: the test above fails on
-// it (a sustained oscillation while a grasp holds). Kept as the evidence, and so that a change
-// that makes the controllers idle is noticed.
-TEST(PortPassivity, WithoutTheControllersTheSameRunOscillates) {
-  const Outcome o = run_hands(false);
+// The same run with both controllers off: the grasp couplings are passive by themselves now
+// (catheter_grasp.h: a virtual coupling the model integrates, its damper above k T / 2 for the
+// 200 Hz model). Before, this run limit-cycled while both tools held the catheter (0.33 N RMS
+// left, 0.64 N right) and the test asserted that it did; now it meets the same bounds as with
+// the controllers, and the port's own observer never sees the hand given more than it gave.
+// Under the sanitizers (10-50 times slower) the runs without the controllers are left out: the
+// code they run is the same, and the runs with them check it (test_support.h).
+constexpr bool kRunWithoutControllers = test::kSanitizerDivisor == 1;
+
+TEST(PortPassivity, WithoutTheControllersTheSameRunIsPassiveToo) {
+  if (!kRunWithoutControllers) GTEST_SKIP() << "left to the optimised build";
+  const Outcome o = run_hands(kFrozenScene, false);
   print("without the controllers", o);
-  double worst_rms = 0.0;
-  double couplings_lowest = 0.0;
-  for (const ToolFigures& f : o.tools) {
-    worst_rms = std::max(worst_rms, f.oscillation.worst_rms_n);
-    couplings_lowest = std::min(couplings_lowest, f.coupling.lowest_j);
+  for (size_t i = 0; i < 2; ++i) {
+    const ToolFigures& f = o.tools[i];
+    SCOPED_TRACE(i == 0 ? "left tool" : "right tool");
+    EXPECT_GT(f.catheter_ticks, 2000);
+    EXPECT_LE(f.worst_excess_j, kEnergyToleranceJ);
+    EXPECT_GE(f.controller.lowest_j, -kEnergyToleranceJ);
+    EXPECT_LE(f.oscillation.worst_rms_n, kOscillationN);
+    EXPECT_EQ(f.controller.active_ticks, 0);  // off: observed only
   }
-  EXPECT_GT(worst_rms, kOscillationN);
-  // The couplings' own observer (its reservoir leaking over 0.2 s) saw them give the hand more
-  // than they took, by more than the tolerance: they were active.
-  EXPECT_LT(couplings_lowest, -kEnergyToleranceJ);
+}
+
+// Both tools holding the shipped scenarios' catheter taut between them (kCatheterTaut): each
+// hand gets no more energy than it gave, and no hold keeps a sustained oscillation. Before the
+// grasp was a virtual coupling (the hand felt the model's own 20 kN/m anchors, 200 Hz), the
+// default's taut holds kept a limit cycle of 1.29 N and 1.35 N RMS with the controllers on, and
+// the port gave the hands 29 mJ and 45 mJ more than it took (the hardest patient: 1.02 N and
+// 1.27 N, 4.8 mJ and 1.2 mJ).
+void expect_passive_taut(const Run& run, bool passivity_control) {
+  const Outcome o = run_hands(run, passivity_control);
+  print(passivity_control ? run.scene : "(without the controllers)", o);
+  EXPECT_TRUE(o.metrics.events.empty());
+  std::array<int, 2> grasped{};
+  for (const TaskEvent& e : o.metrics.task.events) {
+    if (e.kind == TaskEventKind::kCatheterGrasped && e.tool >= 0) {
+      ++grasped[static_cast<size_t>(e.tool)];
+    }
+  }
+  double worst_ratio = 0.0;
+  double worst_rms = 0.0;
+  for (size_t i = 0; i < 2; ++i) {
+    const ToolFigures& f = o.tools[i];
+    SCOPED_TRACE(i == 0 ? "left tool" : "right tool");
+    // The script did what it says: each tool took the catheter in both rounds and held it
+    // through the holds (about 6.5 s of 13.3 s a round), and pushed an organ.
+    EXPECT_EQ(grasped[i], 2);
+    EXPECT_GT(f.catheter_ticks, 10000);
+    EXPECT_GT(*std::max_element(f.organ_ticks.begin(), f.organ_ticks.end()), 1500);
+    EXPECT_GT(f.taken_j, 0.01);  // a real exchange, not a tool in free air
+    EXPECT_LE(f.worst_excess_j, kEnergyToleranceJ);
+    EXPECT_GE(f.oscillation.holds, 7);
+    EXPECT_LE(f.oscillation.worst_rms_n, kOscillationN);
+    // Taut: holding the catheter, the hand pulls against the other.
+    EXPECT_GT(f.oscillation.strongest_catheter_hold_n, 0.3);
+    std::printf("[ passivity ]   %s tool: holding the catheter taut, %.3f N at the handle\n",
+                i == 0 ? "left" : "right", f.oscillation.strongest_catheter_hold_n);
+    worst_ratio = std::max(worst_ratio, f.given_j / f.taken_j);
+    worst_rms = std::max(worst_rms, f.oscillation.worst_rms_n);
+  }
+  ::testing::Test::RecordProperty("worst_given_over_taken_permille",
+                                  std::to_string(std::lround(worst_ratio * 1e3)));
+  ::testing::Test::RecordProperty("worst_hold_rms_mn",
+                                  std::to_string(std::lround(worst_rms * 1e3)));
+}
+
+// Each also without the controllers: the couplings hold it passive by themselves.
+TEST(PortPassivity, TheDefaultsCatheterHeldTautByBothTools) {
+  expect_passive_taut(kShippedDefault, true);
+  if (kRunWithoutControllers) expect_passive_taut(kShippedDefault, false);
+}
+
+TEST(PortPassivity, TheHardestPatientsCatheterHeldTautByBothTools) {
+  expect_passive_taut(kHardestPatient, true);
+  if (kRunWithoutControllers) expect_passive_taut(kHardestPatient, false);
 }
 
 }  // namespace

@@ -238,6 +238,16 @@ TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
     const Eigen::Vector3d d = fit.pose_WD.inverse() * p;
     EXPECT_NEAR(d.head<2>().norm(), 0.5 * (fit.duct.outer_diameter_m - wall), 1e-9);
   }
+  // Its modes, for docs/tissue-parameters.md (the session's duct, not the models' 30 mm test
+  // duct of docs/benchmarks.md).
+  const Eigen::VectorXd& omega = world->model().duct().model->omega();
+  std::printf(
+      "[ duct ] the default scenario's duct: %.1f mm long, %.2f mm outside, %.2f mm wall; %d "
+      "modes, %.1f-%.1f Hz\n",
+      1e3 * fit.duct.length_m, 1e3 * fit.duct.outer_diameter_m, 1e3 * wall,
+      static_cast<int>(omega.size()), omega(0) / (2.0 * M_PI),
+      omega(omega.size() - 1) / (2.0 * M_PI));
+  EXPECT_GT(omega(0), 0.0);
   // Jaws across the duct's middle from above, closing: the duct is grasped, squeezed, and moves.
   std::array<ToolModelInput, 2> tools{};
   tools[0].valid = true;
