@@ -42,7 +42,9 @@ LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1600x1000x24" \
   exit 1
 }
 
-echo "scenario $scenario, $seconds s, field ${size_args[1]:-the window's default size}," \
+field="the window's default size"
+if [[ ${#size_args[@]} -gt 0 ]]; then field="${size_args[1]}"; fi
+echo "scenario $scenario, $seconds s, field $field," \
      "renderer: $(LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a glxinfo -B 2>/dev/null | sed -n 's/.*OpenGL renderer string: //p' || true)"
 cat "$out/stats.json"
 if command -v python3 > /dev/null; then
