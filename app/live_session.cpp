@@ -83,10 +83,11 @@ Status LiveSession::start(const sim::Scene& scene,
     }
     fs::create_directories(dir, ec);
     fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace, ec);
-    const Result<std::string> header = sim::session_record_json(scenario_, rs);
-    Status ready =
-        header.ok() ? sim::write_session_record(dir, scenario_, rs) : Status(header.diagnostics());
-    if (ready.ok()) ready = session->record_to(dir / "session.lrec", header.value());
+    // session.json now, once, with the digest of the scenario's bytes as loaded (a scenario
+    // changed while the session runs replays with a note).
+    const std::string header = sim::session_record_json(scenario_, scene.scenario.digest, rs);
+    Status ready = sim::write_session_record(dir, header);
+    if (ready.ok()) ready = session->record_to(dir / "session.lrec", header);
     if (!ready.ok()) {
       devices_ = {};
       return ready;
