@@ -11,7 +11,7 @@ namespace {
 
 constexpr int kTickMs = 100;  // the bar's refresh; the end is seen within it
 
-QString clock_text(double s) {
+QString run_clock_text(double s) {
   const int whole = static_cast<int>(std::floor(s));
   return QString("%1:%2.%3")
       .arg(whole / 60)
@@ -121,7 +121,7 @@ void RunPage::tick() {
     return;
   }
   const sim::HapticSnapshot& h = s.haptic();
-  clock_->setText(clock_text(h.tick < 0 ? 0.0 : static_cast<double>(h.tick) / rate_hz_));
+  clock_->setText(run_clock_text(h.tick < 0 ? 0.0 : static_cast<double>(h.tick) / rate_hz_));
   QString style = "border-radius: 10px; padding: 3px 12px; font-weight: 600;";
   if (s.user_paused()) {
     state_->setText("PAUSED: no force, the clock is stopped. P or Space resumes");
