@@ -44,6 +44,27 @@ SessionDrawing session_drawing(const sim::Scene& scene, const sim::SessionModel&
   return d;
 }
 
+SessionDrawing replay_drawing(const sim::ReplayScene& scene) {
+  SessionDrawing drawing;
+  for (size_t o = 0; o < scene.organ_surfaces.size(); ++o) {
+    drawing.surfaces.push_back(&scene.organ_surfaces[o]);
+    OrganLook look;
+    if (o < scene.organ_colours.size()) look.colour = scene.organ_colours[o];
+    if (o < scene.organ_albedos.size()) look.albedo = scene.organ_albedos[o];
+    drawing.looks.push_back(look);
+  }
+  for (size_t side = 0; side < 2; ++side) {
+    InstrumentSpec& spec = drawing.instruments[side];
+    if (!scene.tool_kinds[side].empty()) spec.kind = instrument_kind(scene.tool_kinds[side]);
+    spec.shaft_radius_m = scene.tool_shaft_radius_m[side];
+    spec.gripper = scene.tools[side];
+    spec.port_W = scene.tool_port_W[side];
+  }
+  drawing.catheter_points = scene.catheter_points;
+  drawing.catheter_radius_m = scene.catheter_radius_m;
+  return drawing;
+}
+
 void SessionActors::add(vtkRenderer* renderer, const SessionDrawing& drawing) {
   organs_.add(renderer, drawing.surfaces, drawing.looks);
   for (size_t i = 0; i < 2; ++i) instruments_[i].add(renderer, drawing.instruments[i]);

@@ -18,6 +18,7 @@
 #include "app/catheter_tube.h"
 #include "app/instrument_actors.h"
 #include "app/organ_actors.h"
+#include "sim/report/replay_timeline.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/scene.h"
 #include "sim/setup/session_model.h"
@@ -37,6 +38,9 @@ struct SessionDrawing {
 /// gripper geometry, the catheter's model); kinds, radii, colours and textures from the scene.
 [[nodiscard]] SessionDrawing session_drawing(const sim::Scene& scene,
                                              const sim::SessionModel& model);
+
+/// From what a review's replay kept of the scene (sim/report/replay_timeline.h), the same.
+[[nodiscard]] SessionDrawing replay_drawing(const sim::ReplayScene& scene);
 
 class SessionActors {
  public:

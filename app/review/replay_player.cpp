@@ -100,24 +100,7 @@ void ReplayPlayer::set_timeline(std::shared_ptr<const sim::ReplayTimeline> timel
     pose.view_angle_deg = scene.camera.view_angle_deg;
     view_->set_home_camera(pose);
     // What the live view draws (session_actors.h), from what the replay kept of the scene.
-    SessionDrawing drawing;
-    for (size_t o = 0; o < scene.organ_surfaces.size(); ++o) {
-      drawing.surfaces.push_back(&scene.organ_surfaces[o]);
-      OrganLook look;
-      if (o < scene.organ_colours.size()) look.colour = scene.organ_colours[o];
-      if (o < scene.organ_albedos.size()) look.albedo = scene.organ_albedos[o];
-      drawing.looks.push_back(look);
-    }
-    for (size_t side = 0; side < 2; ++side) {
-      InstrumentSpec& spec = drawing.instruments[side];
-      if (!scene.tool_kinds[side].empty()) spec.kind = instrument_kind(scene.tool_kinds[side]);
-      spec.shaft_radius_m = scene.tool_shaft_radius_m[side];
-      spec.gripper = scene.tools[side];
-      spec.port_W = scene.tool_port_W[side];
-    }
-    drawing.catheter_points = scene.catheter_points;
-    drawing.catheter_radius_m = scene.catheter_radius_m;
-    actors_->add(ren, drawing);
+    actors_->add(ren, replay_drawing(scene));
     show_frame(0);
   }
   update_label();

@@ -22,7 +22,7 @@
 #include <random>
 #include <string>
 
-#include "app/tool_actors.h"
+#include "app/session_actors.h"
 #include "sim/report/replay_timeline.h"
 #include "tests/bench/bench_support.h"
 
@@ -112,11 +112,8 @@ void BM_ReviewSeek(benchmark::State& state) {
   light->SetLightTypeToHeadlight();
   renderer->AddLight(light);
   const sim::ReplayScene& scene = timeline->scene();
-  std::vector<const haptics::TriangleMesh*> surfaces;
-  for (const haptics::TriangleMesh& m : scene.organ_surfaces) surfaces.push_back(&m);
   app::SessionActors actors;
-  actors.add_organs(renderer, surfaces, scene.organ_colours);
-  actors.add_to(renderer, scene.tools, scene.catheter_points);
+  actors.add(renderer, app::replay_drawing(scene));
   renderer->ResetCamera();
   window->Render();
   sim::HapticSnapshot haptic;
