@@ -393,8 +393,12 @@ void MainWindow::start_attempt() {
   const QString who =
       QString("<b>%1</b> &nbsp;·&nbsp; %2")
           .arg(QString::fromStdString(scenario_.name).toHtmlEscaped(), trainee_.toHtmlEscaped());
+  // Running before the session starts: a fast session may end, and say so, while start() still
+  // draws its first frame (events are processed there), and its end must find the attempt.
+  attempt_running_ = true;
   const Status started = run_->start(*scene_, specs, options, who);
   if (!started.ok()) {
+    attempt_running_ = false;
     // Nothing was recorded: the attempt's folder goes.
     std::error_code ec;
     fs::remove_all(attempt_.recording_dir.toStdString(), ec);
@@ -404,7 +408,6 @@ void MainWindow::start_attempt() {
                          QString::fromStdString(started.message()));
     return;
   }
-  attempt_running_ = true;
   update_status();
 }
 

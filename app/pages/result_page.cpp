@@ -137,6 +137,7 @@ ResultPage::ResultPage(QWidget* parent) : QWidget(parent) {
   right->addWidget(panel("Phases", phases_, this));
   attempts_ = table({"When", "Result", "Time", "Why"}, "earlier_attempts", this);
   attempts_note_ = hint_label("", this);
+  attempts_note_->setObjectName("attempts_note");
   right->addWidget(panel("Your attempts on this patient", attempts_, this, attempts_note_), 1);
   columns->addLayout(right, 1);
   v->addLayout(columns, 1);

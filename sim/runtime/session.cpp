@@ -493,11 +493,11 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
   if (grasp.grasping()) {  // the coupling to the held section (catheter_grasp.h)
     budget.add(tissue.settings().catheter_grasp.coupling_stiffness_n_per_m, jaw_tip_W);
     // and its moment on the jaws' turn, felt at the handle as K / a² (trocar_tool.h)
-    budget.add(models::coupling_rotational_stiffness(tissue.settings().catheter_grasp,
-                                                     tissue.catheter_model(), model.catheter,
-                                                     grasp) /
-                   (k.outside_m * k.outside_m),
-               k.handle_W);
+    budget.add(
+        models::coupling_rotational_stiffness(tissue.settings().catheter_grasp,
+                                              tissue.catheter_model(), model.catheter, grasp) /
+            (k.outside_m * k.outside_m),
+        k.handle_W);
   }
   if (duct_grasp.grasping()) {  // a spring per grasped node (duct_grasp.h)
     budget.add(duct_grasp.count * tissue.settings().duct_grasp.attach_stiffness_n_per_m, jaw_tip_W);

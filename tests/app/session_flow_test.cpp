@@ -279,7 +279,8 @@ TEST_F(SessionFlow, AFailedAttemptSaysWhyBesideTheEarlierOnes) {
   EXPECT_TRUE(why.contains("The catheter was let go of")) << why.toStdString();
   EXPECT_TRUE(why.contains("(at 6.5 s)")) << why.toStdString();  // dropped at 6.505 s
   auto* attempts = find<QTableWidget>(w.result_page(), "earlier_attempts");
-  ASSERT_EQ(attempts->rowCount(), 2);
+  ASSERT_EQ(attempts->rowCount(), 2)
+      << find<QLabel>(w.result_page(), "attempts_note")->text().toStdString();
   EXPECT_TRUE(attempts->item(0, 0)->text().endsWith("(this one)"));
   EXPECT_EQ(attempts->item(0, 1)->text(), "Failed");
   EXPECT_EQ(attempts->item(0, 3)->text(), "catheter dropped");

@@ -61,7 +61,9 @@ TEST(SessionHold, NoTickRunsWhileHeldAndTheForcesComeBackAsAfterAResume) {
 
   // Every tick of the session ran, after the wait too: the clock stood still while held.
   EXPECT_EQ(m.haptic.ticks(), 2000);
-  EXPECT_EQ(device->commands.size(), 2001U);
+  // Its 2000 commands, the hold's zero, and the zero the session sends as it stops.
+  EXPECT_EQ(device->commands.size(), 2002U);
+  EXPECT_EQ(device->commands.back().force_W, Eigen::Vector3d::Zero());
   EXPECT_EQ(m.recorded_ticks, 2000);
   EXPECT_GE(wall_s, 2.0 + 0.3);
   EXPECT_TRUE(m.events.empty()) << "a hold is not a watchdog event";

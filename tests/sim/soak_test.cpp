@@ -78,6 +78,42 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
   return t;
 }
 
+/// The right hand takes the catheter and lets it go again and again: each 10 s, the first 4.5 s
+/// of the expert's right-hand script (it grasps the catheter at about 2.8 s), the jaws opened,
+/// then 5 s of wandering about the duct (wander's keyframes of that span).
+hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration_s, uint32_t seed) {
+  const auto expert = hardware::load_scripted_trajectory(
+      test::source_dir() / "scenarios/scripts/default/expert_right.csv");
+  EXPECT_TRUE(expert.ok()) << expert.message();
+  if (!expert.ok()) return wander(scene, 1, duration_s, seed);
+  const hardware::ScriptedTrajectory roam = wander(scene, 1, duration_s, seed);
+  constexpr double kCycleS = 10.0;
+  constexpr double kTakeS = 4.5;
+  hardware::ScriptedTrajectory t;
+  for (double start = 0.0; start < duration_s; start += kCycleS) {
+    for (const hardware::Keyframe& e : expert.value().keyframes) {
+      if (e.time_s > kTakeS || start + e.time_s >= duration_s) break;
+      hardware::Keyframe k = e;
+      k.time_s = start + e.time_s;
+      t.keyframes.push_back(k);
+    }
+    hardware::Keyframe open = t.keyframes.back();  // let go where it is
+    open.time_s = std::min(start + kTakeS + 0.2, duration_s);
+    open.gripper_angle_rad = 0.8;
+    t.keyframes.push_back(open);
+    for (const hardware::Keyframe& w : roam.keyframes) {
+      if (w.time_s <= start + kTakeS + 0.6 || w.time_s >= start + kCycleS - 0.4) continue;
+      t.keyframes.push_back(w);
+    }
+  }
+  if (t.keyframes.back().time_s < duration_s) {
+    hardware::Keyframe last = t.keyframes.back();
+    last.time_s = duration_s;
+    t.keyframes.push_back(last);
+  }
+  return t;
+}
+
 /// An organ's surface as the proxies feel it: at rest, deformed by a model snapshot (no
 /// allocation once built), with its bounding box.
 struct OrganShape {
@@ -139,8 +175,9 @@ int64_t resident_bytes() {
 void soak(bool check_proxies) {
   const double duration = soak_s();
   const Scene& scene = default_scene();
-  Devices d{std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, 11), "left"),
-            std::make_unique<hardware::ScriptedDevice>(wander(scene, 1, duration, 12), "right")};
+  Devices d{
+      std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, 11), "left"),
+      std::make_unique<hardware::ScriptedDevice>(take_and_wander(scene, duration, 12), "right")};
   RuntimeSettings rs = fast(duration);
   rs.end_with_task = false;  // the task fails soon enough; the soak goes on
   // An hour's inputs would be 0.8 GB: the first fifth (10 s at most) are enough here.
