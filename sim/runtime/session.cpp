@@ -902,7 +902,9 @@ int64_t Session::wait_while_held(int64_t deadline_ns) noexcept {
   for (Tool& tool : tools_) (void)tool.device->write(tool.limiter.zero());
   holding_.store(true, std::memory_order_release);
   const int64_t period_ns = std::llround(model_->timing().dt_s * 1e9);
-  while (hold_requested_.load(std::memory_order_relaxed) &&
+  // Acquire: what the releasing thread did before release() happens before the ticks after it
+  // (ThreadSanitizer found the test's reads of the device log racing the next tick's write).
+  while (hold_requested_.load(std::memory_order_acquire) &&
          !stop_.load(std::memory_order_relaxed)) {
     sleep_until_ns(monotonic_ns() + period_ns, 0);
   }

@@ -219,8 +219,8 @@ class Session {
   /// again from the moment it is taken up, the forces ramping back over resume_ramp_s as after
   /// resume(). The devices are not read while held: a live arm moved meanwhile takes its tool
   /// to where it now is on the first tick after, the proxies keeping it on the surfaces.
-  void hold() { hold_requested_.store(true, std::memory_order_relaxed); }
-  void release() { hold_requested_.store(false, std::memory_order_relaxed); }
+  void hold() { hold_requested_.store(true, std::memory_order_release); }
+  void release() { hold_requested_.store(false, std::memory_order_release); }
   /// The haptic loop has taken a hold up: zero sent, no tick running until release().
   [[nodiscard]] bool held() const { return holding_.load(std::memory_order_acquire); }
 
