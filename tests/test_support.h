@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "haptics/triangle_mesh.h"
 
@@ -39,6 +40,11 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// The whole file as bytes ("" when it cannot be read).
+[[nodiscard]] std::string read_file(const std::filesystem::path& file);
+/// `text` split at its newlines (a last line without one included).
+[[nodiscard]] std::vector<std::string> lines_of(const std::string& text);
 
 /// Result of running a command.
 struct CommandResult {

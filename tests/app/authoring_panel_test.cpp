@@ -22,20 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
+using test::lines_of;
+using test::read_file;
 
 // A slab and two probes; `stiffness` as written (line 9).
 std::string scenario(const std::string& stiffness) {
@@ -115,7 +103,7 @@ TEST(AuthoringPanel, ProblemsReloadLiveTuningAndSave) {
   EXPECT_EQ(panel->stiffness()->value(), 200.0);
 
   // Typed into the panel: the haptic loop renders it at its next tick.
-  const std::string before = read(file);
+  const std::string before = read_file(file);
   panel->stiffness()->setFocus();
   panel->stiffness()->selectAll();
   QTest::keyClicks(panel->stiffness(), "400");
@@ -132,7 +120,7 @@ TEST(AuthoringPanel, ProblemsReloadLiveTuningAndSave) {
   // Saved: only the stiffness line differs, its comment kept.
   QTest::mouseClick(panel->save_button(), Qt::LeftButton);
   const std::vector<std::string> a = lines_of(before);
-  const std::vector<std::string> b = lines_of(read(file));
+  const std::vector<std::string> b = lines_of(read_file(file));
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) {
     if (i == 8) {

@@ -273,10 +273,7 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
 // `edit` applied to its text.
 std::filesystem::path default_scenario_copy(const TempDir& dir,
                                             const std::function<void(std::string&)>& edit) {
-  std::ifstream in(source_dir() / "scenarios/default.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
+  std::string text = read_file(source_dir() / "scenarios/default.yaml");
   const std::string assets = (source_dir() / "assets").string();
   for (size_t at = 0; (at = text.find("../assets", at)) != std::string::npos;) {
     text.replace(at, 9, assets);
@@ -634,13 +631,6 @@ pid_t spawn_cli(const std::vector<std::string>& args, const std::filesystem::pat
   return rc == 0 ? pid : -1;
 }
 
-std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // Issue 25: SIGTERM ended `run` at once (exit 143 from the default action, nothing written).
 // Now SIGINT and SIGTERM stop the session at the next tick, zero the forces, write the metrics
 // and the recording so far, and exit 130 / 143 (README.md).
@@ -660,8 +650,8 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
     ASSERT_EQ(waitpid(pid, &status, 0), pid);
     const double shutdown_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
-    const std::string out = slurp(dir.path() / "out.json");
-    const std::string err = slurp(dir.path() / "err.txt");
+    const std::string out = read_file(dir.path() / "out.json");
+    const std::string err = read_file(dir.path() / "err.txt");
     ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << err;
     EXPECT_EQ(WEXITSTATUS(status), sig == SIGINT ? 130 : 143) << err;
     EXPECT_LT(shutdown_s, 10.0);
@@ -678,7 +668,7 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
     EXPECT_GT(std::stoll(ticks), 0) << out;
     EXPECT_LT(std::stoll(ticks), 120'000) << out;  // stopped long before its duration
     // metrics.json: the same, with the series for plots beside it.
-    auto saved = nlohmann::ordered_json::parse(slurp(rec + "/metrics.json"), nullptr, false);
+    auto saved = nlohmann::ordered_json::parse(read_file(rec + "/metrics.json"), nullptr, false);
     ASSERT_TRUE(saved.contains("series"));
     saved.erase("series");
     EXPECT_EQ(saved, j);
@@ -718,7 +708,7 @@ TEST(CliRun, KilledMidSessionTheRecordingLosesAtMost100Ms) {
   ASSERT_TRUE(streamed.ok()) << streamed.message();
   const lap::sim::RecordedSession& r = streamed.value();
   EXPECT_TRUE(r.interrupted);
-  ASSERT_GT(r.ticks.size(), 500U) << slurp(dir.path() / "err.txt");
+  ASSERT_GT(r.ticks.size(), 500U) << read_file(dir.path() / "err.txt");
   const double lost_s = static_cast<double>(killed_ns - r.ticks.back().wall_ns) * 1e-9;
   EXPECT_LE(lost_s, 0.100) << r.ticks.size() << " ticks recorded";
   EXPECT_GE(lost_s, 0.0);
@@ -779,7 +769,7 @@ TEST(CliReport, TheScenarioARecordingNamesIsReadOnlyFromTheAllowedFolders) {
                                         "0.05 --record " +
                                         rec.string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const std::string original = slurp(rec / "session.json");
+  const std::string original = read_file(rec / "session.json");
   auto name_scenario = [&](const std::string& path) {
     auto j = nlohmann::ordered_json::parse(original);
     j["scenario"] = path;
@@ -852,7 +842,7 @@ TEST(CliReport, TheScenarioARecordingNamesIsReadOnlyFromTheAllowedFolders) {
 TEST(CliRun, AScenarioChangedWhileARecordedRunRunsIsSaidAndItsRecordKept) {
   TempDir dir;
   const std::filesystem::path scenario = default_scenario_copy(dir, [](std::string&) {});
-  const std::string loaded = slurp(scenario);
+  const std::string loaded = read_file(scenario);
   const std::filesystem::path rec = dir.path() / "rec";
   const pid_t pid =
       spawn_cli({"run", "--scenario", scenario.string(), "--left", "simulated", "--right",
@@ -863,24 +853,24 @@ TEST(CliRun, AScenarioChangedWhileARecordedRunRunsIsSaidAndItsRecordKept) {
   for (int i = 0; i < 2000 && !std::filesystem::exists(rec / "session.json"); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  const std::string record = slurp(rec / "session.json");
+  const std::string record = read_file(rec / "session.json");
   { std::ofstream(scenario, std::ios::app) << "# edited while the session ran\n"; }
   int status = 0;
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
-  const std::string err = slurp(dir.path() / "err.txt");
+  const std::string err = read_file(dir.path() / "err.txt");
   ASSERT_TRUE(WIFEXITED(status)) << err;
   ASSERT_EQ(WEXITSTATUS(status), 0) << err;
   const std::string warning =
       "the scenario " + scenario.string() + " changed on disk while the session ran";
   EXPECT_NE(err.find("laptrainer-cli run: warning: " + warning), std::string::npos) << err;
   // The record is as it was written at the start, with the digest of what was loaded.
-  EXPECT_EQ(slurp(rec / "session.json"), record);
+  EXPECT_EQ(read_file(rec / "session.json"), record);
   const auto j = nlohmann::json::parse(record);
   char digest[32];
   std::snprintf(digest, sizeof digest, "%016llx",
                 static_cast<unsigned long long>(lap::sim::content_digest(loaded)));
   EXPECT_EQ(j["scenario_digest"], digest);
-  const auto metrics = nlohmann::json::parse(slurp(rec / "metrics.json"));
+  const auto metrics = nlohmann::json::parse(read_file(rec / "metrics.json"));
   ASSERT_TRUE(metrics["warnings"].is_array());
   EXPECT_TRUE(std::any_of(
       metrics["warnings"].begin(), metrics["warnings"].end(),

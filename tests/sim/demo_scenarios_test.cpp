@@ -25,13 +25,6 @@ namespace fs = std::filesystem;
 using demo_test::observed_session;
 using demo_test::tip_force;
 
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 fs::path scenarios() { return test::source_dir() / "scenarios"; }
 
 TEST(DemoAssets, TheCommittedAssetsAndScriptsAreWhatTheGeneratorsWrite) {
@@ -52,7 +45,8 @@ TEST(DemoAssets, TheCommittedAssetsAndScriptsAreWhatTheGeneratorsWrite) {
     const fs::path committed =
         *rel.begin() == "assets" ? test::source_dir() / "assets/demos" / fs::relative(rel, "assets")
                                  : scenarios() / rel;
-    EXPECT_EQ(slurp(e.path()), slurp(committed)) << committed << " differs from its generator";
+    EXPECT_EQ(test::read_file(e.path()), test::read_file(committed))
+        << committed << " differs from its generator";
     ++compared;
   }
   EXPECT_EQ(compared, 6 + 2 * static_cast<int>(demo_names().size()));

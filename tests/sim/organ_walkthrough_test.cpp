@@ -40,10 +40,7 @@ void write_binary_stl(const haptics::TriangleMesh& m, const fs::path& file) {
 
 // The README's example scenario: the first ```yaml block after the walk-through's heading.
 std::string readme_example() {
-  std::ifstream in(test::source_dir() / "scenarios/README.md");
-  std::stringstream s;
-  s << in.rdbuf();
-  const std::string text = s.str();
+  const std::string text = test::read_file(test::source_dir() / "scenarios/README.md");
   const size_t section = text.find("## Adding a new organ from a mesh file");
   EXPECT_NE(section, std::string::npos);
   const size_t start = text.find("```yaml\n", section);

@@ -17,20 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
+using test::lines_of;
+using test::read_file;
 
 // The 1-based number of the first line containing `needle` after the line containing `after`.
 int line_of(const std::string& text, const std::string& after, const std::string& needle) {
@@ -53,7 +41,7 @@ const OrganSpec& organ(const Scenario& s, const std::string& name) {
 fs::path default_scenario() { return test::source_dir() / "scenarios/default.yaml"; }
 
 TEST(ScenarioEditor, ChangesOnlyTheEditedLinesOfACommentedScenario) {
-  const std::string before = read(default_scenario());
+  const std::string before = read_file(default_scenario());
   const std::vector<MaterialEdit> edits = {
       {"liver", "stiffness_n_per_m", 144.0},
       {"gallbladder", "texture.amplitude_m", 0.00025},
@@ -114,7 +102,7 @@ TEST(ScenarioEditor, NumbersReadBackAsTheSameDouble) {
 }
 
 TEST(ScenarioEditor, AddsAMissingFieldAtTheEndOfTheOrgansMaterial) {
-  const std::string before = read(default_scenario());
+  const std::string before = read_file(default_scenario());
   const std::vector<MaterialEdit> edits = {{"cystic_duct", "shading.enabled", true}};
   const Result<std::string> after = edit_scenario_materials(before, default_scenario(), edits);
   ASSERT_TRUE(after.ok()) << after.message();
@@ -168,7 +156,7 @@ TEST(ScenarioEditor, KeepsWindowsLineEndingsAndAMissingFinalNewline) {
 }
 
 TEST(ScenarioEditor, RefusesAFlowStyleMaterialWithItsLine) {
-  const std::string before = read(default_scenario());
+  const std::string before = read_file(default_scenario());
   const std::vector<MaterialEdit> edits = {{"liver", "shading.enabled", false}};
   const Result<std::string> r = edit_scenario_materials(before, default_scenario(), edits);
   ASSERT_FALSE(r.ok());
@@ -234,7 +222,7 @@ struct ScenarioCopy {
 
 TEST(ScenarioEditor, SavesTheFileAndRefusesValuesThatWouldNotLoad) {
   const ScenarioCopy copy;
-  const std::string before = read(copy.file);
+  const std::string before = read_file(copy.file);
   ASSERT_TRUE(load_scenario(copy.file).ok()) << load_scenario(copy.file).message();
   const std::vector<MaterialEdit> edits = {{"gallbladder", "stiffness_n_per_m", 400.0}};
   const Status saved = save_scenario_materials(copy.file, edits);
@@ -245,13 +233,13 @@ TEST(ScenarioEditor, SavesTheFileAndRefusesValuesThatWouldNotLoad) {
   EXPECT_FALSE(fs::exists(copy.file.string() + ".saving"));
 
   // Shading on the textured gallbladder breaks §6.6: refused, the file left as it was.
-  const std::string good = read(copy.file);
+  const std::string good = read_file(copy.file);
   EXPECT_NE(good, before);
   const std::vector<MaterialEdit> bad = {{"gallbladder", "shading.enabled", true}};
   const Status refused = save_scenario_materials(copy.file, bad);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.message().find("not saved"), std::string::npos) << refused.message();
-  EXPECT_EQ(read(copy.file), good);
+  EXPECT_EQ(read_file(copy.file), good);
 }
 
 }  // namespace

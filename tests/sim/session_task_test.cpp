@@ -14,14 +14,6 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-std::unique_ptr<Session> session_over(const Scene& scene, const RuntimeSettings& rs) {
-  Devices d =
-      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_and_hold(scene, 0), "left"));
-  auto created = Session::create(scene, std::move(d), rs);
-  EXPECT_TRUE(created.ok()) << created.message();
-  return std::move(created).value();
-}
-
 TEST(SessionTask, TheDuctsLumenAndIncisionAreTheScenarios) {
   // The default scenario's duct: 5 mm across with a 1 mm wall (mid-surface radius 2 mm), 35 mm
   // long; its incision 3 mm x 2 mm on the anterior wall.

@@ -121,6 +121,15 @@ inline Devices with_left(const Scene& scene, std::unique_ptr<hardware::HapticDev
   return {std::move(left), std::make_unique<hardware::ScriptedDevice>(push_in(scene, 1), "right")};
 }
 
+// A session whose left tool presses and holds (push_and_hold), the right one scripted.
+inline std::unique_ptr<Session> session_over(const Scene& scene, const RuntimeSettings& rs) {
+  Devices d =
+      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_and_hold(scene, 0), "left"));
+  auto created = Session::create(scene, std::move(d), rs);
+  EXPECT_TRUE(created.ok()) << created.message();
+  return std::move(created).value();
+}
+
 // A left FaultyDevice with room for every tick's command.
 inline std::unique_ptr<FaultyDevice> logged(const Scene& scene, FaultyDevice::Fault fault,
                                             int64_t at) {

@@ -14,14 +14,6 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-std::unique_ptr<Session> session_over(const Scene& scene, const RuntimeSettings& rs) {
-  Devices d =
-      with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_and_hold(scene, 0), "left"));
-  auto created = Session::create(scene, std::move(d), rs);
-  EXPECT_TRUE(created.ok()) << created.message();
-  return std::move(created).value();
-}
-
 TaskModel insertion() {
   TaskModel m;
   m.kind = TaskKind::kCatheterInsertion;
