@@ -549,8 +549,10 @@ void MainWindow::show_controls() {
       "pivots in its port). [ closes the jaws, ] opens them. H takes the instrument home.<br>"
       "Ctrl+left drag moves it in the view's plane, Ctrl+wheel along the view. A 3D mouse "
       "moves it in three dimensions; its buttons close and open the jaws.<br><br>"
-      "<b>The view</b><br>Left drag orbits, middle drag (or Shift+left) pans, right drag or the "
-      "wheel zooms; arrows orbit, +/- zoom, W/A/S/D pan, R resets the camera.<br><br>"
+      "<b>The laparoscope</b><br>Left drag or the arrows pivot it about its port, right drag or "
+      "W/S slide it in and out, middle drag (or Shift+left) or A/D turn it (a 30° scope's view "
+      "turns with it), Q/E turn the picture's horizon, the wheel or +/- zoom. C switches the "
+      "camera assistant (the scope follows the instruments); R resets the scope.<br><br>"
       "<b>The session</b><br>P or Esc pauses (no force, the clock stops); Space resumes, also "
       "after the safety watchdog paused the session. Ctrl+R restarts the patient, Ctrl+E ends "
       "the attempt. F11 toggles full screen.");

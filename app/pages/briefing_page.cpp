@@ -201,8 +201,11 @@ void BriefingPage::set_briefing(const CatalogEntry& s, const std::array<QString,
              "moves the active instrument in three dimensions; its buttons close "
              "and open the jaws");
   }
-  c += row("Mouse",
-           "left drag turns the view, middle drag pans, wheel zooms; " + key("R") + " resets it");
+  c += row("Laparoscope", "left drag or the arrows pivot it, right drag or " + key("W") + "/" +
+                              key("S") + " slide it in and out, middle drag or " + key("A") + "/" +
+                              key("D") + " turn it, the wheel or " + key("+") + "/" + key("-") +
+                              " zoom; " + key("C") + " the camera assistant, " + key("R") +
+                              " resets it");
   c += row(key("P") + " or " + key("Esc"),
            "pause: no force, the clock stops; " + key("Space") + " resumes");
   c += row(key("Ctrl+R"), "restart this patient; " + key("Ctrl+E") + " ends the attempt");
