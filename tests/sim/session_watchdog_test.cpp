@@ -378,7 +378,9 @@ TEST(Session, AModellingStepOf100MsNeitherPausesNorHoldsUpTheHapticLoop) {
   auto created = Session::create(scene, with_left(scene, std::move(left)), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   auto s = std::move(created).value();
-  constexpr int64_t kAt = kPressingTick + 100;
+  // push_in's left tool presses with 2.1–2.7 N from tick 1000 to 1230 (it leaves the organs
+  // near tick 1380 as it sweeps sideways): the slow step and the 100 ticks after it fall there.
+  constexpr int64_t kAt = 1100;
   s->inject_model_delay(kAt, 0.100);
   const SessionMetrics m = s->run();
   EXPECT_EQ(m.haptic.ticks(), 1800);
@@ -392,8 +394,8 @@ TEST(Session, AModellingStepOf100MsNeitherPausesNorHoldsUpTheHapticLoop) {
   // Every tick's command, then the zero force sent as the session stops.
   ASSERT_GE(static_cast<int64_t>(dev->commands.size()), 1800);
   EXPECT_EQ(dev->commands.back().force_W.norm(), 0.0);
-  // A tick that starts late is zeroed by the watchdog (a busy machine makes some: the slow
-  // step's own thread shares two cores with parallel tests); every other tick still presses.
+  // device_fault_run() lets late ticks through (a busy test machine makes some), so every tick
+  // of the slow step's 100 ms still presses on the organ as it stood before the step.
   int64_t zeroed = 0;
   for (int64_t t = kAt; t < kAt + 100; ++t) {
     const Eigen::Vector3d f = dev->commands[static_cast<size_t>(t)].force_W;
@@ -401,8 +403,7 @@ TEST(Session, AModellingStepOf100MsNeitherPausesNorHoldsUpTheHapticLoop) {
     ASSERT_LE(f.norm(), limit + 1e-12) << t;
     if (f.norm() == 0.0) ++zeroed;
   }
-  EXPECT_LE(zeroed, m.late_ticks) << "the pressing tool lost the organ on ticks that were on time";
-  EXPECT_LT(zeroed, 50);
+  EXPECT_EQ(zeroed, 0) << "the pressing tool lost the organ while the model was held up";
   if (test::kSanitizerDivisor == 1) {  // a sanitizer on a loaded machine has its own hold-ups
     EXPECT_LT(m.haptic.worst_lateness_s(), 0.050);
   }
