@@ -18,6 +18,7 @@
 #include "sim/setup/load_error.h"
 #include "sim/setup/mesh_limits.h"
 #include "sim/setup/mesh_text_check.h"
+#include "sim/setup/ply_reader.h"
 
 namespace lap::sim {
 namespace {
@@ -523,7 +524,11 @@ TriangleMesh read_mesh(const std::filesystem::path& file, const MeshLoadSettings
   }
   const std::string ext = lower_extension(file);
   TriangleMesh mesh;
-  if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off") {
+  if (ext == ".ply") {
+    Result<TriangleMesh> ply = read_ply(file);
+    if (!ply.ok()) throw LoadError(ply.diagnostics().front());
+    mesh = std::move(ply).value();
+  } else if (ext == ".obj" || ext == ".stl" || ext == ".off") {
     if (Status text = check_mesh_text(file, ext); !text.ok()) {
       throw LoadError(text.diagnostics().front());
     }

@@ -20,116 +20,13 @@
 #include "core/bounded_file.h"
 #include "sim/setup/gltf_references.h"
 #include "sim/setup/mesh_limits.h"
+#include "sim/setup/mesh_text_lines.h"
 
 namespace lap::sim {
 namespace {
 
 namespace fs = std::filesystem;
-using Problem = std::optional<std::string>;
-
-// A token as it may be shown in a message: printable, and short (a mutated file may put a
-// megabyte of binary on one line).
-std::string shown(std::string_view token) {
-  std::string s;
-  for (char c : token.substr(0, 32)) {
-    const auto u = static_cast<unsigned char>(c);
-    s += (u >= 0x20 && u < 0x7F) ? c : '?';
-  }
-  if (token.size() > 32) s += "...";
-  return s;
-}
-
-// A byte as two hex digits.
-std::string hex_byte(char c) {
-  char buf[3];
-  std::snprintf(buf, sizeof(buf), "%02x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-  return buf;
-}
-
-// `what 'token' is not a finite number` or `... is not a number`, or nothing when the token
-// is a finite number. strtod reads what OpenMesh's stream extraction would (and more: nan, inf),
-// in the C locale whatever the process's: the window's Qt sets the user's, where the decimal
-// separator may be a comma.
-Problem number_problem(std::string_view token, const std::string& what) {
-  static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", nullptr);
-  const std::string s(token);
-  char* end = nullptr;
-  const double v = strtod_l(s.c_str(), &end, c_locale);
-  if (end == s.c_str() || end != s.c_str() + s.size()) {
-    return what + " '" + shown(token) + "' is not a number";
-  }
-  if (!std::isfinite(v)) return what + " '" + shown(token) + "' is not a finite number";
-  return std::nullopt;
-}
-
-std::optional<int64_t> whole_number(std::string_view token) {
-  int64_t v = 0;
-  const char* end = token.data() + token.size();
-  const auto r = std::from_chars(token.data(), end, v);
-  if (r.ec != std::errc() || r.ptr != end) return std::nullopt;
-  return v;
-}
-
-// The file's lines, split into whitespace-separated tokens, with comments removed; blank lines
-// are skipped. Tokens view `text`, valid until the next call.
-class LineReader {
- public:
-  LineReader(const fs::path& file, char comment)
-      : in_(file, std::ios::binary), file_(file.string()), comment_(comment) {}
-
-  bool next() {
-    while (std::getline(in_, text_)) {
-      ++number_;
-      std::string_view v(text_);
-      if (comment_ != '\0') v = v.substr(0, v.find(comment_));
-      tokens_.clear();
-      size_t i = 0;
-      while (i < v.size()) {
-        while (i < v.size() && is_space(v[i])) ++i;
-        const size_t start = i;
-        while (i < v.size() && !is_space(v[i])) ++i;
-        if (i > start) tokens_.push_back(v.substr(start, i - start));
-      }
-      if (!tokens_.empty()) return true;
-    }
-    return false;
-  }
-  [[nodiscard]] const std::vector<std::string_view>& tokens() const { return tokens_; }
-  [[nodiscard]] std::string_view operator[](size_t i) const { return tokens_[i]; }
-  [[nodiscard]] size_t size() const { return tokens_.size(); }
-  /// The line after its first token, comments and all, without the spaces around it.
-  [[nodiscard]] std::string_view rest() const {
-    std::string_view v(text_);
-    v.remove_prefix(static_cast<size_t>(tokens_[0].data() + tokens_[0].size() - text_.data()));
-    while (!v.empty() && is_space(v.front())) v.remove_prefix(1);
-    while (!v.empty() && (is_space(v.back()) || v.back() == '\n')) v.remove_suffix(1);
-    return v;
-  }
-  /// The line right after its first token, as it is (spaces and all).
-  [[nodiscard]] std::string_view after_first() const {
-    std::string_view v(text_);
-    v.remove_prefix(static_cast<size_t>(tokens_[0].data() + tokens_[0].size() - text_.data()));
-    return v;
-  }
-  /// The problem at the current line.
-  [[nodiscard]] Status fail(const std::string& field, const std::string& what) const {
-    return file_diagnostic(file_, number_, field, what);
-  }
-
- private:
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v'; }
-  std::ifstream in_;
-  std::string file_;
-  char comment_;
-  std::string text_;
-  int number_ = 0;
-  std::vector<std::string_view> tokens_;
-};
-
-std::string over_limit(int64_t count, const char* what, int64_t limit) {
-  return std::to_string(count) + " " + what + " is more than the limit of " +
-         std::to_string(limit) + " (sim/setup/mesh_limits.h)";
-}
+using namespace mesh_text;  // NOLINT(google-build-using-namespace): this file's own helpers
 
 // An OBJ index (1-based; negative counts back from the last one defined above) against the
 // `defined` items read so far.
@@ -364,138 +261,6 @@ Status check_off(const fs::path& file) {
   return {};
 }
 
-// PLY: the header's element counts against the limits (any format); the values of an ascii body
-// line by line (one element per line, as every writer does).
-Status check_ply(const fs::path& file) {
-  struct Property {
-    std::string name;
-    bool list = false;
-  };
-  struct Element {
-    std::string name;
-    int64_t count = 0;
-    std::vector<Property> properties;
-  };
-  LineReader r(file, '\0');
-  if (!r.next() || r[0] != "ply") return {};
-  // The header is held to the PLY grammar: OpenMesh's reader crashes on some headers it does not
-  // understand (a property before any element).
-  static const std::vector<std::string_view> kTypes = {
-      "char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
-      "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
-  static const std::vector<std::string_view> kIntegerTypes = {"char",  "uchar",  "short", "ushort",
-                                                              "int",   "uint",   "int8",  "uint8",
-                                                              "int16", "uint16", "int32", "uint32"};
-  const auto is_one_of = [](std::string_view t, const std::vector<std::string_view>& set) {
-    return std::find(set.begin(), set.end(), t) != set.end();
-  };
-  std::vector<Element> elements;
-  bool ascii = false;
-  bool ended = false;
-  while (!ended && r.next()) {
-    // OpenMesh's header parser loops forever on some bytes that are not text (found by fuzzing).
-    for (std::string_view t : r.tokens()) {
-      for (const char c : t) {
-        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7E) {
-          return r.fail("header", "a byte that is not text (0x" + hex_byte(c) + ") in the header");
-        }
-      }
-    }
-    const std::string_view key = r[0];
-    if (key == "comment" || key == "obj_info") continue;
-    if (key == "format") {
-      if (r.size() != 3 ||
-          (r[1] != "ascii" && r[1] != "binary_little_endian" && r[1] != "binary_big_endian") ||
-          r[2] != "1.0") {  // OpenMesh's reader loops forever on another version
-        return r.fail("header",
-                      "expected 'format ascii|binary_little_endian|binary_big_endian "
-                      "1.0'");
-      }
-      ascii = r[1] == "ascii";
-    } else if (key == "element") {
-      const std::optional<int64_t> n = r.size() == 3 ? whole_number(r[2]) : std::nullopt;
-      if (!n || *n < 0) return r.fail("header", "expected 'element NAME COUNT'");
-      const std::string name(r[1]);
-      if (name == "vertex" && *n > kMaxMeshVertices) {
-        return r.fail("element vertex", over_limit(*n, "vertices", kMaxMeshVertices));
-      }
-      if (name == "face" && *n > kMaxMeshTriangles) {
-        return r.fail("element face", over_limit(*n, "faces", kMaxMeshTriangles));
-      }
-      elements.push_back({name, *n, {}});
-    } else if (key == "property") {
-      if (elements.empty()) return r.fail("header", "a property before any element");
-      const bool list = r.size() >= 2 && r[1] == "list";
-      const bool ok =
-          list ? r.size() == 5 && is_one_of(r[2], kIntegerTypes) && is_one_of(r[3], kTypes)
-               : r.size() == 3 && is_one_of(r[1], kTypes);
-      if (!ok) {
-        return r.fail("header",
-                      "expected 'property TYPE NAME' or 'property list COUNT_TYPE "
-                      "TYPE NAME' (with PLY's types)");
-      }
-      elements.back().properties.push_back({std::string(r[r.size() - 1]), list});
-    } else if (key == "end_header") {
-      ended = true;
-    } else {
-      return r.fail("header", "unknown keyword '" + shown(key) + "'");
-    }
-  }
-  // A header without its end: OpenMesh's reader loops forever at the end of the file (fuzzing).
-  if (!ended) return r.fail("header", "the file ends before 'end_header'");
-  if (!ascii) return {};
-  int64_t vertex_count = -1;
-  for (const Element& e : elements) {
-    const bool face = e.name == "face";
-    for (int64_t i = 0; i < e.count; ++i) {
-      if (!r.next()) {
-        return r.fail(e.name, "the file ends after " + std::to_string(i) + " of the " +
-                                  std::to_string(e.count) + " " + e.name + " lines");
-      }
-      size_t at = 0;
-      for (const Property& p : e.properties) {
-        if (at >= r.size()) {
-          return r.fail(e.name, "expected a value for property '" + p.name + "', the line ends");
-        }
-        if (!p.list) {
-          const bool xyz = e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z");
-          if (Problem pr = number_problem(r[at], xyz ? "coordinate" : p.name + " value")) {
-            return r.fail(e.name, *pr);
-          }
-          ++at;
-          continue;
-        }
-        const std::optional<int64_t> n = whole_number(r[at]);
-        if (!n || *n < 0) {
-          return r.fail(e.name, p.name + " length '" + shown(r[at]) + "' is not a whole number");
-        }
-        ++at;
-        if (static_cast<int64_t>(r.size() - at) < *n) {
-          return r.fail(e.name, "expected " + std::to_string(*n) + " entries in " + p.name +
-                                    ", got " + std::to_string(r.size() - at));
-        }
-        const bool indices = face && (p.name == "vertex_indices" || p.name == "vertex_index");
-        for (int64_t k = 0; k < *n; ++k, ++at) {
-          if (!indices) {
-            if (Problem pr = number_problem(r[at], p.name + " value")) return r.fail(e.name, *pr);
-            continue;
-          }
-          const std::optional<int64_t> v = whole_number(r[at]);
-          if (!v) {
-            return r.fail(e.name, "vertex index '" + shown(r[at]) + "' is not a whole number");
-          }
-          if (vertex_count >= 0 && (*v < 0 || *v >= vertex_count)) {
-            return r.fail(e.name, "vertex index " + std::to_string(*v) + " is outside the " +
-                                      std::to_string(vertex_count) + " vertices");
-          }
-        }
-      }
-    }
-    if (e.name == "vertex") vertex_count = e.count;
-  }
-  return {};
-}
-
 // Binary STL: 50 bytes per triangle, a normal and three corners as little-endian floats (and
 // OpenMesh drops a triangle with a NaN corner without a word).
 Status check_binary_stl_values(const fs::path& file, uint64_t triangles) {
@@ -573,7 +338,6 @@ Status check_stl(const fs::path& file) {
 Status check_mesh_text(const fs::path& file, const std::string& ext) {
   if (ext == ".obj") return check_obj(file);
   if (ext == ".off") return check_off(file);
-  if (ext == ".ply") return check_ply(file);
   if (ext == ".stl") return check_stl(file);
   return {};
 }

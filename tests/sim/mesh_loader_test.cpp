@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <clocale>
 #include <cstring>
 #include <fstream>
@@ -137,6 +138,52 @@ TEST(MeshLoader, PlyBinaryLittleEndian) {
     for (int32_t v : tri) s.append(reinterpret_cast<const char*>(&v), 4);
   }
   expect_unit_tetrahedron(load_mesh(dir.write("t.ply", s)).value());
+}
+
+// The project's own PLY reader (sim/setup/ply_reader.h): big-endian bodies, the optional
+// normals and texture coordinates, polygons fanned, and elements it does not use read past.
+TEST(MeshLoader, PlyBinaryBigEndianWithAnElementItDoesNotUse) {
+  TempDir dir;
+  std::string s =
+      "ply\nformat binary_big_endian 1.0\ncomment made by hand\nelement vertex 4\n"
+      "property double x\nproperty double y\nproperty double z\nproperty uchar red\n"
+      "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
+      "element face 4\nproperty list uchar uint vertex_indices\nend_header\n";
+  const auto put = [&s](const auto v) {
+    std::array<char, sizeof(v)> b{};
+    std::memcpy(b.data(), &v, sizeof(v));
+    for (size_t i = b.size(); i-- > 0;) s.push_back(b[i]);  // most significant byte first
+  };
+  const TriangleMesh t = test::tetrahedron();
+  for (const auto& p : t.positions) {
+    for (int c = 0; c < 3; ++c) put(p[c]);
+    s.push_back(static_cast<char>(200));
+  }
+  for (int32_t v : {0, 1, 1, 2}) put(v);
+  for (const auto& tri : t.triangles) {
+    s.push_back(3);
+    for (int32_t v : tri) put(static_cast<uint32_t>(v));
+  }
+  expect_unit_tetrahedron(load_mesh(dir.write("t.ply", s)).value());
+}
+
+TEST(MeshLoader, PlyAsciiNormalsTextureCoordinatesAndAQuad) {
+  TempDir dir;
+  const auto file = dir.write(
+      "q.ply",
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+      "property float s\nproperty float t\nelement material 1\nproperty uchar red\n"
+      "element face 1\nproperty list uchar int vertex_index\nend_header\n"
+      "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n255\n4 0 1 2 3\n");
+  const TriangleMesh m = load_mesh(file).value();
+  ASSERT_EQ(m.triangle_count(), 2);
+  EXPECT_EQ(m.triangles[0], (haptics::Triangle{0, 1, 2}));
+  EXPECT_EQ(m.triangles[1], (haptics::Triangle{0, 2, 3}));
+  ASSERT_EQ(m.normals.size(), 4U);
+  EXPECT_EQ(m.normals[2], Eigen::Vector3d(0, 0, 1));
+  ASSERT_EQ(m.uvs.size(), 4U);
+  EXPECT_EQ(m.uvs[2], Eigen::Vector2d(1, 1));
 }
 
 TEST(MeshLoader, Off) {
@@ -325,6 +372,20 @@ TEST(MeshLoaderIndices, BinaryPlyOutOfRangeIndexIsRefused) {
   for (int32_t v : {0, 1, 50'000'000}) s.append(reinterpret_cast<const char*>(&v), 4);
   const Result<TriangleMesh> r = load_mesh(dir.write("m.ply", s));
   ASSERT_FALSE(r.ok());
+}
+
+// Found by fuzzing: OpenMesh's reader looped for ever, a message per element, over an element
+// it did not know with a count of 2e16. Each element takes at least a byte: refused at once.
+TEST(MeshLoaderLimits, ABinaryPlyElementCountTheFileCannotHoldIsRefused) {
+  TempDir dir;
+  const auto f = dir.write("m.ply",
+                           "ply\nformat binary_little_endian 1.0\nelement vertex 0\n"
+                           "property float x\nproperty float y\nproperty float z\n"
+                           "element thing 20000945670339651\nproperty uchar a\nend_header\n"
+                           "abc");
+  expect_load_error(f, f.string() +
+                           ":7: element thing: 20000945670339651 elements cannot fit in the 3 "
+                           "bytes after the header");
 }
 
 // Issue 25: limits on untrusted input (sim/setup/mesh_limits.h), refused before reading.
