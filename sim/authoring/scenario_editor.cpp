@@ -206,6 +206,11 @@ class ScenarioText {
         return {};
       }
       if (leaf) return replace(at_line, end, field, edit.value);
+      // A one-line flow map holding the leaf (the shipped scenarios' `shading: {enabled: true,
+      // crease_angle_deg: 40}`): its entry is set, or added, in place.
+      if (p + 2 == full.size() && value(at_line).starts_with('{')) {
+        return set_in_flow_map(at_line, field + '.' + full[p + 1], full[p + 1], edit.value);
+      }
       if (has_value(at_line)) {
         return problem(at_line + 1, field,
                        "written in flow style or inline: only a block mapping can be edited "
@@ -307,9 +312,61 @@ class ScenarioText {
       }
       break;
     }
+    set_value_text(line, yaml_value_text(value_in));
+    return {};
+  }
+
+  /// `key: value` set in the one-line flow map that is line `line`'s value: the entry's value
+  /// replaced, or the entry added before the closing brace. Other entries keep their text.
+  Status set_in_flow_map(int line, const std::string& field, const std::string& key,
+                         const std::variant<double, bool>& value_in) {
+    const std::string map(value(line));
+    const auto refuse = [&](const char* why) {
+      return problem(line + 1, field,
+                     std::string(why) +
+                         ": only a one-line flow map of plain values can be "
+                         "edited in place (or write it in block style, each "
+                         "field on its own line)");
+    };
+    if (map.size() < 2 || map.back() != '}') return refuse("a flow map over several lines");
+    if (map.find_first_of("{}[]\"'&*!", 1) != map.size() - 1) {
+      return refuse("a nested, quoted or tagged flow map");
+    }
+    const std::string new_value = yaml_value_text(value_in);
+    const auto trim = [](size_t b, size_t e, const std::string& t) {
+      while (b < e && t[b] == ' ') ++b;
+      while (e > b && t[e - 1] == ' ') --e;
+      return std::pair{b, e};
+    };
+    size_t begin = 1;
+    while (begin < map.size() - 1) {
+      size_t end = map.find(',', begin);
+      if (end == std::string::npos) end = map.size() - 1;
+      const auto [b, e] = trim(begin, end, map);
+      const size_t colon = map.find(':', b);
+      if (b < e && colon < e) {
+        const auto [kb, ke] = trim(b, colon, map);
+        if (map.compare(kb, ke - kb, key) == 0) {
+          const auto [vb, ve] = trim(colon + 1, e, map);
+          if (vb == ve) return refuse("the entry has no value");
+          set_value_text(line, map.substr(0, vb) + new_value + map.substr(ve));
+          return {};
+        }
+      }
+      begin = end + 1;
+    }
+    const auto [b, e] = trim(1, map.size() - 1, map);
+    const std::string entry = key + ": " + new_value;
+    set_value_text(line,
+                   b == e ? "{" + entry + "}" : map.substr(0, e) + ", " + entry + map.substr(e));
+    return {};
+  }
+
+  /// Line `line`'s value replaced by `new_value`; its comment kept, in its column when the new
+  /// value leaves room.
+  void set_value_text(int line, const std::string& new_value) {
     const ScannedLine& l = at(line);
     std::string& text = lines_[static_cast<size_t>(line)];
-    const std::string new_value = yaml_value_text(value_in);
     std::string out = text.substr(0, l.value_begin) + new_value;
     if (l.comment_begin != std::string::npos) {
       // The comment stays in its column when the new value leaves room, as aligned comments do.
@@ -318,7 +375,6 @@ class ScenarioText {
       out += std::string(gap, ' ') + text.substr(l.comment_begin);
     }
     text = out;
-    return {};
   }
 
   /// Adds the missing `parts` (the first one absent from the block [begin, end) at `column`)

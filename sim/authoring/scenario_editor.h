@@ -7,9 +7,10 @@
 /// key order, quoting — stays as it was. A YAML library's emitter would drop the comments that
 /// carry each parameter's source (the brief: every tissue parameter cites one), hence text.
 ///
-/// The edit works on block-style YAML only. What it cannot rewrite safely it refuses with a
-/// Diagnostic naming the file and line: an organ or its material written in flow style
-/// (`material: {stiffness_n_per_m: 72}`, `shading: {enabled: true}`), anchors, aliases and merge
+/// The edit works on block-style YAML, and on a one-line flow map of plain values that holds the
+/// field (`shading: {enabled: true, crease_angle_deg: 40}`: the entry set or added in place).
+/// What it cannot rewrite safely it refuses with a Diagnostic naming the file and line: an organ
+/// written in flow style, nested, quoted or multi-line flow maps, anchors, aliases and merge
 /// keys in the organ's block (an edit there would change other organs too, or nothing), block
 /// scalars and multi-line values. The scenario loader checks the result before it is saved.
 

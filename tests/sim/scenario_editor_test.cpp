@@ -155,24 +155,60 @@ TEST(ScenarioEditor, KeepsWindowsLineEndingsAndAMissingFinalNewline) {
             "      damping_n_s_per_m: 0.25");
 }
 
-TEST(ScenarioEditor, RefusesAFlowStyleMaterialWithItsLine) {
+// The shipped scenarios write the liver's shading as a one-line flow map: an entry is set in
+// place and a missing one added before the brace, the comment kept in its column.
+TEST(ScenarioEditor, EditsAOneLineFlowMapInPlace) {
   const std::string before = read_file(default_scenario());
-  const std::vector<MaterialEdit> edits = {{"liver", "shading.enabled", false}};
+  const std::vector<MaterialEdit> edits = {{"liver", "shading.enabled", false},
+                                           {"liver", "shading.crease_angle_deg", 30.0}};
   const Result<std::string> r = edit_scenario_materials(before, default_scenario(), edits);
-  ASSERT_FALSE(r.ok());
-  ASSERT_EQ(r.diagnostics().size(), 1u);
-  const Diagnostic& d = r.diagnostics()[0];
-  EXPECT_EQ(d.file, default_scenario().string());
-  EXPECT_EQ(d.line, line_of(before, "name: liver", "shading: {"));
-  EXPECT_EQ(d.field, "organs[0].material.shading");
-  EXPECT_NE(d.message.find("flow style"), std::string::npos) << d.message;
+  ASSERT_TRUE(r.ok()) << r.message();
+  const std::string old_line = "      shading: {enabled: true, crease_angle_deg: 40}   # smooth";
+  const std::string new_line = "      shading: {enabled: false, crease_angle_deg: 30}  # smooth";
+  ASSERT_NE(before.find(old_line), std::string::npos);
+  std::string expected = before;
+  expected.replace(expected.find(old_line), old_line.size(), new_line);
+  EXPECT_EQ(r.value(), expected);
 
-  const std::string flow_material =
-      scenario_with("  - name: a\n    mesh: a.obj\n    material: {stiffness_n_per_m: 1}\n");
-  const std::vector<MaterialEdit> k = {{"a", "stiffness_n_per_m", 2.0}};
-  const Result<std::string> r2 = edit_scenario_materials(flow_material, "t.yaml", k);
+  const std::string flow = scenario_with(
+      "  - name: a\n    mesh: a.obj\n    material: {stiffness_n_per_m: 1}\n"
+      "  - name: b\n    mesh: b.obj\n    material:\n      shading: {}\n");
+  const std::vector<MaterialEdit> k = {{"a", "stiffness_n_per_m", 2.0},
+                                       {"a", "damping_n_s_per_m", 0.5},
+                                       {"b", "shading.enabled", true}};
+  const Result<std::string> r2 = edit_scenario_materials(flow, "t.yaml", k);
+  ASSERT_TRUE(r2.ok()) << r2.message();
+  EXPECT_EQ(r2.value(),
+            scenario_with("  - name: a\n    mesh: a.obj\n"
+                          "    material: {stiffness_n_per_m: 2, damping_n_s_per_m: 0.5}\n"
+                          "  - name: b\n    mesh: b.obj\n    material:\n"
+                          "      shading: {enabled: true}\n"));
+}
+
+// What a text edit cannot do safely in a flow map is refused with its line: nested maps, quotes,
+// a map over several lines.
+TEST(ScenarioEditor, RefusesAFlowMapItCannotEditWithItsLine) {
+  const std::string nested =
+      scenario_with("  - name: a\n    mesh: a.obj\n    material: {shading: {enabled: true}}\n");
+  const std::vector<MaterialEdit> k = {{"a", "shading.enabled", false}};
+  const Result<std::string> r = edit_scenario_materials(nested, "t.yaml", k);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.diagnostics()[0].to_string().substr(0, 35), "t.yaml:6: organs[0].material: writt");
+
+  const std::string quoted = scenario_with(
+      "  - name: a\n    mesh: a.obj\n    material:\n      shading: {'enabled': true}\n");
+  const Result<std::string> r2 = edit_scenario_materials(quoted, "t.yaml", k);
   ASSERT_FALSE(r2.ok());
-  EXPECT_EQ(r2.diagnostics()[0].to_string().substr(0, 35), "t.yaml:6: organs[0].material: writt");
+  EXPECT_EQ(r2.diagnostics()[0].line, 7);
+  EXPECT_EQ(r2.diagnostics()[0].field, "organs[0].material.shading.enabled");
+  EXPECT_NE(r2.message().find("a nested, quoted or tagged flow map"), std::string::npos);
+
+  const std::string multi = scenario_with(
+      "  - name: a\n    mesh: a.obj\n    material:\n      shading: {enabled: true,\n"
+      "        crease_angle_deg: 40}\n");
+  const Result<std::string> r3 = edit_scenario_materials(multi, "t.yaml", k);
+  ASSERT_FALSE(r3.ok());
+  EXPECT_NE(r3.message().find("over several lines"), std::string::npos) << r3.message();
 }
 
 TEST(ScenarioEditor, RefusesAnchorsAliasesAndMergeKeys) {
