@@ -115,7 +115,11 @@ Status check_gltf_references(const fs::path& file, const std::string& json_text,
       }
       if (const auto n = entry.find("byteLength"); n != entry.end() && n->is_number()) {
         const double bytes = n->get<double>();
-        if (bytes > static_cast<double>(kMaxGltfBufferBytes)) {
+        // glTF 2.0 sets byteLength's minimum at 1 (tinygltf's reader throws on an embedded
+        // buffer of 0 bytes: found by fuzzing).
+        if (std::string(key) == "buffers" && !(bytes >= 1.0)) {
+          problem(where + ".byteLength", n->dump() + " is not a length of 1 byte or more");
+        } else if (bytes > static_cast<double>(kMaxGltfBufferBytes)) {
           problem(where + ".byteLength", n->dump() + " bytes is more than the limit of " +
                                              std::to_string(kMaxGltfBufferBytes) +
                                              " (sim/setup/mesh_limits.h)");

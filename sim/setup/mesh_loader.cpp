@@ -296,8 +296,15 @@ void append_primitive(const GltfReader& reader, const tinygltf::Primitive& prim,
   }
   std::vector<int64_t> idx;
   if (prim.indices >= 0) {
-    for (const auto& i : reader.read(prim.indices, where + ".indices"))
+    for (const auto& i : reader.read(prim.indices, where + ".indices")) {
+      // glTF's indices are unsigned integers; an accessor of floats could hold anything (a
+      // cast of 1e30 is undefined: found by fuzzing).
+      if (!(i[0] >= 0.0 && i[0] <= static_cast<double>(INT32_MAX) && i[0] == std::floor(i[0]))) {
+        reader.fail(where + ".indices: " + std::to_string(i[0]) +
+                    " is not a vertex index (expected whole numbers from 0)");
+      }
       idx.push_back(static_cast<int64_t>(i[0]));
+    }
   } else {
     for (size_t i = 0; i < positions.size(); ++i) idx.push_back(static_cast<int64_t>(i));
   }
@@ -427,11 +434,19 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
   std::string warn;
   // The bytes checked above are the ones parsed (the file may change in between).
   const auto length = static_cast<unsigned int>(bytes.size());  // within kMaxMeshFileBytes
-  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length,
-                                                       folder.string())
-                         : loader.LoadASCIIFromString(&model, &err, &warn,
-                                                      reinterpret_cast<const char*>(bytes.data()),
-                                                      length, folder.string());
+  bool ok = false;
+  // tinygltf may throw on inputs its checks miss (a std::vector::at on an empty buffer was one,
+  // found by fuzzing): whatever it throws is this file's problem, not a crash.
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), length,
+                                              folder.string())
+                : loader.LoadASCIIFromString(&model, &err, &warn,
+                                             reinterpret_cast<const char*>(bytes.data()), length,
+                                             folder.string());
+  } catch (const std::exception& e) {
+    throw LoadError(file, std::string("not a valid glTF 2.0 file: the reader stopped (") +
+                              e.what() + ")");
+  }
   if (!ok) {
     throw LoadError(file, "not a valid glTF 2.0 file: " + (err.empty() ? warn : err));
   }
