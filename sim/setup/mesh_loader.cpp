@@ -444,8 +444,8 @@ TriangleMesh load_gltf(const std::filesystem::path& file) {
                                              reinterpret_cast<const char*>(bytes.data()), length,
                                              folder.string());
   } catch (const std::exception& e) {
-    throw LoadError(file, std::string("not a valid glTF 2.0 file: the reader stopped (") +
-                              e.what() + ")");
+    throw LoadError(
+        file, std::string("not a valid glTF 2.0 file: the reader stopped (") + e.what() + ")");
   }
   if (!ok) {
     throw LoadError(file, "not a valid glTF 2.0 file: " + (err.empty() ? warn : err));
