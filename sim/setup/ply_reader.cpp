@@ -40,6 +40,10 @@ size_t size_of(Type t) {
 }
 bool is_integer(Type t) { return t != Type::kFloat32 && t != Type::kFloat64; }
 
+// At most this many elements in a header, and properties in an element (real files have two
+// or three, and a dozen properties).
+constexpr size_t kMaxElements = 1024;
+
 // Where a vertex property's value goes.
 enum Slot : uint8_t { kX, kY, kZ, kNx, kNy, kNz, kU, kV, kOther };
 Slot slot_named(std::string_view n) {
@@ -106,6 +110,15 @@ Result<Header> read_header(LineReader& r) {
       const std::optional<int64_t> n = r.size() == 3 ? whole_number(r[2]) : std::nullopt;
       if (!n || *n < 0) return r.problem("header", "expected 'element NAME COUNT'");
       const std::string name(r[1]);
+      // Each element named once (a second `vertex` would add to the first past the limit), and
+      // a header of a bounded size (each element and property is kept while the body is read).
+      if (std::any_of(h.elements.begin(), h.elements.end(),
+                      [&](const Element& e) { return e.name == name; })) {
+        return r.problem("element " + shown(name), "given twice (expected each element once)");
+      }
+      if (h.elements.size() >= kMaxElements) {
+        return r.problem("header", "more than " + std::to_string(kMaxElements) + " elements");
+      }
       if (name == "vertex" && *n > kMaxMeshVertices) {
         return r.problem("element vertex", over_limit(*n, "vertices", kMaxMeshVertices));
       }
@@ -129,6 +142,10 @@ Result<Header> read_header(LineReader& r) {
                          "TYPE NAME' (with PLY's types)");
       }
       Element& e = h.elements.back();
+      if (e.properties.size() >= kMaxElements) {
+        return r.problem("element " + shown(e.name),
+                         "more than " + std::to_string(kMaxElements) + " properties");
+      }
       p.name = std::string(r[r.size() - 1]);
       p.type = *type;
       p.count_type = count_type;
@@ -151,7 +168,13 @@ Result<Header> read_header(LineReader& r) {
 
 // What the header says the mesh has, checked against what this reader needs.
 Status check_layout(const fs::path& file, const Header& h) {
+  bool vertices = false;
   for (const Element& e : h.elements) {
+    if (e.name == "vertex") vertices = true;
+    if (e.name == "face" && !vertices) {
+      return file_diagnostic(file.string(), e.line, "element face",
+                             "expected after the 'vertex' element (its indices refer to it)");
+    }
     const auto has = [&](Slot s) {
       return std::any_of(e.properties.begin(), e.properties.end(),
                          [&](const Property& p) { return p.slot == s; });
@@ -186,7 +209,6 @@ struct Builder {
     };
     normals = has(kNx) && has(kNy) && has(kNz);
     uvs = has(kU) && has(kV);
-    mesh.positions.reserve(static_cast<size_t>(e.count));
   }
   void end_vertex() {
     mesh.positions.emplace_back(slots[kX], slots[kY], slots[kZ]);
@@ -229,19 +251,20 @@ Status read_ascii_element(LineReader& r, const Element& e, Builder* b) {
   for (int64_t i = 0; i < e.count; ++i) {
     if (e.properties.empty()) break;  // nothing to read: no line either
     if (!r.next()) {
-      return r.fail(e.name, "the file ends after " + std::to_string(i) + " of the " +
-                                std::to_string(e.count) + " " + e.name + " lines");
+      return r.fail(shown(e.name), "the file ends after " + std::to_string(i) + " of the " +
+                                       std::to_string(e.count) + " " + shown(e.name) + " lines");
     }
     b->polygon.clear();
     size_t at = 0;
     for (const Property& p : e.properties) {
       if (at >= r.size()) {
-        return r.fail(e.name, "expected a value for property '" + p.name + "', the line ends");
+        return r.fail(shown(e.name),
+                      "expected a value for property '" + shown(p.name) + "', the line ends");
       }
       if (!p.list) {
         const bool xyz = vertex && p.slot <= kZ;
-        if (Problem pr = number_problem(r[at], xyz ? "coordinate" : p.name + " value")) {
-          return r.fail(e.name, *pr);
+        if (Problem pr = number_problem(r[at], xyz ? "coordinate" : shown(p.name) + " value")) {
+          return r.fail(shown(e.name), *pr);
         }
         if (vertex && p.slot != kOther) b->slots[p.slot] = *number_value(r[at]);
         ++at;
@@ -249,26 +272,33 @@ Status read_ascii_element(LineReader& r, const Element& e, Builder* b) {
       }
       const std::optional<int64_t> n = whole_number(r[at]);
       if (!n || *n < 0) {
-        return r.fail(e.name, p.name + " length '" + shown(r[at]) + "' is not a whole number");
+        return r.fail(shown(e.name),
+                      shown(p.name) + " length '" + shown(r[at]) + "' is not a whole number");
       }
       ++at;
+      if (p.indices && *n > kMaxMeshTriangles + 2) {
+        return r.fail(shown(e.name), "a face with " + std::to_string(*n) +
+                                         " vertices is more than the limit of triangles allows");
+      }
       if (static_cast<int64_t>(r.size() - at) < *n) {
-        return r.fail(e.name, "expected " + std::to_string(*n) + " entries in " + p.name +
-                                  ", got " + std::to_string(r.size() - at));
+        return r.fail(shown(e.name), "expected " + std::to_string(*n) + " entries in " +
+                                         shown(p.name) + ", got " + std::to_string(r.size() - at));
       }
       for (int64_t k = 0; k < *n; ++k, ++at) {
         if (!p.indices) {
-          if (Problem pr = number_problem(r[at], p.name + " value")) return r.fail(e.name, *pr);
+          if (Problem pr = number_problem(r[at], shown(p.name) + " value"))
+            return r.fail(shown(e.name), *pr);
           continue;
         }
         const std::optional<int64_t> v = whole_number(r[at]);
-        if (!v) return r.fail(e.name, "vertex index '" + shown(r[at]) + "' is not a whole number");
-        if (Problem pr = b->index(*v)) return r.fail(e.name, *pr);
+        if (!v)
+          return r.fail(shown(e.name), "vertex index '" + shown(r[at]) + "' is not a whole number");
+        if (Problem pr = b->index(*v)) return r.fail(shown(e.name), *pr);
       }
     }
     if (vertex) b->end_vertex();
     if (face) {
-      if (Problem pr = b->end_face()) return r.fail(e.name, *pr);
+      if (Problem pr = b->end_face()) return r.fail(shown(e.name), *pr);
     }
   }
   return {};
@@ -344,31 +374,38 @@ Status read_binary_element(const fs::path& file, const Header& h, const Element&
                                std::to_string(c->left()) + " bytes after the header");
   }
   const bool vertex = e.name == "vertex";
+  if (vertex) b->mesh.positions.reserve(static_cast<size_t>(e.count));  // fits: checked above
   const auto fail = [&](int64_t i, const std::string& what) {
     return file_diagnostic(
-        file.string(), 0, e.name + "[" + std::to_string(i) + "]",
+        file.string(), 0, shown(e.name) + "[" + std::to_string(i) + "]",
         what + " (byte " + std::to_string(c->body_start + static_cast<int64_t>(c->at)) + ")");
   };
   for (int64_t i = 0; i < e.count; ++i) {
     b->polygon.clear();
     for (const Property& p : e.properties) {
       if (!p.list) {
-        if (c->left() < size_of(p.type)) return fail(i, "the file ends in property " + p.name);
+        if (c->left() < size_of(p.type))
+          return fail(i, "the file ends in property " + shown(p.name));
         const double v = decode(c->take(size_of(p.type)), p.type, h.big_endian);
         if (vertex && p.slot != kOther) {
           if (!std::isfinite(v)) {
-            return fail(i, std::string(p.slot <= kZ ? "coordinate" : p.name + " value") +
+            return fail(i, std::string(p.slot <= kZ ? "coordinate" : shown(p.name) + " value") +
                                " is not a finite number");
           }
           b->slots[p.slot] = v;
         }
         continue;
       }
-      if (c->left() < size_of(p.count_type)) return fail(i, "the file ends in list " + p.name);
+      if (c->left() < size_of(p.count_type))
+        return fail(i, "the file ends in list " + shown(p.name));
       const double n = decode(c->take(size_of(p.count_type)), p.count_type, h.big_endian);
       if (n < 0 || n * static_cast<double>(size_of(p.type)) > static_cast<double>(c->left())) {
-        return fail(i, p.name + " length " + std::to_string(static_cast<int64_t>(n)) +
+        return fail(i, shown(p.name) + " length " + std::to_string(static_cast<int64_t>(n)) +
                            " does not fit in the rest of the file");
+      }
+      if (p.indices && n > static_cast<double>(kMaxMeshTriangles + 2)) {
+        return fail(i, "a face with " + std::to_string(static_cast<int64_t>(n)) +
+                           " vertices is more than the limit of triangles allows");
       }
       for (int64_t k = 0; k < static_cast<int64_t>(n); ++k) {
         const double v = decode(c->take(size_of(p.type)), p.type, h.big_endian);
@@ -402,13 +439,14 @@ Result<TriangleMesh> read_ply(const fs::path& file) {
     return std::move(b.mesh);
   }
   std::string bytes;
+  // -1 when 'end_header' ended the file without a newline: no body then.
   const std::streamoff body = r.offset_after_line();
-  {
+  if (body >= 0) {
     std::ifstream in(file, std::ios::binary);
     in.seekg(body);
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in) bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  ByteCursor c{bytes, 0, static_cast<int64_t>(body)};
+  ByteCursor c{bytes, 0, std::max<int64_t>(static_cast<int64_t>(body), 0)};
   for (const Element& e : h.elements) {
     b.begin_element(e);
     if (Status s = read_binary_element(file, h, e, &c, &b); !s.ok()) {

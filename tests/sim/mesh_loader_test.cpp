@@ -388,6 +388,30 @@ TEST(MeshLoaderLimits, ABinaryPlyElementCountTheFileCannotHoldIsRefused) {
                            "bytes after the header");
 }
 
+// A second vertex element would add to the first past the limit; faces before the vertices
+// they index could not be checked as they are read; a header ending the file has no body.
+TEST(MeshLoaderLimits, APlyHeaderIsHeldToOneVertexElementBeforeTheFaces) {
+  TempDir dir;
+  const std::string vertex =
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  const auto twice =
+      dir.write("a.ply", "ply\nformat ascii 1.0\n" + vertex + vertex + "end_header\n");
+  expect_load_error(
+      twice, twice.string() + ":7: element vertex: given twice (expected each element once)");
+  const auto face_first = dir.write(
+      "b.ply", "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n" +
+                   vertex + "end_header\n3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n");
+  expect_load_error(
+      face_first,
+      face_first.string() +
+          ":3: element face: expected after the 'vertex' element (its indices refer to it)");
+  const auto no_body =
+      dir.write("c.ply", "ply\nformat binary_little_endian 1.0\n" + vertex + "end_header");
+  expect_load_error(no_body, no_body.string() +
+                                 ":3: element vertex: 3 elements cannot fit in the 0 bytes after "
+                                 "the header");
+}
+
 // Issue 25: limits on untrusted input (sim/setup/mesh_limits.h), refused before reading.
 TEST(MeshLoaderLimits, HeaderCountsBeyondTheLimitsAreRefused) {
   TempDir dir;
