@@ -334,8 +334,8 @@ class ScenarioText {
     }
     const std::string new_value = yaml_value_text(value_in);
     const auto trim = [](size_t b, size_t e, const std::string& t) {
-      while (b < e && t[b] == ' ') ++b;
-      while (e > b && t[e - 1] == ' ') --e;
+      while (b < e && (t[b] == ' ' || t[b] == '\t')) ++b;
+      while (e > b && (t[e - 1] == ' ' || t[e - 1] == '\t')) --e;
       return std::pair{b, e};
     };
     size_t begin = 1;
@@ -343,8 +343,11 @@ class ScenarioText {
       size_t end = map.find(',', begin);
       if (end == std::string::npos) end = map.size() - 1;
       const auto [b, e] = trim(begin, end, map);
-      const size_t colon = map.find(':', b);
-      if (b < e && colon < e) {
+      // Each entry `key: value` (YAML reads `a:1` as one plain key, `a` alone as a key without
+      // a value): anything else is not edited by guesswork.
+      const size_t colon = map.find(": ", b);
+      if (b < e && (colon >= e || colon == b)) return refuse("an entry that is not `key: value`");
+      if (b < e) {
         const auto [kb, ke] = trim(b, colon, map);
         if (map.compare(kb, ke - kb, key) == 0) {
           const auto [vb, ve] = trim(colon + 1, e, map);
@@ -355,10 +358,12 @@ class ScenarioText {
       }
       begin = end + 1;
     }
-    const auto [b, e] = trim(1, map.size() - 1, map);
+    const auto [b, tail] = trim(1, map.size() - 1, map);
+    size_t e = tail;  // the last entry's end; `tail` after its trailing comma, if any
+    if (e > b && map[e - 1] == ',') e = trim(b, e - 1, map).second;  // `{a: 1, }`
     const std::string entry = key + ": " + new_value;
     set_value_text(line,
-                   b == e ? "{" + entry + "}" : map.substr(0, e) + ", " + entry + map.substr(e));
+                   b == e ? "{" + entry + "}" : map.substr(0, e) + ", " + entry + map.substr(tail));
     return {};
   }
 

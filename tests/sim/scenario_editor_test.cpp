@@ -209,6 +209,24 @@ TEST(ScenarioEditor, RefusesAFlowMapItCannotEditWithItsLine) {
   const Result<std::string> r3 = edit_scenario_materials(multi, "t.yaml", k);
   ASSERT_FALSE(r3.ok());
   EXPECT_NE(r3.message().find("over several lines"), std::string::npos) << r3.message();
+
+  // `a:1` is one plain key in YAML, `a` a key without a value: not edited by guesswork.
+  for (const char* map : {"{enabled:true}", "{enabled}", "{crease_angle_deg: 40, enabled}"}) {
+    const std::string odd = scenario_with(
+        "  - name: a\n    mesh: a.obj\n    material:\n      shading: " + std::string(map) + "\n");
+    const Result<std::string> r4 = edit_scenario_materials(odd, "t.yaml", k);
+    ASSERT_FALSE(r4.ok()) << map;
+    EXPECT_NE(r4.message().find("an entry that is not `key: value`"), std::string::npos)
+        << r4.message();
+  }
+  // A trailing comma is YAML's too: the added entry follows it once.
+  const std::string trailing = scenario_with(
+      "  - name: a\n    mesh: a.obj\n    material:\n      shading: {crease_angle_deg: 40, }\n");
+  const Result<std::string> r5 = edit_scenario_materials(trailing, "t.yaml", k);
+  ASSERT_TRUE(r5.ok()) << r5.message();
+  EXPECT_NE(r5.value().find("shading: {crease_angle_deg: 40, enabled: false }\n"),
+            std::string::npos)
+      << r5.value();
 }
 
 TEST(ScenarioEditor, RefusesAnchorsAliasesAndMergeKeys) {
