@@ -319,7 +319,14 @@ void HudOverlay::place_gauges(const HudState& state, const HudLayout& l, int wid
       set_colour(bar_colours_, first + 2, 1.0, 1.0, 1.0, 0.95);
     };
     bar(q, f0, f1, g.fraction);
-    bar(q + 3, sq0, sq1, g.squeeze_threshold_n > 0.0 ? g.squeeze_n / g.squeeze_threshold_n : 0.0);
+    if (g.jaws) {
+      bar(q + 3, sq0, sq1, g.squeeze_threshold_n > 0.0 ? g.squeeze_n / g.squeeze_threshold_n : 0.0);
+    } else {  // a probe has no jaws: no squeeze bar
+      for (vtkIdType k = q + 3; k < q + 6; ++k) {
+        set_quad(points, k, x0, sq0, x0, sq0);
+        set_colour(bar_colours_, k, 0.0, 0.0, 0.0, 0.0);
+      }
+    }
     std::string label = g.label + "  " + fixed(g.force_n, 1) + " N";
     if (!g.pushing.empty()) label += " on " + g.pushing;
     label += "  (injury " + fixed(g.threshold_n, 1) + " N)";
@@ -331,8 +338,9 @@ void HudOverlay::place_gauges(const HudState& state, const HudLayout& l, int wid
     } else {
       gauge_labels_[i]->GetTextProperty()->SetColor(1.0, 1.0, 1.0);
     }
-    set_text(squeeze_labels_[i], "squeeze " + fixed(g.squeeze_n, 1) + " N  (crush " +
-                                     fixed(g.squeeze_threshold_n, 1) + " N)");
+    set_text(squeeze_labels_[i], g.jaws ? "squeeze " + fixed(g.squeeze_n, 1) + " N  (crush " +
+                                              fixed(g.squeeze_threshold_n, 1) + " N)"
+                                        : std::string());
     squeeze_labels_[i]->SetDisplayPosition(static_cast<int>(i == 0 ? x0 : x1),
                                            static_cast<int>(sq_label));
   }

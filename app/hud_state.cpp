@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sim/setup/tool_model.h"
+
 namespace lap::app {
 namespace {
 
@@ -197,6 +199,7 @@ const HudState& HudModel::update(const sim::HapticSnapshot& haptic, const sim::M
     HandGauge& g = s.hands[i];
     const sim::ToolForces& f = task.tools[i];
     g.label = std::string(i == 0 ? "Left " : "Right ") + tool_kinds_[i];
+    g.jaws = sim::tool_kind(tool_kinds_[i]) == sim::ToolKind::kGripper;
     const double duct_share = f.on_duct_n / spec_.duct_injury_force_n;
     const double organ_share = f.on_organ_n / spec_.organ_injury_force_n;
     if (duct_share >= organ_share && f.on_duct_n > 0.0) {

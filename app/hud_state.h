@@ -31,6 +31,7 @@ struct HandGauge {
   double squeeze_threshold_n = 0.0;  ///< the duct's crush threshold
   bool warning = false;              ///< at 80 % of a threshold or more
   bool over = false;                 ///< over a threshold (an injury if it lasts)
+  bool jaws = true;                  ///< false for a probe: no squeeze to show
 };
 
 /// A notice of an event, fading.

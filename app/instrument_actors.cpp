@@ -74,12 +74,29 @@ InstrumentPose drawn_instrument_pose(const InstrumentSpec& spec, const sim::Tool
   }
   InstrumentPose p;
   p.hinge_W = device.hinge_W + shift;
+  if (spec.kind == InstrumentKind::kProbe) {
+    // A probe (point or ray) is drawn with its tip where its proxy holds it (the IHIP, or the
+    // ray's ideal tip), its rod through the port; it has no jaws.
+    const bool held = !tool.proxy_tip_W.isZero() && tool.proxy_tip_W.allFinite();
+    // The ball is lifted by its radius along the contact's normal, where one is known, so that
+    // it rests on the surface instead of half inside it.
+    p.hinge_W =
+        held ? Eigen::Vector3d(tool.proxy_tip_W + spec.shaft_radius_m * tool.proxy_normal_W[0])
+             : device.hinge_W;
+  }
   const Eigen::Vector3d to_port = spec.port_W - p.hinge_W;
   p.shaft_dir_W = to_port.norm() > 1e-3 ? Eigen::Vector3d(to_port.normalized())
                                         : device.shaft_dir_W.normalized();
   Eigen::Vector3d open = device.open_dir_W - device.open_dir_W.dot(p.shaft_dir_W) * p.shaft_dir_W;
   p.open_dir_W =
       open.norm() > 1e-9 ? Eigen::Vector3d(open.normalized()) : p.shaft_dir_W.unitOrthogonal();
+  if (spec.kind == InstrumentKind::kProbe) {
+    for (size_t j = 0; j < 2; ++j) {
+      p.jaw_dir_W[j] = -p.shaft_dir_W;
+      p.jaw_tip_W[j] = p.hinge_W;
+    }
+    return p;
+  }
   for (size_t j = 0; j < 2; ++j) {
     const double side = j == 0 ? 1.0 : -1.0;
     // The jaw's angle from the shaft as its proxy has it (a jaw pressed on tissue is turned by
@@ -100,14 +117,23 @@ InstrumentPose drawn_instrument_pose(const InstrumentSpec& spec, const sim::Tool
 void InstrumentActors::add(vtkRenderer* renderer, const InstrumentSpec& spec) {
   spec_ = spec;
   const double white[3] = {1.0, 1.0, 1.0};
-  shaft_ = make_mesh_actor(make_shaft(spec.shaft_radius_m, spec.gripper.shaft_length_m), white);
-  vtkProperty* p = shaft_->GetProperty();
-  p->SetColor(0.035, 0.035, 0.04);  // black insulation
-  p->SetAmbient(0.1);
-  p->SetDiffuse(0.6);
-  p->SetSpecular(0.45);
-  p->SetSpecularPower(25.0);
-  clevis_ = make_mesh_actor(make_clevis(spec.shaft_radius_m), white);
+  const bool probe = spec.kind == InstrumentKind::kProbe;
+  shaft_ = make_mesh_actor(
+      make_shaft(spec.shaft_radius_m, spec.gripper.shaft_length_m, probe ? 0.0 : kClevisLengthM),
+      white);
+  if (probe) {
+    steel(shaft_);  // a steel stylus
+  } else {
+    vtkProperty* p = shaft_->GetProperty();
+    p->SetColor(0.035, 0.035, 0.04);  // black insulation
+    p->SetAmbient(0.1);
+    p->SetDiffuse(0.6);
+    p->SetSpecular(0.45);
+    p->SetSpecularPower(25.0);
+  }
+  // A probe ends in a steel ball of its rod's radius at its tip; an instrument in its clevis.
+  clevis_ = make_mesh_actor(
+      probe ? make_probe_tip(spec.shaft_radius_m) : make_clevis(spec.shaft_radius_m), white);
   steel(clevis_);
   body_matrix_ = vtkSmartPointer<vtkMatrix4x4>::New();
   shaft_->SetUserMatrix(body_matrix_);
@@ -139,8 +165,10 @@ void InstrumentActors::update(const sim::ToolSnapshot& tool) {
     x = x.norm() > 1e-9 ? Eigen::Vector3d(x.normalized()) : y.unitOrthogonal();
     set_matrix(jaw_matrices_[j], x, y, x.cross(y), p.hinge_W);
   }
-  for (vtkActor* a : {shaft_.Get(), clevis_.Get(), jaws_[0].Get(), jaws_[1].Get()}) {
-    a->VisibilityOn();
+  shaft_->VisibilityOn();
+  clevis_->VisibilityOn();
+  for (vtkActor* jaw : {jaws_[0].Get(), jaws_[1].Get()}) {
+    jaw->SetVisibility(spec_.kind == InstrumentKind::kProbe ? 0 : 1);
   }
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <functional>
 
+#include "sim/setup/tool_model.h"
+
 namespace lap::app {
 namespace {
 
@@ -124,12 +126,39 @@ InstrumentKind instrument_kind(const std::string& name) {
   if (name == "dissector") return InstrumentKind::kDissector;
   if (name == "clip-applier") return InstrumentKind::kClipApplier;
   if (name == "scissors") return InstrumentKind::kScissors;
+  if (sim::tool_kind(name) != sim::ToolKind::kGripper) return InstrumentKind::kProbe;
   return InstrumentKind::kGrasper;
 }
 
-haptics::TriangleMesh make_shaft(double radius_m, double length_m) {
+haptics::TriangleMesh make_shaft(double radius_m, double length_m, double from_m) {
   haptics::TriangleMesh m;
-  add_cylinder(&m, radius_m, kClevisLengthM, std::max(length_m, kClevisLengthM + 1e-3));
+  add_cylinder(&m, radius_m, from_m, std::max(length_m, from_m + 1e-3));
+  return m;
+}
+
+haptics::TriangleMesh make_probe_tip(double radius_m) {
+  haptics::TriangleMesh m;
+  // Latitude rings from the south pole (−y) to the north pole (+y), kSides round each.
+  constexpr int kRings = kSides / 2;
+  for (int i = 0; i <= kRings; ++i) {
+    const double theta = M_PI * i / kRings;  // from −y
+    for (int k = 0; k < kSides; ++k) {
+      const double a = 2.0 * M_PI * k / kSides;
+      const Eigen::Vector3d n(std::sin(theta) * std::cos(a), -std::cos(theta),
+                              std::sin(theta) * std::sin(a));
+      m.positions.push_back(radius_m * n);
+      m.normals.push_back(n);
+    }
+  }
+  for (int i = 0; i < kRings; ++i) {
+    for (int k = 0; k < kSides; ++k) {
+      const int32_t a0 = i * kSides + k;
+      const int32_t a1 = i * kSides + (k + 1) % kSides;
+      // Going up (+y) as add_cylinder does: counter-clockwise from outside.
+      if (i > 0) m.triangles.push_back({a0, a0 + kSides, a1});
+      if (i + 1 < kRings) m.triangles.push_back({a1, a0 + kSides, a1 + kSides});
+    }
+  }
   return m;
 }
 

@@ -17,8 +17,9 @@
 namespace lap::app {
 
 /// The instrument kinds a scenario's tool may name (ToolSpec::kind).
-enum class InstrumentKind { kGrasper, kDissector, kClipApplier, kScissors };
-/// "grasper", "dissector", "clip-applier", "scissors"; anything else is a grasper.
+enum class InstrumentKind { kGrasper, kDissector, kClipApplier, kScissors, kProbe };
+/// "grasper", "dissector", "clip-applier", "scissors", "probe" or "ray-probe" (both drawn as a
+/// probe: a rod with a rounded tip, no jaws); anything else is a grasper.
 [[nodiscard]] InstrumentKind instrument_kind(const std::string& name);
 
 /// The metal tip (the clevis holding the hinge pin) is this long from the hinge up the shaft
@@ -27,10 +28,15 @@ constexpr double kClevisLengthM = 0.012;
 
 /// The insulated shaft: a cylinder of `radius_m` from the clevis to `length_m` up +y, with
 /// outward normals.
-[[nodiscard]] haptics::TriangleMesh make_shaft(double radius_m, double length_m);
+/// A probe's rod starts at its tip instead (`from_m` 0).
+[[nodiscard]] haptics::TriangleMesh make_shaft(double radius_m, double length_m,
+                                               double from_m = kClevisLengthM);
 /// The clevis: a steel cylinder of the shaft's radius from just past the hinge (covering the
 /// jaws' roots) to kClevisLengthM, closed at its front.
 [[nodiscard]] haptics::TriangleMesh make_clevis(double radius_m);
+/// A probe's rounded tip: a sphere of `radius_m` about the origin (the probe's tip, where its
+/// proxy holds it), outward normals.
+[[nodiscard]] haptics::TriangleMesh make_probe_tip(double radius_m);
 /// One jaw of `kind`, `length_m` from the hinge to its tip, in the jaw's frame; `side` +1 or −1
 /// for jaw 0 or jaw 1 (a curved jaw curves the same way in the world for both, so its curve's
 /// sign in the jaw's frame follows the side). Within the shaft's radius across, at most

@@ -38,8 +38,11 @@ SessionDrawing session_drawing(const sim::Scene& scene, const sim::SessionModel&
     spec.gripper = model.tool(side).gripper;
     spec.port_W = model.tool(side).trocar.port_W;
   }
-  // The tissue always has a catheter (a scenario without its section gets the default one).
-  d.catheter_points = tissue.catheter_model().particle_count();
+  // The tissue always has a catheter (a scenario without its section gets the default one); it
+  // is drawn where the scenario has one or a task that needs it, not in a demonstration's scene
+  // (where nothing touches it: the tools render the organs only).
+  const bool catheter = scene.scenario.catheter.has_value() || scene.scenario.task.has_value();
+  d.catheter_points = catheter ? tissue.catheter_model().particle_count() : 0;
   d.catheter_radius_m = tissue.catheter_model().radius_m();
   return d;
 }

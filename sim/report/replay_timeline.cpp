@@ -43,6 +43,8 @@ Result<ReplayTimeline> ReplayTimeline::replay(const std::filesystem::path& dir,
           s.tool_port_W[side] = session.model().tool(side).trocar.port_W;
         }
         s.catheter_radius_m = session.model().tissue().catheter_model().radius_m();
+        // Drawn where the scenario has a catheter or a task (app/session_actors.cpp): -1, none.
+        if (!scene.scenario.catheter && !scene.scenario.task) s.catheter_points = -1;
         s.camera = scene.scenario.camera;
         const SessionTiming& timing = session.model().timing();
         const double dt_s = timing.dt_s;

@@ -56,7 +56,7 @@ struct ReplayScene {
   std::array<std::string, 2> tool_kinds{};  ///< the scenario's kind (grasper, dissector, ...)
   std::array<double, 2> tool_shaft_radius_m{0.0025, 0.0025};
   std::array<Eigen::Vector3d, 2> tool_port_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-  int catheter_points = 0;
+  int catheter_points = 0;  ///< -1: the scenario has no catheter to draw
   double catheter_radius_m = 0.0;
   CameraSpec camera;
 };

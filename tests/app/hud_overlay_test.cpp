@@ -106,6 +106,15 @@ TEST(HudOverlay, TheTextsAreTheStates) {
         std::string("squeeze 4.9 N  (crush 5.0 N)"), s.notices[0].text}) {
     EXPECT_NE(std::find(texts.begin(), texts.end(), want), texts.end()) << want;
   }
+  // A probe's hand: no squeeze text.
+  HudState probe = busiest();
+  probe.hands[0].jaws = false;
+  hud.draw(probe, 1280, 720);
+  texts.clear();
+  for (vtkTextActor* a : hud.texts())
+    texts.emplace_back(a->GetInput() != nullptr ? a->GetInput() : "");
+  // The right hand's squeeze still shown, the left's (a probe) not.
+  EXPECT_EQ(std::count(texts.begin(), texts.end(), std::string("squeeze 4.9 N  (crush 5.0 N)")), 1);
 }
 
 }  // namespace

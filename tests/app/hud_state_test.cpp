@@ -84,6 +84,20 @@ TEST(HudState, EachHandsGaugeIsThePushNearestItsThreshold) {
   EXPECT_TRUE(hud.state().hands[0].warning);
   EXPECT_EQ(hud.state().hands[0].squeeze_n, 4.5);
   EXPECT_TRUE(hud.state().hands[0].pushing.empty());
+  EXPECT_TRUE(hud.state().hands[0].jaws);
+}
+
+// A probe (point or ray) has no jaws: its gauge says so, and the overlay draws no squeeze.
+TEST(HudState, AProbesGaugeHasNoJaws) {
+  sim::Scenario sc = default_scenario();
+  for (sim::ToolSpec& t : sc.tools)
+    t.kind = t.side == sim::ToolSpec::Side::kLeft ? "probe" : "ray-probe";
+  HudModel hud(sc, kOrgans);
+  const HudState& s = hud.update(sim::HapticSnapshot{}, sim::ModelSnapshot{}, {}, 0.0);
+  EXPECT_EQ(s.hands[0].label, "Left probe");
+  EXPECT_FALSE(s.hands[0].jaws);
+  EXPECT_EQ(s.hands[1].label, "Right ray-probe");
+  EXPECT_FALSE(s.hands[1].jaws);
 }
 
 // Events become notices when they appear, hold for 3 s, fade over 1.5 s and go; errors are

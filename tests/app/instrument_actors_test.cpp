@@ -76,6 +76,25 @@ TEST(InstrumentPose, AnInstrumentPressingAnOrganIsDrawnOnItsSurface) {
   EXPECT_NEAR(std::acos(q.jaw_dir_W[1].dot(-q.shaft_dir_W)), 0.1, 1e-6);
 }
 
+// A probe is drawn with its tip where its proxy holds it (on the surface the device's tip went
+// into), its rod through its port, and no jaws.
+TEST(InstrumentActors, AProbeIsDrawnAtItsProxysTipWithoutJaws) {
+  Fixture f;
+  f.spec.kind = InstrumentKind::kProbe;
+  f.tool.kind = sim::ToolKind::kPointProbe;
+  f.tool.proxy_tip_W = Eigen::Vector3d(0.0, 0.004, 0.0);  // held 4 mm above the device's tip
+  const InstrumentPose p = drawn_instrument_pose(f.spec, f.tool);
+  expect_near(p.hinge_W, f.tool.proxy_tip_W);
+  expect_near(p.shaft_dir_W, (f.spec.port_W - f.tool.proxy_tip_W).normalized());
+  vtkNew<vtkRenderer> renderer;
+  InstrumentActors actors;
+  actors.add(renderer, f.spec);
+  actors.update(f.tool);
+  EXPECT_TRUE(actors.shaft()->GetVisibility());
+  EXPECT_FALSE(actors.jaw(0)->GetVisibility());
+  EXPECT_FALSE(actors.jaw(1)->GetVisibility());
+}
+
 TEST(InstrumentActors, TheShapesArePlacedByTheirMatrices) {
   Fixture f;
   vtkNew<vtkRenderer> renderer;

@@ -43,6 +43,25 @@ TEST(InstrumentShapes, ShaftAndClevisAreRoundAndOutward) {
   }
 }
 
+// A probe (point or ray): a rod from its tip, ending in a ball of its radius that encloses the
+// ball's volume (within the tessellation's loss, under 10 % at 20 sides), wound outward.
+TEST(InstrumentShapes, AProbeIsARodWithABallTip) {
+  EXPECT_EQ(instrument_kind("probe"), InstrumentKind::kProbe);
+  EXPECT_EQ(instrument_kind("ray-probe"), InstrumentKind::kProbe);
+  EXPECT_EQ(instrument_kind("grasper"), InstrumentKind::kGrasper);
+  const double r = 0.002;
+  const haptics::TriangleMesh tip = make_probe_tip(r);
+  expect_outward(tip, "probe tip");
+  for (const Eigen::Vector3d& p : tip.positions) EXPECT_NEAR(p.norm(), r, 1e-12);
+  const double ball = 4.0 / 3.0 * M_PI * r * r * r;
+  EXPECT_GT(tip.signed_volume(), 0.9 * ball);
+  EXPECT_LT(tip.signed_volume(), ball);
+  const haptics::TriangleMesh rod = make_shaft(r, 0.3, 0.0);
+  double lowest = 1.0;
+  for (const Eigen::Vector3d& p : rod.positions) lowest = std::min(lowest, p.y());
+  EXPECT_NEAR(lowest, 0.0, 1e-12);  // from the tip, no clevis between
+}
+
 TEST(InstrumentShapes, JawsOfEveryKindFitTheShaftAndReachTheirLength) {
   const double r = 0.0025;
   const double length = 0.02;
