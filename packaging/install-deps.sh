@@ -10,7 +10,7 @@ PACKAGES=(
   clang-14 libfuzzer-14-dev
   # libraries (see docs/architecture.md for which folder may use which)
   libeigen3-dev libopenmesh-dev libspectra-dev
-  libyaml-cpp-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libsqlite3-dev
+  libyaml-cpp-dev libtinygltf-dev nlohmann-json3-dev libstb-dev zlib1g-dev libsqlite3-dev
   libusb-1.0-0-dev
   qt6-base-dev libqt6opengl6-dev qt6-charts-dev libvtk9-dev
   # the training-record database (app/store): Qt SQL's SQLite and PostgreSQL drivers, and the

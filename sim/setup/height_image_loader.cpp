@@ -9,6 +9,7 @@
 
 #include "core/bounded_file.h"
 #include "sim/setup/load_error.h"
+#include "sim/setup/png_image_data.h"
 
 namespace lap::sim {
 namespace {
@@ -18,6 +19,8 @@ struct Header {
   int64_t height = 0;
   int bit_depth = 0;
   int channels = 0;
+  bool png = false;
+  bool interlaced = false;  // PNG only: Adam7
 };
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& what) {
@@ -58,6 +61,13 @@ Header png_header(const std::filesystem::path& file, const std::vector<uint8_t>&
     fail(file, "expected an 8- or 16-bit greyscale PNG, got " + std::to_string(h.bit_depth) +
                    "-bit (too few height levels for a haptic texture)");
   }
+  if (b[26] != 0 || b[27] != 0 || b[28] > 1) {  // the only methods PNG defines (§11.2.2)
+    fail(file, "corrupt PNG header: compression " + std::to_string(b[26]) + ", filter " +
+                   std::to_string(b[27]) + ", interlace " + std::to_string(b[28]) +
+                   " (expected 0, 0 and 0 or 1)");
+  }
+  h.png = true;
+  h.interlaced = b[28] == 1;
   return h;
 }
 
@@ -126,10 +136,23 @@ haptics::HeightImage read_height_image(const std::filesystem::path& file) {
                    " pixels; expected at most " + std::to_string(kMaxHeightMapSide) +
                    " per side and " + std::to_string(kMaxHeightMapPixels) + " pixels");
   }
+  if (h.png) {
+    const PngLayout layout{h.width, h.height, h.bit_depth, h.interlaced};
+    if (const auto problem = png_image_data_problem(bytes, layout)) fail(file, *problem);
+  }
   const int n = static_cast<int>(bytes.size());
   int w = 0;
   int ht = 0;
   int comp = 0;
+  // The decoder's own reading of the header must agree with ours before it allocates by it.
+  if (stbi_info_from_memory(bytes.data(), n, &w, &ht, &comp) == 0) {
+    fail(file, std::string("corrupt image header (") + stbi_failure_reason() + ")");
+  }
+  if (w != h.width || ht != h.height) {
+    fail(file, "corrupt image header: two sizes, " + std::to_string(h.width) + " x " +
+                   std::to_string(h.height) + " and " + std::to_string(w) + " x " +
+                   std::to_string(ht) + " pixels");
+  }
   haptics::HeightImage image;
   if (h.bit_depth == 16) {
     std::unique_ptr<stbi_us, decltype(&stbi_image_free)> data(

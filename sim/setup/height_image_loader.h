@@ -3,7 +3,9 @@
 /// Loads a haptic texture's height map (thesis §6.3.3 a) from a PNG (8- or 16-bit greyscale) or
 /// a baseline JPEG (8-bit greyscale). Setup only. Every refusal is a Diagnostic naming the file
 /// and what was expected: missing or unreadable file, not a PNG/JPEG, colour or alpha, another
-/// bit depth, zero size, dimensions beyond kMaxSide or kMaxPixels, corrupt data.
+/// bit depth, zero size, dimensions beyond kMaxSide or kMaxPixels, corrupt data, a PNG whose
+/// compressed rows do not end where its header says (checked with zlib before stb_image decodes:
+/// png_image_data.h).
 
 #include <cstdint>
 #include <filesystem>
