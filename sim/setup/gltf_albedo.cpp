@@ -2,6 +2,7 @@
 
 #include <stb_image.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "sim/setup/gltf_references.h"
 #include "sim/setup/load_error.h"
 #include "sim/setup/mesh_limits.h"
+#include "sim/setup/png_image_data.h"
 
 namespace lap::sim {
 namespace {
@@ -98,6 +100,11 @@ std::shared_ptr<const haptics::RgbImage> decode(const fs::path& gltf, const std:
     fail(std::to_string(w) + " x " + std::to_string(h) + " pixels is beyond the limit of " +
          std::to_string(kMaxAlbedoSide) + " a side and " + std::to_string(kMaxAlbedoPixels) +
          " pixels (sim/setup/gltf_albedo.h)");
+  }
+  // A PNG's compressed rows must end where its header says before stb_image inflates them.
+  static const uint8_t kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  if (bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) {
+    if (const auto problem = png_image_data_problem(bytes)) fail(*problem);
   }
   int got = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(

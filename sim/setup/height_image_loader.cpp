@@ -20,7 +20,6 @@ struct Header {
   int bit_depth = 0;
   int channels = 0;
   bool png = false;
-  bool interlaced = false;  // PNG only: Adam7
 };
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& what) {
@@ -61,13 +60,7 @@ Header png_header(const std::filesystem::path& file, const std::vector<uint8_t>&
     fail(file, "expected an 8- or 16-bit greyscale PNG, got " + std::to_string(h.bit_depth) +
                    "-bit (too few height levels for a haptic texture)");
   }
-  if (b[26] != 0 || b[27] != 0 || b[28] > 1) {  // the only methods PNG defines (§11.2.2)
-    fail(file, "corrupt PNG header: compression " + std::to_string(b[26]) + ", filter " +
-                   std::to_string(b[27]) + ", interlace " + std::to_string(b[28]) +
-                   " (expected 0, 0 and 0 or 1)");
-  }
   h.png = true;
-  h.interlaced = b[28] == 1;
   return h;
 }
 
@@ -137,14 +130,14 @@ haptics::HeightImage read_height_image(const std::filesystem::path& file) {
                    " per side and " + std::to_string(kMaxHeightMapPixels) + " pixels");
   }
   if (h.png) {
-    const PngLayout layout{h.width, h.height, h.bit_depth, h.interlaced};
-    if (const auto problem = png_image_data_problem(bytes, layout)) fail(file, *problem);
+    if (const auto problem = png_image_data_problem(bytes)) fail(file, *problem);
   }
   const int n = static_cast<int>(bytes.size());
   int w = 0;
   int ht = 0;
   int comp = 0;
-  // The decoder's own reading of the header must agree with ours before it allocates by it.
+  // The decoder's own reading of the header must agree with ours before it allocates by it (a
+  // guard: both read the same IHDR or first frame header, so this should never refuse a file).
   if (stbi_info_from_memory(bytes.data(), n, &w, &ht, &comp) == 0) {
     fail(file, std::string("corrupt image header (") + stbi_failure_reason() + ")");
   }

@@ -85,6 +85,17 @@ TEST(GltfAlbedo, NoTextureMeansNoneAndABadOneIsAClearError) {
   EXPECT_NE(r.message().find("9000 x 9000 pixels is beyond the limit of 8192 a side"),
             std::string::npos)
       << r.message();
+
+  // A PNG whose compressed rows do not end where its header says (the height-map fuzzer's
+  // out-of-memory in stb_image): refused by the same check before stb inflates it.
+  std::filesystem::copy_file(
+      test::source_dir() / "tests/fuzz/regressions/height_image/oom-endless-zlib-stream.png",
+      dir.path() / "box.png", std::filesystem::copy_options::overwrite_existing);
+  r = load_gltf_albedo(write_textured(dir, "box.png"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("images[0].uri: box.png: IDAT chunk at byte 86 runs past the end"),
+            std::string::npos)
+      << r.message();
 }
 
 // The patients' organs are glTF with textures: each loads with its image and one texture
