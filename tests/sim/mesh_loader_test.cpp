@@ -213,6 +213,26 @@ void expect_load_error(const std::filesystem::path& file, const std::string& exp
   EXPECT_EQ(r.message(), expected);
 }
 
+// OpenMesh reads an OFF face's values after its indices as the next face: one "255 0 0" colour
+// made a face of 255 corners (254 triangles from a two-face file), a large value asked for
+// gigabytes (the fuzzer's out-of-memory). Refused at the face's line instead; the same faces
+// without colour load as written. 4D OFF is no organ's surface and is refused by its header.
+TEST(MeshLoader, OffFaceColoursAndFourDimensionsAreRefusedNotMisread) {
+  TempDir dir;
+  const std::string vertices = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const auto coloured = dir.write("c.off", vertices + "3 0 1 2 255 0 0\n3 0 1 3\n");
+  expect_load_error(coloured, coloured.string() +
+                                  ":7: face: expected 3 vertex indices and nothing after them, got "
+                                  "3 more values: OpenMesh's OFF reader takes a face colour for "
+                                  "the next face (remove face colours)");
+  const auto plain = dir.write("p.off", vertices + "3 0 1 2\n3 0 1 3\n");
+  EXPECT_EQ(load_mesh(plain).value().triangles.size(), 2U);
+  const auto four = dir.write("f.off", "4OFF\n3 1 0\n0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n");
+  expect_load_error(four, four.string() +
+                              ":1: header: expected a 3D mesh, got '4OFF' (4- or n-dimensional "
+                              "OFF); save it as OFF with 3 coordinates per vertex");
+}
+
 TEST(MeshLoaderErrors, MissingFile) {
   TempDir dir;
   expect_load_error(dir.path() / "nope.obj",
