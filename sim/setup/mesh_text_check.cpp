@@ -132,8 +132,10 @@ Status check_obj(const fs::path& file) {
 
 // OpenMesh's OFF reader takes a line that is only a comment for data (a comment between the
 // header and the counts gave "no triangles", one among the vertices garbage indices: found by
-// the fuzz targets' seeds), while a comment after the numbers on a line is read correctly. So a
-// whole-line comment is refused, at its line, rather than misread.
+// the fuzz targets' seeds). It reads a vertex a line at a time, so a comment after a vertex's
+// numbers is read correctly; but it reads the counts and the faces a number at a time, so
+// anything after them on their line is taken for the next vertex or face (check_off refuses
+// that). A whole-line comment is refused, at its line, rather than misread.
 Status no_comment_lines(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::string line;
@@ -144,8 +146,7 @@ Status no_comment_lines(const fs::path& file) {
     if (line[first] == '#') {
       return file_diagnostic(file.string(), number, "comment",
                              "a line holding only a comment is not read correctly in an OFF file "
-                             "(OpenMesh's reader); remove it or move it after the numbers of a "
-                             "line");
+                             "(OpenMesh's reader); remove it or move it after a vertex's numbers");
     }
   }
   return {};
@@ -212,6 +213,13 @@ Status check_off(const fs::path& file) {
   if (counts[0] < 0 || counts[1] < 0 || counts[2] < 0) {
     return r.fail("counts", "expected the vertex, face and edge counts as whole numbers >= 0");
   }
+  // The rest of the counts' line OpenMesh reads as the first vertex (one more value moved every
+  // vertex by a line; with a fuzzer's values, a face then asked for gigabytes).
+  if (r.size() > 3 || r.has_comment()) {
+    return r.fail("counts",
+                  "expected the vertex, face and edge counts and nothing after them on their "
+                  "line (OpenMesh's OFF reader takes the rest of the line for the first vertex)");
+  }
   const int64_t nv = counts[0];
   const int64_t nf = counts[1];
   if (nv > kMaxMeshVertices) return r.fail("counts", over_limit(nv, "vertices", kMaxMeshVertices));
@@ -246,12 +254,15 @@ Status check_off(const fs::path& file) {
     // OpenMesh's reader does not read a face's colour: it takes the values after the indices
     // for the next face's corner count (one "255 0 0" made a face of 255 corners; a large one
     // asked for gigabytes: found by the fuzzer). So a face colour is refused, not misread.
-    if (static_cast<int64_t>(r.size()) - 1 > *n) {
+    if (static_cast<int64_t>(r.size()) - 1 > *n || r.has_comment()) {
+      const std::string got =
+          static_cast<int64_t>(r.size()) - 1 > *n
+              ? std::to_string(r.size() - 1 - static_cast<size_t>(*n)) + " more values"
+              : std::string("a comment");
       return r.fail("face", "expected " + std::to_string(*n) +
-                                " vertex indices and nothing after them, got " +
-                                std::to_string(r.size() - 1 - static_cast<size_t>(*n)) +
-                                " more values: OpenMesh's OFF reader takes a face colour for the "
-                                "next face (remove face colours)");
+                                " vertex indices and nothing after them, got " + got +
+                                ": OpenMesh's OFF reader takes them for the next face (remove "
+                                "face colours and comments)");
     }
     for (int64_t k = 1; k <= *n; ++k) {
       const std::optional<int64_t> v = whole_number(r[static_cast<size_t>(k)]);

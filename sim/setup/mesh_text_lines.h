@@ -63,6 +63,11 @@ class LineReader {
   [[nodiscard]] const std::vector<std::string_view>& tokens() const { return tokens_; }
   [[nodiscard]] std::string_view operator[](size_t i) const { return tokens_[i]; }
   [[nodiscard]] size_t size() const { return tokens_.size(); }
+  /// Whether the current line holds a comment (after its tokens: a line of only a comment is
+  /// skipped).
+  [[nodiscard]] bool has_comment() const {
+    return comment_ != '\0' && text_.find(comment_) != std::string::npos;
+  }
   /// The line after its first token, comments and all, without the spaces around it.
   [[nodiscard]] std::string_view rest() const {
     std::string_view v(text_);

@@ -223,8 +223,25 @@ TEST(MeshLoader, OffFaceColoursAndFourDimensionsAreRefusedNotMisread) {
   const auto coloured = dir.write("c.off", vertices + "3 0 1 2 255 0 0\n3 0 1 3\n");
   expect_load_error(coloured, coloured.string() +
                                   ":7: face: expected 3 vertex indices and nothing after them, got "
-                                  "3 more values: OpenMesh's OFF reader takes a face colour for "
-                                  "the next face (remove face colours)");
+                                  "3 more values: OpenMesh's OFF reader takes them for the next "
+                                  "face (remove face colours and comments)");
+  // A comment after a face or after the counts is misread the same way (it gave one triangle of
+  // two, or an index of 32536); after a vertex's numbers it is read correctly.
+  const auto face_comment = dir.write("fc.off", vertices + "3 0 1 2 # first\n3 0 1 3\n");
+  expect_load_error(face_comment, face_comment.string() +
+                                      ":7: face: expected 3 vertex indices and nothing after them, "
+                                      "got a comment: OpenMesh's OFF reader takes them for the "
+                                      "next face (remove face colours and comments)");
+  const auto counts = dir.write("n.off", "OFF\n4 2 0 7\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n");
+  expect_load_error(counts, counts.string() +
+                                ":2: counts: expected the vertex, face and edge counts and nothing "
+                                "after them on their line (OpenMesh's OFF reader takes the rest of "
+                                "the line for the first vertex)");
+  const auto vertex_comment =
+      dir.write("vc.off", "OFF\n4 2 0\n0 0 0 # origin\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n");
+  const TriangleMesh two = load_mesh(vertex_comment).value();
+  EXPECT_EQ(two.triangles.size(), 2U);
+  EXPECT_EQ(two.positions.size(), 4U);
   const auto plain = dir.write("p.off", vertices + "3 0 1 2\n3 0 1 3\n");
   EXPECT_EQ(load_mesh(plain).value().triangles.size(), 2U);
   const auto four = dir.write("f.off", "4OFF\n3 1 0\n0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n");
