@@ -2,7 +2,6 @@
 
 #include <stb_image.h>
 
-#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <fstream>
@@ -102,8 +101,7 @@ std::shared_ptr<const haptics::RgbImage> decode(const fs::path& gltf, const std:
          " pixels (sim/setup/gltf_albedo.h)");
   }
   // A PNG's compressed rows must end where its header says before stb_image inflates them.
-  static const uint8_t kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
-  if (bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) {
+  if (is_png(bytes)) {
     if (const auto problem = png_image_data_problem(bytes)) fail(*problem);
   }
   int got = 0;

@@ -19,16 +19,10 @@ struct Header {
   int64_t height = 0;
   int bit_depth = 0;
   int channels = 0;
-  bool png = false;
 };
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& what) {
   throw LoadError(file, what);
-}
-
-uint32_t be32(const std::vector<uint8_t>& b, size_t at) {
-  return (static_cast<uint32_t>(b[at]) << 24U) | (static_cast<uint32_t>(b[at + 1]) << 16U) |
-         (static_cast<uint32_t>(b[at + 2]) << 8U) | static_cast<uint32_t>(b[at + 3]);
 }
 
 // PNG: the IHDR chunk must come first (PNG spec §5.2, §11.2.2).
@@ -37,8 +31,8 @@ Header png_header(const std::filesystem::path& file, const std::vector<uint8_t>&
     fail(file, "PNG without an IHDR chunk (truncated or corrupt)");
   }
   Header h;
-  h.width = be32(b, 16);
-  h.height = be32(b, 20);
+  h.width = png_u32(b, 16);
+  h.height = png_u32(b, 20);
   h.bit_depth = b[24];
   const int colour = b[25];
   switch (colour) {
@@ -60,7 +54,6 @@ Header png_header(const std::filesystem::path& file, const std::vector<uint8_t>&
     fail(file, "expected an 8- or 16-bit greyscale PNG, got " + std::to_string(h.bit_depth) +
                    "-bit (too few height levels for a haptic texture)");
   }
-  h.png = true;
   return h;
 }
 
@@ -110,9 +103,9 @@ haptics::HeightImage read_height_image(const std::filesystem::path& file) {
   if (!read.ok()) throw LoadError(read.diagnostics().front());
   const std::vector<uint8_t> bytes(read.value().begin(), read.value().end());
   if (bytes.empty()) fail(file, "empty file; expected a PNG or JPEG height map");
-  static const uint8_t kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  const bool png = is_png(bytes);
   Header h;
-  if (bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) {
+  if (png) {
     h = png_header(file, bytes);
   } else if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
     h = jpeg_header(file, bytes);
@@ -129,7 +122,7 @@ haptics::HeightImage read_height_image(const std::filesystem::path& file) {
                    " pixels; expected at most " + std::to_string(kMaxHeightMapSide) +
                    " per side and " + std::to_string(kMaxHeightMapPixels) + " pixels");
   }
-  if (h.png) {
+  if (png) {
     if (const auto problem = png_image_data_problem(bytes)) fail(file, *problem);
   }
   const int n = static_cast<int>(bytes.size());

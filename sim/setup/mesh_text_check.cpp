@@ -254,11 +254,10 @@ Status check_off(const fs::path& file) {
     // OpenMesh's reader does not read a face's colour: it takes the values after the indices
     // for the next face's corner count (one "255 0 0" made a face of 255 corners; a large one
     // asked for gigabytes: found by the fuzzer). So a face colour is refused, not misread.
-    if (static_cast<int64_t>(r.size()) - 1 > *n || r.has_comment()) {
+    const int64_t extra = static_cast<int64_t>(r.size()) - 1 - *n;
+    if (extra > 0 || r.has_comment()) {
       const std::string got =
-          static_cast<int64_t>(r.size()) - 1 > *n
-              ? std::to_string(r.size() - 1 - static_cast<size_t>(*n)) + " more values"
-              : std::string("a comment");
+          extra > 0 ? std::to_string(extra) + " more values" : std::string("a comment");
       return r.fail("face", "expected " + std::to_string(*n) +
                                 " vertex indices and nothing after them, got " + got +
                                 ": OpenMesh's OFF reader takes them for the next face (remove "

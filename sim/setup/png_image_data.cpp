@@ -9,11 +9,6 @@
 namespace lap::sim {
 namespace {
 
-uint32_t be32(std::span<const uint8_t> b, size_t at) {
-  return (static_cast<uint32_t>(b[at]) << 24U) | (static_cast<uint32_t>(b[at + 1]) << 16U) |
-         (static_cast<uint32_t>(b[at + 2]) << 8U) | static_cast<uint32_t>(b[at + 3]);
-}
-
 // One Adam7 pass: its first pixel and its step in x and y (PNG spec §8.2).
 struct Pass {
   int64_t x0, y0, dx, dy;
@@ -73,6 +68,18 @@ class StreamCounter {
 
 }  // namespace
 
+bool is_png(std::span<const uint8_t> bytes) {
+  static constexpr std::array<uint8_t, 8> kSignature = {0x89, 'P',  'N',  'G',
+                                                        0x0D, 0x0A, 0x1A, 0x0A};
+  return bytes.size() >= kSignature.size() &&
+         std::equal(kSignature.begin(), kSignature.end(), bytes.begin());
+}
+
+uint32_t png_u32(std::span<const uint8_t> bytes, size_t at) {
+  return (static_cast<uint32_t>(bytes[at]) << 24U) | (static_cast<uint32_t>(bytes[at + 1]) << 16U) |
+         (static_cast<uint32_t>(bytes[at + 2]) << 8U) | static_cast<uint32_t>(bytes[at + 3]);
+}
+
 int64_t png_filtered_bytes(const PngLayout& layout) {
   const int64_t bits = static_cast<int64_t>(layout.channels) * layout.bit_depth;
   if (!layout.interlaced) return rows_bytes(layout.width, layout.height, bits);
@@ -89,8 +96,8 @@ PngHeader read_png_header(std::span<const uint8_t> png) {
     return {std::nullopt, "PNG without an IHDR chunk (truncated or corrupt)"};
   }
   PngLayout l;
-  l.width = be32(png, 16);
-  l.height = be32(png, 20);
+  l.width = png_u32(png, 16);
+  l.height = png_u32(png, 20);
   l.bit_depth = png[24];
   const int colour = png[25];
   // The colour types and the bit depths each allows (PNG spec §11.2.2, table 11.1).
@@ -141,7 +148,7 @@ std::optional<std::string> png_image_data_problem(std::span<const uint8_t> png) 
   bool any_idat = false;
   size_t at = 8;  // after the signature
   while (at + 8 <= png.size() && !counter->failed()) {
-    const uint64_t length = be32(png, at);
+    const uint64_t length = png_u32(png, at);
     const std::string type(png.begin() + static_cast<std::ptrdiff_t>(at + 4),
                            png.begin() + static_cast<std::ptrdiff_t>(at + 8));
     if (length > 0x7FFFFFFFU || at + 12 + length > png.size()) {

@@ -8,6 +8,7 @@
 /// here with a clear reason. Apple's CgBI variant (raw deflate, which stb then reads differently
 /// from zlib) is refused by name.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -27,6 +28,13 @@ struct PngLayout {
 /// Image data beyond the header's rows that is tolerated (and ignored, as stb_image and libpng
 /// do: some encoders pad the stream): enough for any padding, far from gigabytes.
 constexpr uint64_t kPngSlackBytes = 1U << 20U;
+
+/// Whether the bytes start with PNG's 8-byte signature (PNG spec §5.2).
+[[nodiscard]] bool is_png(std::span<const uint8_t> bytes);
+
+/// The big-endian 32-bit field at `at` (PNG's lengths, widths and heights); the caller checks
+/// that 4 bytes are there.
+[[nodiscard]] uint32_t png_u32(std::span<const uint8_t> bytes, size_t at);
 
 /// Bytes of filtered scanlines (one filter byte per row of each pass) the layout holds.
 [[nodiscard]] int64_t png_filtered_bytes(const PngLayout& layout);
