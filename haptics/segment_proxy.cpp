@@ -108,6 +108,7 @@ void SegmentProxy::reset(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W)
   constraint_count_ = 0;
   contact_count_ = 0;
   for (FrictionSlot& f : friction_) f.object = -1;
+  seen_ = {};
   initialised_ = true;
 }
 
@@ -270,6 +271,7 @@ SegmentProxyOutput SegmentProxy::step(std::span<const HapticObject> objects,
   virtual_a_ = a_W;
   virtual_b_ = b_W;
 
+  push_out_of_moved_surfaces(objects);
   track(objects);
   move_ideal_probe(objects, a_W, b_W);
   respond(objects, dt, &out);

@@ -122,6 +122,9 @@ struct SegmentProxyStats {
   int64_t cached_tests = 0;
   int64_t cache_rebuilds = 0;  ///< sweep cache refilled from the trees
   int64_t tree_sweeps = 0;     ///< swept checks that went through the trees
+  /// Ticks that found the ideal probe partly inside a closed object whose surface had moved
+  /// onto it since the last tick (a deforming organ, §6.5) and pushed it back out.
+  int64_t surface_push_outs = 0;
   int64_t stick_to_slide = 0;  ///< friction (§6.2) transitions over all contacts
   int64_t slide_to_stick = 0;
   int64_t faults = 0;
@@ -161,8 +164,17 @@ class SegmentProxy {
   struct SweptHit;      // the earliest hit of one swept check (segment_proxy_sweep.cpp)
   struct ContactGroup;  // the constraints of one thesis contact (segment_proxy_response.cpp)
 
-  // The step's stages (segment_proxy.cpp): tracking the constraints, then moving the ideal
-  // probe by placements and swept checks.
+  // The step's stages: the ideal probe pushed out of surfaces that moved onto it
+  // (segment_proxy_surface_motion.cpp), then (segment_proxy.cpp) tracking the constraints and
+  // moving the ideal probe by placements and swept checks.
+  /// Pushes the ideal probe out of each closed object whose surface changed since the last tick
+  /// and now holds part of it (§6.5: a dent springing back under a tool that does not touch it).
+  void push_out_of_moved_surfaces(std::span<const HapticObject> objects) noexcept;
+  /// True when the probe (a, b) (object frame) crosses closed mesh m's surface; then *push is
+  /// the way out: along the outward normals where it crosses, as far as the deepest of its
+  /// points inside needs.
+  [[nodiscard]] static bool partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b, Eigen::Vector3d* push) noexcept;
   /// Local search for every constraint against the new virtual probe (§5.3, PCPs only).
   void track(std::span<const HapticObject> objects) noexcept;
   /// Slides a segment–edge constraint along the contactable edges, or turns it into a point
@@ -310,6 +322,14 @@ class SegmentProxy {
 
   SegmentProxySettings settings_;
   SweepCache cache_;
+  // The surface each object had when the ideal probe last checked it (by database and its
+  // revision: the session passes one of several copies of a deforming organ).
+  static constexpr int kSeenObjects = 8;  ///< objects past these are checked every tick
+  struct SeenSurface {
+    const MeshDatabase* mesh = nullptr;  ///< null: not seen since the last reset
+    uint64_t revision = 0;
+  };
+  std::array<SeenSurface, kSeenObjects> seen_{};
   // One friction state per contact, found again next tick by its object and its order among
   // that object's contacts.
   struct FrictionSlot {

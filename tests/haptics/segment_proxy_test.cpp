@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -274,6 +275,94 @@ TEST(SegmentProxy, FlatOnCubeFaceFollowsEquation5_2) {
   const double tip_depth = 0.1 - (mid - 0.5 * L * dir).y();
   EXPECT_NEAR(out.force_W.norm(), kK * tip_depth, 1e-6);
   EXPECT_NEAR(out.force_b_W.norm(), 0.0, 1e-12);
+}
+
+// A deforming organ's new shape arrives once per modelling step (§6.5). Where it rises onto the
+// ideal probe where nothing touches it, no swept check ever crosses it: the probe is pushed out
+// the way it went in, and the rest of the tick meets the surface as a contact.
+void deform(Body* body, const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& shape) {
+  std::vector<Eigen::Vector3d> p;
+  for (int32_t v = 0; v < body->mesh.vertex_count(); ++v)
+    p.push_back(shape(body->mesh.position(v)));
+  body->mesh.set_positions(p);
+  body->segments.refit_edge_tree();
+}
+
+TEST(SegmentProxy, AFaceRisingThroughAStillProbePushesItOutAndBack) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+  const std::vector<HapticObject> objects{cube.object};
+  SegmentProxy proxy;
+  // Lying 1 mm above the top face (y = 0.1), held still: free.
+  const Eigen::Vector3d a(-0.05, 0.101, 0.01), b(0.05, 0.101, 0.01);
+  SegmentProxyOutput out;
+  for (int i = 0; i < 5; ++i) out = proxy.step(objects, a, b, kDt);
+  ASSERT_EQ(out.contact_count, 0);
+  // The top face rises 3 mm in one step: the probe is 2 mm inside.
+  constexpr double kRise = 0.003;
+  deform(&cube, [&](const Eigen::Vector3d& x) {
+    return x.y() > 0.0999 ? Eigen::Vector3d(x + Eigen::Vector3d(0, kRise, 0)) : x;
+  });
+  out = proxy.step(objects, a, b, kDt);
+  EXPECT_EQ(proxy.stats().surface_push_outs, 1);
+  // On the new face (within the skin), pressed by the spring of the 2 mm the hand is below it.
+  EXPECT_NEAR(out.ideal_a_W.y(), 0.1 + kRise, 2e-6);
+  EXPECT_NEAR(out.ideal_b_W.y(), 0.1 + kRise, 2e-6);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_NEAR(out.force_W.y(), kK * (0.1 + kRise - 0.101), 1e-6);
+  EXPECT_NEAR(out.force_W.x(), 0.0, 1e-9);
+  EXPECT_NEAR(out.force_W.z(), 0.0, 1e-9);
+  // The hand withdraws: released, and the face, unchanged since, pushes no more.
+  out = move(proxy, objects, a, b, a + Eigen::Vector3d(0, 0.01, 0), b + Eigen::Vector3d(0, 0.01, 0),
+             10);
+  EXPECT_EQ(out.contact_count, 0);
+  EXPECT_EQ(proxy.stats().surface_push_outs, 1);
+}
+
+TEST(SegmentProxy, ABumpRisingThroughTheProbesMiddleLeavesNoPartInside) {
+  // A ball of radius 5 cm whose cap within 30° of its top rises by up to 3 mm (a cone: 3 mm at
+  // the top, nothing at 30°), through a probe lying 1 mm above the top, both its ends outside.
+  // (Curved, as organs are: its edges are convex at rest. An edge flat at rest that a dent bends
+  // convex is not contactable, docs/architecture.md "Open".)
+  constexpr double kR = 0.05;
+  Body ball(make_uv_sphere(kR, 48, 96));
+  const std::vector<HapticObject> objects{ball.object};
+  SegmentProxy proxy;
+  const Eigen::Vector3d dir = Eigen::Vector3d(1.0, 0.0, 0.6).normalized();
+  const Eigen::Vector3d a = Eigen::Vector3d(0, kR + 0.001, 0) - 0.02 * dir;
+  const Eigen::Vector3d b = Eigen::Vector3d(0, kR + 0.001, 0) + 0.02 * dir;
+  for (int i = 0; i < 5; ++i) ASSERT_EQ(proxy.step(objects, a, b, kDt).contact_count, 0);
+  constexpr double kRise = 0.003;
+  constexpr double kCap = 30.0 * kPi / 180.0;
+  deform(&ball, [&](const Eigen::Vector3d& x) {
+    const double angle = std::acos(std::clamp(x.y() / x.norm(), -1.0, 1.0));
+    return angle < kCap ? Eigen::Vector3d(x * (1.0 + kRise * (1.0 - angle / kCap) / kR)) : x;
+  });
+  // Brute force: 401 points along the probe, each inside when the first crossing straight up
+  // leaves the mesh, as deep as that crossing is high above it.
+  auto deepest_inside = [&](const Eigen::Vector3d& pa, const Eigen::Vector3d& pb) {
+    double worst = 0.0;
+    for (int i = 0; i <= 400; ++i) {
+      const Eigen::Vector3d p = pa + (pb - pa) * (i / 400.0);
+      const MeshDatabase::Crossing up =
+          ball.mesh.first_crossing(p, p + Eigen::Vector3d(0, 1, 0), true);
+      if (up.face >= 0 && !up.from_front) worst = std::max(worst, up.t);
+    }
+    return worst;
+  };
+  ASSERT_GT(deepest_inside(a, b), 0.0019);  // the bump's top is 2 mm above the probe's middle
+  ASSERT_EQ(ball.mesh.first_crossing(a, a + Eigen::Vector3d(0, 1, 0), true).face, -1);
+  const SegmentProxyOutput out = proxy.step(objects, a, b, kDt);
+  EXPECT_EQ(proxy.stats().surface_push_outs, 1);
+  EXPECT_LT(deepest_inside(out.ideal_a_W, out.ideal_b_W), 1e-9);
+  // Resting on the bump's top, 2 mm above the hand's probe, and pushed back up by its
+  // contacts, each with at most the spring of those 2 mm.
+  EXPECT_NEAR(0.5 * (out.ideal_a_W + out.ideal_b_W).y(), kR + kRise, 0.0003);
+  ASSERT_GE(out.contact_count, 1);
+  EXPECT_GT(out.force_W.y(), 0.5 * kK * 0.002);
+  for (const SegmentContact& c : proxy.contacts()) {
+    EXPECT_LT(c.force_W.norm(), 1.05 * kK * 0.002);
+    EXPECT_GT(c.force_W.y(), 0.0);
+  }
 }
 
 // Figure 2-12: a rod pushed sideways against an edge feels a force back along its motion.

@@ -1,0 +1,128 @@
+// The ideal probe pushed out of a surface that moved onto it.
+//
+// The swept checks (segment_proxy_sweep.cpp) keep the ideal probe out of every object while the
+// probe moves, and a rigid object's motion is swept too (its previous pose, §6.4). A deforming
+// organ's new shape (§6.5) arrives as a whole, once per modelling step: where it rises onto a
+// part of the probe that has no contact there — a dent springing back under a shaft that lay
+// above it, one jaw's dent filling under the other jaw — that part is inside at once and no
+// sweep ever crosses the surface again. The probe would then rest inside, the tool feel nothing
+// there, and the tissue be drawn through it. So on each tick whose surface differs from the one
+// the probe last saw, a closed object is tested for the probe crossing its surface, and the
+// probe is translated out of it, the way it went in (along the outward normals where it crosses
+// the surface) and as far as its deepest part inside needs: the organ pushed it. The rest of the
+// tick then meets the surface from outside, as a contact that pushes the tool back. (Pushing the
+// deepest point to its nearest surface point instead sent shafts under the liver out through
+// the gallbladder's far side, into the liver.)
+
+#include <algorithm>
+#include <cmath>
+
+#include "haptics/mesh_database.h"
+#include "haptics/segment_proxy.h"
+
+namespace lap::haptics {
+namespace {
+
+// Rounds of push-out per object and tick: each clears the part inside it measured; a probe
+// lying across two bumps needs two.
+constexpr int kPushOutRounds = 4;
+// Points of the probe's part inside whose depth along the way out is measured.
+constexpr int kInsideSamples = 5;
+// Length of the rays that tell inside from outside and measure depths [m]: beyond any organ.
+constexpr double kReach = 0.1;
+
+}  // namespace
+
+bool SegmentProxy::partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a,
+                                 const Eigen::Vector3d& b, Eigen::Vector3d* push) noexcept {
+  // The first crossings of the surface along the probe, from either end (either side).
+  const MeshDatabase::Crossing from_a = m.first_crossing(a, b, true);
+  const MeshDatabase::Crossing from_b = m.first_crossing(b, a, true);
+  // An end is inside when the first crossing from it leaves the surface (the mesh is closed
+  // and outward-facing). With no crossing along the probe, both ends are on the side a ray
+  // from a away from b first leaves (none: outside).
+  bool a_inside = from_a.face >= 0 && !from_a.from_front;
+  bool b_inside = from_b.face >= 0 && !from_b.from_front;
+  if (from_a.face < 0) {
+    const Eigen::Vector3d d = (a - b).normalized();
+    const MeshDatabase::Crossing behind = m.first_crossing(a, a + kReach * d, true);
+    a_inside = b_inside = behind.face >= 0 && !behind.from_front;
+  }
+  // The part inside, [u0, u1] along a -> b: from a to where it leaves, from where it enters to
+  // b, or, with both ends out, a bump through its middle. (Both ends inside with the probe out
+  // between them: a's end goes first.)
+  double u0 = 0.0;
+  double u1 = 1.0;
+  if (a_inside) {
+    u1 = from_a.face >= 0 ? from_a.t : 1.0;
+  } else if (b_inside) {
+    u0 = 1.0 - from_b.t;
+  } else if (from_a.face >= 0 && from_b.face >= 0 && from_a.t < 1.0 - from_b.t) {
+    u0 = from_a.t;
+    u1 = 1.0 - from_b.t;
+  } else {
+    return false;
+  }
+  // Out the way it went in: along the outward normals of the faces it crosses; a probe wholly
+  // inside, along the normal of the face nearest its middle.
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  if (from_a.face >= 0) n += m.face_normal(from_a.face);
+  if (from_b.face >= 0) n += m.face_normal(from_b.face);
+  if (!(n.squaredNorm() > 1e-12)) {
+    Eigen::Vector3d q;
+    const int32_t f = m.nearest_face(a + 0.5 * (u0 + u1) * (b - a), &q, nullptr);
+    if (f < 0) return false;
+    n = m.face_normal(f);
+  }
+  n.normalize();
+  // As far along n as the deepest of its sampled points inside is from leaving that way.
+  double out = 0.0;
+  for (int i = 0; i < kInsideSamples; ++i) {
+    const double u = u0 + (u1 - u0) * (i + 0.5) / kInsideSamples;
+    const Eigen::Vector3d p = a + u * (b - a);
+    const MeshDatabase::Crossing exit = m.first_crossing(p, p + kReach * n, true);
+    if (exit.face >= 0 && !exit.from_front) out = std::max(out, exit.t * kReach);
+  }
+  *push = out * n;
+  return true;
+}
+
+void SegmentProxy::push_out_of_moved_surfaces(std::span<const HapticObject> objects) noexcept {
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const HapticObject& o = objects[k];
+    if (o.segments == nullptr || o.two_sided) continue;  // an open surface has no inside
+    const MeshDatabase& m = o.segments->mesh();
+    if (m.has_boundary()) continue;
+    if (k < seen_.size()) {
+      SeenSurface& seen = seen_[k];
+      const bool first = seen.mesh == nullptr;
+      const bool same = seen.mesh == &m && seen.revision == m.revision();
+      seen.mesh = &m;
+      seen.revision = m.revision();
+      // A probe that starts inside an object is not in contact with it (as in the thesis):
+      // only a surface that moved since the probe last saw it pushes.
+      if (first || same) continue;
+    }
+    const Eigen::Isometry3d inv = o.pose_WO.inverse();
+    Eigen::Vector3d a = inv * ideal_a_;
+    Eigen::Vector3d b = inv * ideal_b_;
+    bool pushed = false;
+    Eigen::Vector3d to_surface;
+    for (int round = 0; round < kPushOutRounds && partly_inside(m, a, b, &to_surface); ++round) {
+      // Out to the surface, and the proxies' clearance beyond it.
+      const double depth = to_surface.norm();
+      const Eigen::Vector3d push =
+          to_surface * ((depth + settings_.skin_m) / std::max(depth, 1e-12));
+      a += push;
+      b += push;
+      pushed = true;
+    }
+    if (pushed) {
+      ideal_a_ = o.pose_WO * a;
+      ideal_b_ = o.pose_WO * b;
+      ++stats_.surface_push_outs;
+    }
+  }
+}
+
+}  // namespace lap::haptics
