@@ -59,6 +59,11 @@ HudModel::HudModel(const sim::Scenario& scenario, std::vector<std::string> organ
     spec_ = *scenario.task;
     has_task_ = true;
   }
+  // A hand pushing nothing shows the threshold it will meet first: the duct's where the scene
+  // has the task's duct, any organ's otherwise (the thesis' demonstrations have no duct).
+  const bool duct = has_task_ && std::find(organ_names_.begin(), organ_names_.end(),
+                                           spec_.target) != organ_names_.end();
+  idle_threshold_n_ = duct ? spec_.duct_injury_force_n : spec_.organ_injury_force_n;
   for (size_t i = 0; i < 2; ++i) {
     const sim::ToolSpec* t =
         scenario.tool(i == 0 ? sim::ToolSpec::Side::kLeft : sim::ToolSpec::Side::kRight);
@@ -214,7 +219,7 @@ const HudState& HudModel::update(const sim::HapticSnapshot& haptic, const sim::M
                       : "organ";
     } else {
       g.force_n = 0.0;
-      g.threshold_n = spec_.duct_injury_force_n;
+      g.threshold_n = idle_threshold_n_;
       g.pushing.clear();
     }
     g.fraction = g.threshold_n > 0.0 ? g.force_n / g.threshold_n : 0.0;

@@ -87,6 +87,7 @@ class HudModel {
 
   sim::TaskSpec spec_;  ///< the thresholds (the defaults when the scenario has no task)
   bool has_task_ = false;
+  double idle_threshold_n_ = 0.0;  ///< shown while a hand pushes nothing
   std::array<std::string, 2> tool_kinds_;
   std::vector<std::string> organ_names_;
   int64_t events_seen_ = 0;

@@ -100,6 +100,23 @@ TEST(HudState, AProbesGaugeHasNoJaws) {
   EXPECT_FALSE(s.hands[1].jaws);
 }
 
+// A hand pushing nothing shows the threshold it will meet first: the duct's in the procedure,
+// any organ's in a scene without the task's duct (a demonstration of the thesis).
+TEST(HudState, AnIdleGaugeShowsTheDuctsThresholdOnlyWhereThereIsADuct) {
+  const sim::Scenario sc = default_scenario();
+  ASSERT_TRUE(sc.task.has_value());
+  ASSERT_NE(sc.task->duct_injury_force_n, sc.task->organ_injury_force_n);
+  HudModel with_duct(sc, kOrgans);
+  EXPECT_EQ(with_duct.update({}, {}, {}, 0.0).hands[0].threshold_n, sc.task->duct_injury_force_n);
+  sim::Scenario free = sc;
+  free.task.reset();
+  HudModel demo(free, {"dumbbell_silver", "dumbbell_gold"});
+  const HudState& s = demo.update({}, {}, {}, 0.0);
+  EXPECT_EQ(s.hands[0].threshold_n, sim::TaskSpec{}.organ_injury_force_n);
+  EXPECT_EQ(s.hands[1].threshold_n, sim::TaskSpec{}.organ_injury_force_n);
+  EXPECT_TRUE(s.hands[0].pushing.empty());
+}
+
 // Events become notices when they appear, hold for 3 s, fade over 1.5 s and go; errors are
 // alarms; the display keeps three at most.
 TEST(HudState, EventNoticesFadeAfterAFewSeconds) {
