@@ -170,11 +170,13 @@ class SegmentProxy {
   /// Pushes the ideal probe out of each closed object whose surface changed since the last tick
   /// and now holds part of it (§6.5: a dent springing back under a tool that does not touch it).
   void push_out_of_moved_surfaces(std::span<const HapticObject> objects) noexcept;
-  /// True when the probe (a, b) (object frame) crosses closed mesh m's surface; then *push is
-  /// the way out: along the outward normals where it crosses, as far as the deepest of its
-  /// points inside needs.
+  /// True when part of the probe (a, b) (object frame) is inside closed mesh m and there is a
+  /// way out: *push, along the outward normals where it crosses the surface (or of the face
+  /// nearest it, when it lies wholly inside), as far as the deepest of its points inside needs.
   [[nodiscard]] static bool partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a,
                                           const Eigen::Vector3d& b, Eigen::Vector3d* push) noexcept;
+  /// Translates the ideal probe out of object o (up to a few rounds); true when it moved.
+  bool push_out_of(const HapticObject& o) noexcept;
   /// Local search for every constraint against the new virtual probe (§5.3, PCPs only).
   void track(std::span<const HapticObject> objects) noexcept;
   /// Slides a segment–edge constraint along the contactable edges, or turns it into a point
@@ -324,10 +326,11 @@ class SegmentProxy {
   SweepCache cache_;
   // The surface each object had when the ideal probe last checked it (by database and its
   // revision: the session passes one of several copies of a deforming organ).
-  static constexpr int kSeenObjects = 8;  ///< objects past these are checked every tick
+  static constexpr int kSeenObjects = 16;  ///< objects past these are checked every tick
   struct SeenSurface {
     const MeshDatabase* mesh = nullptr;  ///< null: not seen since the last reset
     uint64_t revision = 0;
+    bool started_inside = false;  ///< inside when first seen, and not yet found clear
   };
   std::array<SeenSurface, kSeenObjects> seen_{};
   // One friction state per contact, found again next tick by its object and its order among

@@ -365,6 +365,86 @@ TEST(SegmentProxy, ABumpRisingThroughTheProbesMiddleLeavesNoPartInside) {
   }
 }
 
+// The push is for a surface that moved onto the probe only: not for one that moves away, nor
+// for a probe that started inside (a reset there: not a contact, as in the thesis) until it has
+// been found clear.
+TEST(SegmentProxy, NoPushForASurfaceMovingAwayOrAProbeThatStartedInside) {
+  Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
+  const std::vector<HapticObject> objects{cube.object};
+  auto top_by = [&](double dy) {
+    deform(&cube, [&](const Eigen::Vector3d& x) {
+      return x.y() > 0.0 ? Eigen::Vector3d(x + Eigen::Vector3d(0, dy, 0)) : x;
+    });
+  };
+  // 1 mm above the top face, which sinks 1 mm, then comes back.
+  SegmentProxy above;
+  const Eigen::Vector3d a(-0.05, 0.101, 0.01), b(0.05, 0.101, 0.01);
+  for (int i = 0; i < 3; ++i) above.step(objects, a, b, kDt);
+  top_by(-0.001);
+  EXPECT_EQ(above.step(objects, a, b, kDt).contact_count, 0);
+  top_by(0.001);
+  EXPECT_EQ(above.step(objects, a, b, kDt).contact_count, 0);
+  EXPECT_EQ(above.stats().surface_push_outs, 0);
+
+  // Started 5 mm inside: the top face rising 1 mm pushes nothing, and it feels nothing.
+  SegmentProxy inside;
+  const Eigen::Vector3d down(0, -0.006, 0);
+  for (int i = 0; i < 3; ++i) inside.step(objects, a + down, b + down, kDt);
+  top_by(0.001);  // top at 0.101
+  SegmentProxyOutput out = inside.step(objects, a + down, b + down, kDt);
+  EXPECT_EQ(inside.stats().surface_push_outs, 0);
+  EXPECT_EQ(out.contact_count, 0);
+  EXPECT_EQ(out.force_W.norm(), 0.0);
+  // Lifted out by the hand (leaving an object makes no contact), then found clear at the next
+  // change of the surface; from then on a rise onto it pushes.
+  const Eigen::Vector3d up(0, 0.002, 0);  // at 0.103: 2 mm above the top
+  out = move(inside, objects, a + down, b + down, a + up, b + up, 20);
+  EXPECT_EQ(out.contact_count, 0);
+  top_by(-0.001);  // top at 0.100, 3 mm below the probe: found clear
+  inside.step(objects, a + up, b + up, kDt);
+  top_by(0.004);  // top at 0.104: 1 mm over it
+  out = inside.step(objects, a + up, b + up, kDt);
+  EXPECT_EQ(inside.stats().surface_push_outs, 1);
+  EXPECT_NEAR(out.ideal_a_W.y(), 0.104, 2e-6);
+  EXPECT_NEAR(out.force_W.y(), kK * 0.001, 1e-6);
+}
+
+// One end under the bump (the soak's usual case: a jaw's tip), the other end far outside.
+TEST(SegmentProxy, OneEndUnderARisingBumpIsPushedOutWithItsProbe) {
+  constexpr double kR = 0.05;
+  Body ball(make_uv_sphere(kR, 48, 96));
+  const std::vector<HapticObject> objects{ball.object};
+  SegmentProxy proxy;
+  const Eigen::Vector3d a(-0.03, kR + 0.001, 0.001), b(0.0, kR + 0.001, 0.001);
+  for (int i = 0; i < 5; ++i) ASSERT_EQ(proxy.step(objects, a, b, kDt).contact_count, 0);
+  constexpr double kRise = 0.003;
+  constexpr double kCap = 30.0 * kPi / 180.0;
+  deform(&ball, [&](const Eigen::Vector3d& x) {
+    const double angle = std::acos(std::clamp(x.y() / x.norm(), -1.0, 1.0));
+    return angle < kCap ? Eigen::Vector3d(x * (1.0 + kRise * (1.0 - angle / kCap) / kR)) : x;
+  });
+  // Brute force, as above: inside where the first crossing straight up leaves the mesh.
+  auto deepest_inside = [&](const Eigen::Vector3d& pa, const Eigen::Vector3d& pb) {
+    double worst = 0.0;
+    for (int i = 0; i <= 400; ++i) {
+      const Eigen::Vector3d p = pa + (pb - pa) * (i / 400.0);
+      const MeshDatabase::Crossing up =
+          ball.mesh.first_crossing(p, p + Eigen::Vector3d(0, 1, 0), true);
+      if (up.face >= 0 && !up.from_front) worst = std::max(worst, up.t);
+    }
+    return worst;
+  };
+  ASSERT_GT(deepest_inside(b, b), 0.0018);  // end b nearly 2 mm under the bump's top
+  ASSERT_EQ(deepest_inside(a, a), 0.0);     // end a outside
+  const SegmentProxyOutput out = proxy.step(objects, a, b, kDt);
+  EXPECT_EQ(proxy.stats().surface_push_outs, 1);
+  EXPECT_LT(deepest_inside(out.ideal_a_W, out.ideal_b_W), 1e-9);
+  ASSERT_GE(out.contact_count, 1);
+  EXPECT_GT(out.force_W.y(), 0.0);
+  // Each contact's spring at most that of the 2 mm the hand's end b is under the bump.
+  for (const SegmentContact& c : proxy.contacts()) EXPECT_LT(c.force_W.norm(), 1.05 * kK * 0.002);
+}
+
 // Figure 2-12: a rod pushed sideways against an edge feels a force back along its motion.
 TEST(SegmentProxy, RodPushedAgainstEdgeFeelsForceBackAlongMotion) {
   Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 3));
