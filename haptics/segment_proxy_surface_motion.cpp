@@ -11,8 +11,8 @@
 // probe is translated out of it, the way it went in (along the outward normals where it crosses
 // the surface) and as far as its deepest part inside needs: the organ pushed it. The rest of the
 // tick then meets the surface from outside, as a contact that pushes the tool back. (Pushing the
-// deepest point to its nearest surface point instead sent shafts under the liver out through
-// the gallbladder's far side, into the liver.)
+// deepest point to its nearest surface point instead sent shafts out of the gallbladder through
+// its side against the liver bed, into the liver.)
 //
 // A probe that starts inside an object (set there by a reset) is not in contact with it, as in
 // the thesis: it is left inside until a check finds it clear. A push is not swept: it may end
@@ -166,11 +166,13 @@ void SegmentProxy::push_out_of_moved_surfaces(std::span<const HapticObject> obje
   }
   if (!pushed) return;
   ++stats_.surface_push_outs;
-  // Once more, every closed object as it is: the pushes were not swept.
-  for (const HapticObject& o : objects) {
-    if (o.segments != nullptr && !o.two_sided && !o.segments->mesh().has_boundary()) {
-      push_out_of(o);
-    }
+  // Once more, every closed object as it is (the pushes were not swept), but one the probe
+  // started inside.
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const HapticObject& o = objects[k];
+    if (o.segments == nullptr || o.two_sided || o.segments->mesh().has_boundary()) continue;
+    if (k < seen_.size() && seen_[k].started_inside) continue;
+    push_out_of(o);
   }
 }
 

@@ -322,7 +322,7 @@ TEST(SegmentProxy, ABumpRisingThroughTheProbesMiddleLeavesNoPartInside) {
   // A ball of radius 5 cm whose cap within 30° of its top rises by up to 3 mm (a cone: 3 mm at
   // the top, nothing at 30°), through a probe lying 1 mm above the top, both its ends outside.
   // (Curved, as organs are: its edges are convex at rest. An edge flat at rest that a dent bends
-  // convex is not contactable, docs/architecture.md "Open".)
+  // convex is not contactable: haptics/README.md, "A surface that moves onto the probe".)
   constexpr double kR = 0.05;
   Body ball(make_uv_sphere(kR, 48, 96));
   const std::vector<HapticObject> objects{ball.object};
@@ -407,6 +407,30 @@ TEST(SegmentProxy, NoPushForASurfaceMovingAwayOrAProbeThatStartedInside) {
   EXPECT_EQ(inside.stats().surface_push_outs, 1);
   EXPECT_NEAR(out.ideal_a_W.y(), 0.104, 2e-6);
   EXPECT_NEAR(out.force_W.y(), kK * 0.001, 1e-6);
+}
+
+// After a push out of one object every object is checked again (the push is not swept), but
+// not one the probe started inside: that one stays a place where it is not in contact.
+TEST(SegmentProxy, TheRecheckAfterAPushLeavesAProbeThatStartedInsideWhereItIs) {
+  Body big(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));  // top at y = 0.1
+  Body small(make_box(Eigen::Vector3d(0.04, 0.04, 0.04), 1), Eigen::Vector3d(0, 0.125, 0.01));
+  // The small one first, so that the big one is checked last (without its exception, the probe
+  // would end pushed up out of it, into the small one again).
+  const std::vector<HapticObject> objects{small.object, big.object};  // bottom at 0.105
+  SegmentProxy proxy;
+  const Eigen::Vector3d a(-0.05, 0.095, 0.01), b(0.05, 0.095, 0.01);  // 5 mm inside the big one
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(proxy.step(objects, a, b, kDt).contact_count, 0);
+  // The small one's bottom face comes down 12 mm, to 2 mm under the probe (object frame:
+  // bottom at y = -0.02).
+  deform(&small, [&](const Eigen::Vector3d& x) {
+    return x.y() < 0.0 ? Eigen::Vector3d(x - Eigen::Vector3d(0, 0.012, 0)) : x;
+  });
+  const SegmentProxyOutput out = proxy.step(objects, a, b, kDt);
+  EXPECT_EQ(proxy.stats().surface_push_outs, 1);
+  // Pushed down out of the small one (its bottom face is the nearest way out), and left inside
+  // the big one, which it started in, not pushed on up into the small one again.
+  EXPECT_NEAR(out.ideal_a_W.y(), 0.093, 2e-6);
+  EXPECT_NEAR(out.ideal_b_W.y(), 0.093, 2e-6);
 }
 
 // One end under the bump (the soak's usual case: a jaw's tip), the other end far outside.
