@@ -288,6 +288,29 @@ void deform(Body* body, const std::function<Eigen::Vector3d(const Eigen::Vector3
   body->segments.refit_edge_tree();
 }
 
+// The cap of a ball of radius r within 30° of its top rises as a cone: 3 mm at the top, nothing
+// at 30°.
+void raise_cap(Body* ball, double r) {
+  constexpr double kRise = 0.003;
+  constexpr double kCap = 30.0 * kPi / 180.0;
+  deform(ball, [&](const Eigen::Vector3d& x) {
+    const double angle = std::acos(std::clamp(x.y() / x.norm(), -1.0, 1.0));
+    return angle < kCap ? Eigen::Vector3d(x * (1.0 + kRise * (1.0 - angle / kCap) / r)) : x;
+  });
+}
+
+// Brute force: 401 points along (a, b), each inside when the first crossing straight up leaves
+// the mesh, as deep as that crossing is high above it; the deepest.
+double deepest_under(const MeshDatabase& mesh, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  double worst = 0.0;
+  for (int i = 0; i <= 400; ++i) {
+    const Eigen::Vector3d p = a + (b - a) * (i / 400.0);
+    const MeshDatabase::Crossing up = mesh.first_crossing(p, p + Eigen::Vector3d(0, 1, 0), true);
+    if (up.face >= 0 && !up.from_front) worst = std::max(worst, up.t);
+  }
+  return worst;
+}
+
 TEST(SegmentProxy, AFaceRisingThroughAStillProbePushesItOutAndBack) {
   Body cube(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
   const std::vector<HapticObject> objects{cube.object};
@@ -331,23 +354,9 @@ TEST(SegmentProxy, ABumpRisingThroughTheProbesMiddleLeavesNoPartInside) {
   const Eigen::Vector3d a = Eigen::Vector3d(0, kR + 0.001, 0) - 0.02 * dir;
   const Eigen::Vector3d b = Eigen::Vector3d(0, kR + 0.001, 0) + 0.02 * dir;
   for (int i = 0; i < 5; ++i) ASSERT_EQ(proxy.step(objects, a, b, kDt).contact_count, 0);
-  constexpr double kRise = 0.003;
-  constexpr double kCap = 30.0 * kPi / 180.0;
-  deform(&ball, [&](const Eigen::Vector3d& x) {
-    const double angle = std::acos(std::clamp(x.y() / x.norm(), -1.0, 1.0));
-    return angle < kCap ? Eigen::Vector3d(x * (1.0 + kRise * (1.0 - angle / kCap) / kR)) : x;
-  });
-  // Brute force: 401 points along the probe, each inside when the first crossing straight up
-  // leaves the mesh, as deep as that crossing is high above it.
+  raise_cap(&ball, kR);
   auto deepest_inside = [&](const Eigen::Vector3d& pa, const Eigen::Vector3d& pb) {
-    double worst = 0.0;
-    for (int i = 0; i <= 400; ++i) {
-      const Eigen::Vector3d p = pa + (pb - pa) * (i / 400.0);
-      const MeshDatabase::Crossing up =
-          ball.mesh.first_crossing(p, p + Eigen::Vector3d(0, 1, 0), true);
-      if (up.face >= 0 && !up.from_front) worst = std::max(worst, up.t);
-    }
-    return worst;
+    return deepest_under(ball.mesh, pa, pb);
   };
   ASSERT_GT(deepest_inside(a, b), 0.0019);  // the bump's top is 2 mm above the probe's middle
   ASSERT_EQ(ball.mesh.first_crossing(a, a + Eigen::Vector3d(0, 1, 0), true).face, -1);
@@ -356,7 +365,7 @@ TEST(SegmentProxy, ABumpRisingThroughTheProbesMiddleLeavesNoPartInside) {
   EXPECT_LT(deepest_inside(out.ideal_a_W, out.ideal_b_W), 1e-9);
   // Resting on the bump's top, 2 mm above the hand's probe, and pushed back up by its
   // contacts, each with at most the spring of those 2 mm.
-  EXPECT_NEAR(0.5 * (out.ideal_a_W + out.ideal_b_W).y(), kR + kRise, 0.0003);
+  EXPECT_NEAR(0.5 * (out.ideal_a_W + out.ideal_b_W).y(), kR + 0.003, 0.0003);
   ASSERT_GE(out.contact_count, 1);
   EXPECT_GT(out.force_W.y(), 0.5 * kK * 0.002);
   for (const SegmentContact& c : proxy.contacts()) {
@@ -441,22 +450,9 @@ TEST(SegmentProxy, OneEndUnderARisingBumpIsPushedOutWithItsProbe) {
   SegmentProxy proxy;
   const Eigen::Vector3d a(-0.03, kR + 0.001, 0.001), b(0.0, kR + 0.001, 0.001);
   for (int i = 0; i < 5; ++i) ASSERT_EQ(proxy.step(objects, a, b, kDt).contact_count, 0);
-  constexpr double kRise = 0.003;
-  constexpr double kCap = 30.0 * kPi / 180.0;
-  deform(&ball, [&](const Eigen::Vector3d& x) {
-    const double angle = std::acos(std::clamp(x.y() / x.norm(), -1.0, 1.0));
-    return angle < kCap ? Eigen::Vector3d(x * (1.0 + kRise * (1.0 - angle / kCap) / kR)) : x;
-  });
-  // Brute force, as above: inside where the first crossing straight up leaves the mesh.
+  raise_cap(&ball, kR);
   auto deepest_inside = [&](const Eigen::Vector3d& pa, const Eigen::Vector3d& pb) {
-    double worst = 0.0;
-    for (int i = 0; i <= 400; ++i) {
-      const Eigen::Vector3d p = pa + (pb - pa) * (i / 400.0);
-      const MeshDatabase::Crossing up =
-          ball.mesh.first_crossing(p, p + Eigen::Vector3d(0, 1, 0), true);
-      if (up.face >= 0 && !up.from_front) worst = std::max(worst, up.t);
-    }
-    return worst;
+    return deepest_under(ball.mesh, pa, pb);
   };
   ASSERT_GT(deepest_inside(b, b), 0.0018);  // end b nearly 2 mm under the bump's top
   ASSERT_EQ(deepest_inside(a, a), 0.0);     // end a outside
