@@ -44,6 +44,11 @@ constexpr double kReach = 0.1;
 // without the push).
 constexpr double kMaxPushM = 0.01;
 
+// A closed, one-sided surface: only such an object has an inside to push a probe out of.
+bool has_inside(const HapticObject& o) {
+  return o.segments != nullptr && !o.two_sided && !o.segments->mesh().has_boundary();
+}
+
 }  // namespace
 
 bool SegmentProxy::partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a,
@@ -118,7 +123,6 @@ bool SegmentProxy::push_out_of(const HapticObject& o) noexcept {
   const Eigen::Isometry3d inv = o.pose_WO.inverse();
   Eigen::Vector3d a = inv * ideal_a_;
   Eigen::Vector3d b = inv * ideal_b_;
-  bool pushed = false;
   Eigen::Vector3d to_surface;
   Eigen::Vector3d total = Eigen::Vector3d::Zero();
   for (int round = 0; round < kPushOutRounds && partly_inside(m, a, b, &to_surface); ++round) {
@@ -127,24 +131,21 @@ bool SegmentProxy::push_out_of(const HapticObject& o) noexcept {
     a += push;
     b += push;
     total += push;
-    pushed = true;
   }
-  if (total.norm() > kMaxPushM) return false;  // deeper than a surface's motion: left as it was
-  if (pushed) {
-    ideal_a_ = o.pose_WO * a;
-    ideal_b_ = o.pose_WO * b;
-  }
-  return pushed;
+  // Nothing to do, or deeper than a surface's motion: left as it was. (Each round moves it.)
+  const double moved = total.norm();
+  if (moved == 0.0 || moved > kMaxPushM) return false;
+  ideal_a_ = o.pose_WO * a;
+  ideal_b_ = o.pose_WO * b;
+  return true;
 }
 
 void SegmentProxy::push_out_of_moved_surfaces(std::span<const HapticObject> objects) noexcept {
   bool pushed = false;
   for (size_t k = 0; k < objects.size(); ++k) {
     const HapticObject& o = objects[k];
-    if (o.segments == nullptr || o.two_sided) continue;  // an open surface has no inside
+    if (!has_inside(o)) continue;
     const MeshDatabase& m = o.segments->mesh();
-    if (m.has_boundary()) continue;
-    Eigen::Vector3d unused;
     if (k < seen_.size()) {
       SeenSurface& seen = seen_[k];
       const bool first = seen.mesh == nullptr;
@@ -152,12 +153,10 @@ void SegmentProxy::push_out_of_moved_surfaces(std::span<const HapticObject> obje
       seen.mesh = &m;
       seen.revision = m.revision();
       if (same) continue;
-      const Eigen::Isometry3d inv = o.pose_WO.inverse();
-      if (first) {  // set here by a reset: not a contact while it stays inside
-        seen.started_inside = partly_inside(m, inv * ideal_a_, inv * ideal_b_, &unused);
-        continue;
-      }
-      if (seen.started_inside) {
+      // Set here by a reset (first sight), or still inside since: not a contact while it stays.
+      if (first || seen.started_inside) {
+        const Eigen::Isometry3d inv = o.pose_WO.inverse();
+        Eigen::Vector3d unused;
         seen.started_inside = partly_inside(m, inv * ideal_a_, inv * ideal_b_, &unused);
         continue;
       }
@@ -169,10 +168,8 @@ void SegmentProxy::push_out_of_moved_surfaces(std::span<const HapticObject> obje
   // Once more, every closed object as it is (the pushes were not swept), but one the probe
   // started inside.
   for (size_t k = 0; k < objects.size(); ++k) {
-    const HapticObject& o = objects[k];
-    if (o.segments == nullptr || o.two_sided || o.segments->mesh().has_boundary()) continue;
-    if (k < seen_.size() && seen_[k].started_inside) continue;
-    push_out_of(o);
+    if (!has_inside(objects[k]) || (k < seen_.size() && seen_[k].started_inside)) continue;
+    push_out_of(objects[k]);
   }
 }
 
