@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git clang-format clang-tidy
-  # the fuzz targets (tests/fuzz): clang with libFuzzer
+  # the asan build and the fuzz targets (tests/fuzz): clang with libFuzzer
   clang-14 libfuzzer-14-dev
   # libraries (see docs/architecture.md for which folder may use which)
   libeigen3-dev libopenmesh-dev libspectra-dev

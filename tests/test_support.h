@@ -13,7 +13,13 @@ namespace lap::test {
 
 /// Long property tests run their full length in optimised builds; sanitizer builds, 10–50 times
 /// slower, check the same properties on this fraction of the iterations so that CI stays short.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+/// GCC names a sanitizer build with __SANITIZE_*__, clang 14 with __has_feature only.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define LAP_TEST_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__) || defined(LAP_TEST_SANITIZED)
 inline constexpr int64_t kSanitizerDivisor = 20;
 #else
 inline constexpr int64_t kSanitizerDivisor = 1;
