@@ -29,10 +29,11 @@ rmdir "$no_shared"
 
 if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   stage "ASan + UBSan build (clang-14)"
-  # clang: it compiles this code a quarter to a half faster than GCC at the same -O1 (the costliest
-  # files: modal_shell.cpp 45 s against 51 s, expert_run.cpp 25 s against 42 s). The fuzz build
-  # below stays apart: libFuzzer's coverage hooks in the libraries made these tests run 2-3 times
-  # slower (tried: one build for both cost more in test time than it saved in compiling).
+  # clang: file by file 12-40 % faster than GCC at the same -O1 (modal_shell.cpp 45 s against
+  # 51 s, expert_run.cpp 25 s against 42 s), the whole build in about half the time; its tests
+  # take about a sixth longer. The fuzz build below stays apart: libFuzzer's coverage hooks in
+  # the libraries made these tests run 2.5 times slower (tried: one build for both cost more in
+  # test time than it saved in compiling). docs/benchmarks.md, "The CI run's stage times".
   # The benchmarks are not built here: their smoke runs in the Release stage keep them working,
   # and the code they time is the code the tests below run under the sanitizers.
   cmake --preset asan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON -DLAP_BUILD_BENCH=OFF
@@ -42,9 +43,9 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   # LeakSanitizer reports in the GUI test; memory errors and undefined behaviour still abort.
   # The simulated-hand runs (PortPassivity, 60 s each, a minute apiece here) are left to the
   # release stage (the sanitizer presets set LAP_SANITIZER, which leaves passivity_tests out):
-  # their holds are sensitive to rounding, and this build's -O1 code follows a different
-  # trajectory on which the two tools holding the catheter taut keep a 35-40 Hz
-  # oscillation of 0.14-0.16 N RMS (an open defect of the catheter's model-rate coupling,
+  # their holds are sensitive to rounding, and this build's -O1 code (measured when it was
+  # GCC's) follows a different trajectory on which the two tools holding the catheter taut keep
+  # a 35-40 Hz oscillation of 0.14-0.16 N RMS (an open defect of the catheter's model-rate coupling,
   # docs/architecture.md "Open"). The session code they run is checked here by the other tests.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --preset asan --parallel "$jobs"

@@ -24,6 +24,7 @@ inline constexpr int64_t kSanitizerDivisor = 20;
 #else
 inline constexpr int64_t kSanitizerDivisor = 1;
 #endif
+#undef LAP_TEST_SANITIZED
 
 /// The project's source tree.
 [[nodiscard]] std::filesystem::path source_dir();
