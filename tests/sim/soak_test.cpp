@@ -7,7 +7,8 @@
 // devices' limit, the catheter taken and the duct taken (each on its own), the resident memory
 // at the end within 1 % of what it was once the storage reserved at set-up had been touched; the
 // worst tick and the deepest a proxy was found inside an organ are printed (the latter asserted
-// by Soak.NoProxyInsideAnOrgan).
+// by Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as sampled (a jaw is
+// 2 cm: longer is the open stretch of haptics/README.md).
 //
 // Proxies inside an organ: the sampler (the graphics snapshots' one reader, as the window would
 // be) takes each tool's three proxies as the haptic loop last placed them (their ideal ends,
@@ -205,9 +206,10 @@ void soak(bool check_proxies) {
   std::atomic<bool> done{false};
   int64_t early = -1;
   int catheter_takes = 0, duct_takes = 0;
-  int64_t proxy_samples = 0;  // snapshot pairs whose proxies were tested
-  int64_t mismatched = 0;     // pairs skipped: the model had stepped on since the haptic tick
-  double deepest_m = 0.0;     // the deepest any proxy point was inside an organ
+  int64_t proxy_samples = 0;   // snapshot pairs whose proxies were tested
+  int64_t mismatched = 0;      // pairs skipped: the model had stepped on since the haptic tick
+  double deepest_m = 0.0;      // the deepest any proxy point was inside an organ
+  double longest_jaw_m = 0.0;  // the longest a jaw's ideal probe was
   int64_t deepest_tick = -1;
   int deepest_tool = -1, deepest_segment = -1, deepest_organ = -1, deepest_contacts = -1;
   const int64_t ticks_per_step = session->model().timing().ticks_per_model;
@@ -238,6 +240,9 @@ void soak(bool check_proxies) {
           for (size_t s = 0; s < 3; ++s) {
             const Eigen::Vector3d a = h.tools[tool].proxy_a_W[s];
             const Eigen::Vector3d b = h.tools[tool].proxy_b_W[s];
+            if (s > 0) {  // a jaw: §5.3 would keep it 2 cm long (haptics/README.md: open)
+              longest_jaw_m = std::max(longest_jaw_m, (b - a).norm());
+            }
             const int points = 2 + static_cast<int>((b - a).norm() / 0.002);
             for (int p = 0; p < points; ++p) {
               const Eigen::Vector3d x = a + (b - a) * (p / static_cast<double>(points - 1));
@@ -292,15 +297,15 @@ void soak(bool check_proxies) {
       "soak: %.1f s simulated in %.1f s; %lld haptic ticks (mean %.2f us, p99.9 %.2f us, worst "
       "%.1f us), %lld modelling steps (mean %.1f us, worst %.1f us); the catheter taken %d "
       "times, the duct %d times (as sampled); proxies tested in %lld snapshots (%lld pairs a "
-      "step apart skipped), deepest inside an organ %.3f mm; largest force %.2f N; resident "
-      "memory %.1f MB once settled, %.1f MB at the end (%+.3f %%)\n",
+      "step apart skipped), deepest inside an organ %.3f mm, longest jaw proxy %.2f mm; largest "
+      "force %.2f N; resident memory %.1f MB once settled, %.1f MB at the end (%+.3f %%)\n",
       duration, wall_s, static_cast<long long>(m.haptic.ticks()), m.haptic.mean_step_s() * 1e6,
       m.haptic.step_quantile_s(0.999) * 1e6, m.haptic.worst_step_s() * 1e6,
       static_cast<long long>(m.model.ticks()), m.model.mean_step_s() * 1e6,
       m.model.worst_step_s() * 1e6, catheter_takes, duct_takes,
       static_cast<long long>(proxy_samples), static_cast<long long>(mismatched), deepest_m * 1e3,
-      m.max_force_sent_n, static_cast<double>(early) / 1e6, static_cast<double>(late) / 1e6,
-      growth * 100.0);
+      longest_jaw_m * 1e3, m.max_force_sent_n, static_cast<double>(early) / 1e6,
+      static_cast<double>(late) / 1e6, growth * 100.0);
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
