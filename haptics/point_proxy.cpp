@@ -344,7 +344,7 @@ void PointProxy::hold_or_release(std::span<const HapticObject> objects, const Ei
     if (count_ > 0 && count_ < kMaxContacts && c.normal_W.dot(*x - c.point_W) < -1e-12) {
       contacts_[count_++] = c;
       *x = combine(hip);
-    } else {
+    } else if (!reentered(objects, c.object, hip, x)) {
       ++stats_.releases;
       if (objects[c.object].texture != nullptr) {
         hover_object_ = c.object;
@@ -353,6 +353,30 @@ void PointProxy::hold_or_release(std::span<const HapticObject> objects, const Ei
       }
     }
   }
+}
+
+// A HIP deep in a thin part of a closed object can have as its nearest surface the far side of
+// a fold, above which it is while inside the object (it went out through the part and back in
+// through the fold): the local search then says it has left. The IHIP's path to it says whether
+// it is inside: a face crossed on the way (a one-sided object's faces are crossed only from
+// outside) holds it, as a first contact would. Seen in PointProxyRandom.RealOrganMeshes on a
+// liver mesh, 22 mm deep, where the proxy let go and the HIP stayed inside with no force.
+bool PointProxy::reentered(std::span<const HapticObject> objects, int32_t object,
+                           const Eigen::Vector3d& hip, Eigen::Vector3d* x) noexcept {
+  const HapticObject& o = objects[object];
+  if (o.two_sided || count_ >= kMaxContacts) return false;
+  for (int32_t i = 0; i < count_; ++i) {
+    if (contacts_[i].object == object) return false;
+  }
+  ObjectCrossing crossed;
+  crossed.object = object;
+  crossed.crossing =
+      o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W_, o.pose_WO.inverse() * *x, false);
+  if (crossed.crossing.face < 0) return false;
+  add_first_contact(o, crossed, hip);
+  ++stats_.reentries;
+  *x = combine(hip);
+  return true;
 }
 
 PointProxy::ForceSource PointProxy::contact_force_source(std::span<const HapticObject> objects,

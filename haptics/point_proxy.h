@@ -61,6 +61,8 @@ struct PointProxyStats {
   int64_t steps = 0;
   int64_t first_contacts = 0;
   int64_t releases = 0;
+  /// Releases undone because the IHIP's path entered the object again (PointProxy::reentered).
+  int64_t reentries = 0;
   int64_t search_iterations = 0;  ///< local-search rounds over all steps
   int64_t search_limit_hits = 0;  ///< searches stopped by the iteration bound
   int64_t faults = 0;
@@ -122,8 +124,13 @@ class PointProxy {
   void add_first_contact(const HapticObject& o, const ObjectCrossing& crossed,
                          const Eigen::Vector3d& hip_W) noexcept;
   /// Stage 4: holds each leaving contact that still constrains the IHIP *x, else releases it.
+  /// (Unless the IHIP's path enters its object again: see reentered.)
   void hold_or_release(std::span<const HapticObject> objects, const Eigen::Vector3d& hip_W,
                        const Leaving& leaving, Eigen::Vector3d* x) noexcept;
+  /// Whether the IHIP's path to *x enters `object` (one-sided, no other contact on it): then a
+  /// contact on the face it enters, and *x re-placed.
+  bool reentered(std::span<const HapticObject> objects, int32_t object,
+                 const Eigen::Vector3d& hip_W, Eigen::Vector3d* x) noexcept;
   /// Stage 5, in contact: the penetration (shaded or textured where one object is touched).
   [[nodiscard]] ForceSource contact_force_source(std::span<const HapticObject> objects,
                                                  const Eigen::Vector3d& hip_W,
