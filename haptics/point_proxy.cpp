@@ -10,6 +10,15 @@
 namespace lap::haptics {
 namespace {
 
+// Where the IHIP's path from ihip_W (last tick's) to x_W first crosses o's surface, from outside
+// (either side if two-sided), in o's frame at its previous and current pose (§6.4: an object
+// moving onto the IHIP is crossed too).
+MeshDatabase::Crossing path_crossing(const HapticObject& o, const Eigen::Vector3d& ihip_W,
+                                     const Eigen::Vector3d& x_W) {
+  return o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W, o.pose_WO.inverse() * x_W,
+                                o.two_sided);
+}
+
 // Nearest point of one primitive, and the lower-dimensional feature it lies on (if any).
 struct Candidate {
   PrimitiveRef prim;
@@ -296,8 +305,7 @@ PointProxy::ObjectCrossing PointProxy::first_crossing(std::span<const HapticObje
   for (int32_t oi = 0; oi < static_cast<int32_t>(objects.size()); ++oi) {
     const HapticObject& o = objects[oi];
     if (o.mesh == nullptr || in_contact_or_leaving(oi, leaving)) continue;
-    const MeshDatabase::Crossing c = o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W_,
-                                                            o.pose_WO.inverse() * x, o.two_sided);
+    const MeshDatabase::Crossing c = path_crossing(o, ihip_W_, x);
     if (c.face >= 0 && c.t < best.crossing.t) {
       best.object = oi;
       best.crossing = c;
@@ -370,8 +378,7 @@ bool PointProxy::reentered(std::span<const HapticObject> objects, int32_t object
   }
   ObjectCrossing crossed;
   crossed.object = object;
-  crossed.crossing =
-      o.mesh->first_crossing(o.prev_pose_WO.inverse() * ihip_W_, o.pose_WO.inverse() * *x, false);
+  crossed.crossing = path_crossing(o, ihip_W_, *x);  // one-sided: entered from outside only
   if (crossed.crossing.face < 0) return false;
   add_first_contact(o, crossed, hip);
   ++stats_.reentries;
