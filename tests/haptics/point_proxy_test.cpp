@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "haptics/setup/mesh_generators.h"
+#include "haptics/setup/mesh_validation.h"
 #include "tests/support/brute_force_reference.h"
 
 namespace lap::haptics {
@@ -544,6 +545,82 @@ TEST(PointProxy, StartingInsideIsNotAContact) {
   EXPECT_EQ(move(proxy, objects, {0, 0, 0}, {0.01, 0.02, 0}, 10).contact_count, 0);
   // Leaving through the top from inside is no contact either.
   EXPECT_EQ(move(proxy, objects, {0.01, 0.02, 0}, {0.01, 0.07, 0}, 10).contact_count, 0);
+}
+
+// A closed solid shaped like a C in the x-z plane, extruded along y (millimetres, scaled to
+// metres): a 1 mm top plate (x -4..2, z -1..0) joined on the left to a 3 mm lower slab
+// (x -4..6, z -6..-3) across a 2 mm gap. Counter-clockwise outline in (x, z); outward faces.
+TriangleMesh make_folded_plate(double half_length_mm) {
+  const std::array<Eigen::Vector2d, 8> outline = {Eigen::Vector2d(-4, -6), Eigen::Vector2d(6, -6),
+                                                  Eigen::Vector2d(6, -3),  Eigen::Vector2d(-3, -3),
+                                                  Eigen::Vector2d(-3, -1), Eigen::Vector2d(2, -1),
+                                                  Eigen::Vector2d(2, 0),   Eigen::Vector2d(-4, 0)};
+  // The outline's triangulation (by hand: three ears and a fan over the gap's mouth).
+  const std::array<Triangle, 6> cap = {Triangle{0, 1, 2}, Triangle{0, 2, 3}, Triangle{0, 3, 7},
+                                       Triangle{3, 4, 7}, Triangle{4, 5, 6}, Triangle{4, 6, 7}};
+  TriangleMesh m;
+  for (const double y : {-half_length_mm, half_length_mm}) {
+    for (const Eigen::Vector2d& p : outline) m.positions.emplace_back(p.x(), y, p.y());
+  }
+  const int32_t n = static_cast<int32_t>(outline.size());
+  for (const Triangle& t : cap) {
+    m.triangles.push_back({t[0], t[1], t[2]});              // y = -L: outline x-z CCW faces -y
+    m.triangles.push_back({n + t[0], n + t[2], n + t[1]});  // y = +L
+  }
+  for (int32_t i = 0; i < n; ++i) {
+    const int32_t j = (i + 1) % n;
+    m.triangles.push_back({i, n + j, j});
+    m.triangles.push_back({i, n + i, n + j});
+  }
+  m.scale(0.001);
+  return m;
+}
+
+// Regression for a release under a fold (found on a liver mesh by PointProxyRandom): the HIP
+// goes through the thin top plate, across the gap and into the lower slab, then slides past the
+// plate's edge. The local search from the plate's top face then stops on the plate's lower edge,
+// above which the HIP is, and wants release; but the HIP is inside the slab. The IHIP's path to
+// it enters the slab from outside, so the proxy must keep (or take) a contact and push the HIP
+// out: never a HIP inside the solid with no contact and no force.
+TEST(PointProxy, AHipThatLeftAThinPartThroughAFoldIsStillHeld) {
+  const TriangleMesh mesh = make_folded_plate(10.0);
+  const MeshDiagnostics diag = validate_mesh(mesh);
+  ASSERT_TRUE(diag.closed());
+  ASSERT_TRUE(diag.inward_components.empty());
+  ASSERT_NEAR(mesh.signed_volume(), 1e-9 * 20.0 * (6.0 * 1.0 + 10.0 * 3.0 + 1.0 * 2.0), 1e-15);
+  const MeshDatabase db = MeshDatabase::build(mesh);
+  const HapticObject objects[] = {object_of(db, 500.0)};
+  const auto mm = [](double x, double z) { return Eigen::Vector3d(0.001 * x, 0.0, 0.001 * z); };
+  ASSERT_TRUE(reference_inside(db, mm(1.0, -4.5)));   // the lower slab
+  ASSERT_FALSE(reference_inside(db, mm(1.0, -2.0)));  // the gap
+
+  PointProxy proxy;
+  proxy.reset(mm(1.0, 2.0));
+  // Down through the plate (held on its top face: the proxy does not pop through), the gap and
+  // into the slab.
+  PointProxyOutput out = move(proxy, objects, mm(1.0, 2.0), mm(1.0, -4.5), 200);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_NEAR(out.ihip_W.z(), 0.0, 1e-12);
+  // Sideways, past the plate's edge at x = 2 mm, to x = 4 mm, inside the slab all the way.
+  int32_t inside_ticks = 0;
+  int32_t inside_free = 0;
+  const int steps = 300;
+  for (int i = 1; i <= steps; ++i) {
+    const Eigen::Vector3d hip = mm(1.0 + 3.0 * i / steps, -4.5);
+    out = proxy.step(objects, hip, kDt);
+    if (!reference_inside(db, hip)) continue;
+    ++inside_ticks;
+    if (out.contact_count == 0 || !(out.force_W.z() > 0.0)) ++inside_free;
+  }
+  EXPECT_EQ(inside_ticks, steps);
+  EXPECT_EQ(inside_free, 0);
+  EXPECT_GE(proxy.stats().reentries, 1);
+  // At rest beyond the plate the nearest way out is up through the slab's top face, 1.5 mm.
+  for (int i = 0; i < 5; ++i) out = proxy.step(objects, mm(4.0, -4.5), kDt);
+  ASSERT_EQ(out.contact_count, 1);
+  EXPECT_NEAR(out.ihip_W.z(), -0.003, 1e-12);
+  EXPECT_NEAR(out.force_W.z(), 500.0 * 0.0015, 1e-9);
+  EXPECT_NEAR(out.force_W.x(), 0.0, 1e-9);
 }
 
 }  // namespace
