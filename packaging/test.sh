@@ -31,12 +31,14 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   stage "ASan + UBSan build (clang-14)"
   # clang: file by file 12-40 % faster than GCC at the same -O1 (modal_shell.cpp 45 s against
   # 51 s, expert_run.cpp 25 s against 42 s), the whole build in about half the time; its tests
-  # take about a sixth longer. The fuzz build below stays apart: libFuzzer's coverage hooks in
-  # the libraries made these tests run 2.5 times slower (tried: one build for both cost more in
-  # test time than it saved in compiling). docs/benchmarks.md, "The CI run's stage times".
+  # take about a sixth longer. The libFuzzer targets are built here too (LAP_BUILD_FUZZ), with
+  # libFuzzer's coverage hooks in the readers' libraries only (haptics' setup, hardware, sim):
+  # hooks in every library made these tests run 2.5 times slower, and a separate fuzz build
+  # took five and a half minutes. docs/benchmarks.md, "The CI run's stage times".
   # The benchmarks are not built here: their smoke runs in the Release stage keep them working,
   # and the code they time is the code the tests below run under the sanitizers.
-  cmake --preset asan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON -DLAP_BUILD_BENCH=OFF
+  cmake --preset asan -DLAP_WARNINGS_AS_ERRORS=ON -DLAP_BUILD_TESTS=ON -DLAP_BUILD_BENCH=OFF \
+    -DLAP_BUILD_FUZZ=ON
   cmake --build --preset asan --parallel "$jobs"
   stage "ASan + UBSan tests"
   # Leak checking is off: Mesa, X11 and fontconfig keep process-lifetime allocations that
@@ -65,11 +67,16 @@ if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
     --gtest_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*'
 fi
 if [ "${LAP_SKIP_FUZZ:-0}" != "1" ]; then
-  stage "libFuzzer build (clang, ASan + UBSan): the readers of every untrusted input"
-  cmake --preset fuzz -DLAP_WARNINGS_AS_ERRORS=ON
-  cmake --build --preset fuzz --parallel "$jobs"
+  # Built with the ASan tests above; without that stage, by the fuzz preset.
+  fuzz_build=build/asan
+  if [ ! -x build/asan/bin/fuzz_scenario ] || [ "${LAP_SKIP_ASAN:-0}" = "1" ]; then
+    stage "libFuzzer build (clang, ASan + UBSan): the readers of every untrusted input"
+    cmake --preset fuzz -DLAP_WARNINGS_AS_ERRORS=ON
+    cmake --build --preset fuzz --parallel "$jobs"
+    fuzz_build=build/fuzz
+  fi
   stage "libFuzzer runs, 60 s per target, from the seed corpora"
   # Any crash, leak, timeout or sanitizer report fails the run and prints the input.
-  bash tests/fuzz/run.sh --seconds 60
+  bash tests/fuzz/run.sh --seconds 60 --build "$fuzz_build"
 fi
 stage "all passed"

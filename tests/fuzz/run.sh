@@ -5,26 +5,35 @@
 # input is kept in build/fuzz/work/TARGET/artifacts/ (copy it to tests/fuzz/regressions/TARGET/
 # once fixed: the ordinary tests replay it from then on).
 #
-#   bash tests/fuzz/run.sh [--seconds S] [TARGET...]     (default: 60 s, every target)
+#   bash tests/fuzz/run.sh [--seconds S] [--build DIR] [TARGET...]
+#
+# Default: 60 s, every target, the fuzz preset's build (build/fuzz). `--build build/asan` runs the
+# targets that packaging/test.sh builds beside the ASan tests (coverage hooks in the readers'
+# libraries only); their work folder is then build/asan/fuzz-work.
 #
 # Each target starts from its seeds (tests/fuzz/corpus/TARGET), its regressions and the matching
 # folder of tests/bad-inputs; what it finds new is kept in build/fuzz/work/TARGET/corpus, so a
 # second run goes on from where the first stopped.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/fuzz/bin"
-work="$root/build/fuzz/work"
+build="$root/build/fuzz"
 seconds=60
 targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
+    --build) build="$(cd "$2" && pwd)"; shift 2 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
+bin="$build/bin"
+work="$build/work"
+[ "$build" = "$root/build/fuzz" ] || work="$build/fuzz-work"
 if [ "${#targets[@]}" -eq 0 ]; then
-  for f in "$bin"/fuzz_*; do targets+=("$(basename "$f" | sed 's/^fuzz_//')"); done
+  # Every target has its seed corpus (tests/fuzz/corpus/TARGET); the build folder also holds other
+  # programs named fuzz_* (fuzz_corpus_tests, the ordinary replay of the corpora).
+  for d in "$root"/tests/fuzz/corpus/*/; do targets+=("$(basename "$d")"); done
 fi
 for t in "${targets[@]}"; do
   [ -x "$bin/fuzz_$t" ] || { echo "run.sh: no $bin/fuzz_$t (cmake --preset fuzz && cmake --build --preset fuzz)" >&2; exit 2; }
