@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
-# Runs the libFuzzer targets built by the fuzz preset, each for SECONDS, as many at once as the
-# machine has cores, and prints one line per target: executions, seconds, corpus size, result.
-# Exits non-zero when any target found a crash, a leak, a timeout or a sanitizer report; the
-# input is kept in build/fuzz/work/TARGET/artifacts/ (copy it to tests/fuzz/regressions/TARGET/
-# once fixed: the ordinary tests replay it from then on).
+# Runs the libFuzzer targets (built by the fuzz preset, or by packaging/test.sh's asan build), each
+# for SECONDS, as many at once as the machine has cores, and prints one line per target:
+# executions, seconds, corpus size, result. Exits non-zero when any target found a crash, a leak,
+# a timeout or a sanitizer report; the input is kept in WORK/TARGET/artifacts/ (copy it to
+# tests/fuzz/regressions/TARGET/ once fixed: the ordinary tests replay it from then on).
 #
 #   bash tests/fuzz/run.sh [--seconds S] [--build DIR] [TARGET...]
 #
-# Default: 60 s, every target, the fuzz preset's build (build/fuzz). `--build build/asan` runs the
-# targets that packaging/test.sh builds beside the ASan tests (coverage hooks in the readers'
-# libraries only); their work folder is then build/asan/fuzz-work.
+# Default: 60 s, every target, the fuzz preset's build (build/fuzz), WORK = build/fuzz/work.
+# `--build build/asan` runs the targets that packaging/test.sh builds beside the ASan tests
+# (coverage hooks in the readers' libraries only), WORK = build/asan/fuzz-work.
 #
 # Each target starts from its seeds (tests/fuzz/corpus/TARGET), its regressions and the matching
-# folder of tests/bad-inputs; what it finds new is kept in build/fuzz/work/TARGET/corpus, so a
-# second run goes on from where the first stopped.
+# folder of tests/bad-inputs; what it finds new is kept in WORK/TARGET/corpus, so a second run
+# goes on from where the first stopped.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 build="$root/build/fuzz"
@@ -21,8 +21,12 @@ seconds=60
 targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --seconds) seconds="$2"; shift 2 ;;
-    --build) build="$(cd "$2" && pwd)"; shift 2 ;;
+    --seconds)
+      [[ "${2:-}" =~ ^[0-9]+$ ]] || { echo "run.sh: --seconds needs a whole number" >&2; exit 2; }
+      seconds="$2"; shift 2 ;;
+    --build)
+      [ -d "${2:-}" ] || { echo "run.sh: --build needs a build folder (got '${2:-}')" >&2; exit 2; }
+      build="$(CDPATH='' cd -- "$2" && pwd)"; shift 2 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -36,7 +40,14 @@ if [ "${#targets[@]}" -eq 0 ]; then
   for d in "$root"/tests/fuzz/corpus/*/; do targets+=("$(basename "$d")"); done
 fi
 for t in "${targets[@]}"; do
-  [ -x "$bin/fuzz_$t" ] || { echo "run.sh: no $bin/fuzz_$t (cmake --preset fuzz && cmake --build --preset fuzz)" >&2; exit 2; }
+  if [ ! -x "$bin/fuzz_$t" ]; then
+    if [ "$build" = "$root/build/fuzz" ]; then
+      echo "run.sh: no $bin/fuzz_$t (cmake --preset fuzz && cmake --build --preset fuzz)" >&2
+    else
+      echo "run.sh: no $bin/fuzz_$t (configure $build with -DLAP_BUILD_FUZZ=ON, clang)" >&2
+    fi
+    exit 2
+  fi
 done
 
 # The bad-input corpus folders that hold the target's format, if any.
