@@ -40,14 +40,11 @@ if [ "${#targets[@]}" -eq 0 ]; then
   for d in "$root"/tests/fuzz/corpus/*/; do targets+=("$(basename "$d")"); done
 fi
 for t in "${targets[@]}"; do
-  if [ ! -x "$bin/fuzz_$t" ]; then
-    if [ "$build" = "$root/build/fuzz" ]; then
-      echo "run.sh: no $bin/fuzz_$t (cmake --preset fuzz && cmake --build --preset fuzz)" >&2
-    else
-      echo "run.sh: no $bin/fuzz_$t (configure $build with -DLAP_BUILD_FUZZ=ON, clang)" >&2
-    fi
+  [ -x "$bin/fuzz_$t" ] || {
+    echo "run.sh: no $bin/fuzz_$t (build it: cmake --preset fuzz && cmake --build --preset fuzz," \
+      "or a clang build configured with -DLAP_BUILD_FUZZ=ON)" >&2
     exit 2
-  fi
+  }
 done
 
 # The bad-input corpus folders that hold the target's format, if any.
