@@ -13,7 +13,8 @@ namespace {
 /// A recording's header JSON is a few hundred bytes, a chunk of ticks 40 ms of them.
 constexpr uint32_t kMaxHeaderBytes = 1U << 20;
 constexpr uint32_t kMaxPayloadBytes = 64U << 20;
-/// Three hours of ticks at 1 kHz (304 bytes each): what a session may leave.
+/// Three hours of ticks at 1 kHz (328 bytes each) and steps at 200 Hz (16 bytes each): what a
+/// session may leave.
 constexpr std::uintmax_t kMaxRecordingBytes = std::uintmax_t{4} << 30;
 
 template <typename T>
@@ -23,8 +24,9 @@ T get(const std::string& bytes, size_t at) {
   return v;
 }
 
-/// Reads one tick record at `at`; false when a value is not finite or the status unknown.
-bool decode_tick(const std::string& b, size_t at, hardware::RecordedSample* left,
+/// Reads one tick record at `at` (a LAPREC0`version` one); false when a value is not finite, the
+/// status unknown, or a read impossible.
+bool decode_tick(const std::string& b, size_t at, int version, hardware::RecordedSample* left,
                  hardware::RecordedSample* right, TickLog* log) {
   log->tick = get<int64_t>(b, at);
   log->wall_ns = get<int64_t>(b, at + 8);
@@ -59,7 +61,15 @@ bool decode_tick(const std::string& b, size_t at, hardware::RecordedSample* left
   log->gain = d();
   log->late = b[p] != 0;
   log->paused = b[p + 1] != 0;
-  return finite && std::isfinite(log->gain);
+  if (version == 1) return finite && std::isfinite(log->gain);
+  log->resumed = b[p + 2] != 0;
+  log->after_hold = b[p + 3] != 0;
+  p += 8;
+  log->lateness_s = d();
+  log->model_steps_read = get<int64_t>(b, p);
+  log->surface_steps_read = get<int64_t>(b, p + 8);
+  return finite && std::isfinite(log->gain) && std::isfinite(log->lateness_s) &&
+         log->model_steps_read >= 0 && log->surface_steps_read >= 0;
 }
 
 class Reader {
@@ -77,9 +87,13 @@ class Reader {
 
  private:
   size_t header() {
-    if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
+    if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV1) == 0) {
+      s_.version = 1;
+      record_bytes_ = kTickRecordBytesV1;
+    } else if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
       header_problem_ =
-          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC01)";
+          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC02, "
+          "or LAPREC01)";
       return 0;
     }
     const auto n = get<uint32_t>(b_, 8);
@@ -120,9 +134,10 @@ class Reader {
     }
     const uint32_t crc = crc32(b_.data() + at + 4, kChunkHeadBytes - 4 + bytes);
     if (crc != get<uint32_t>(b_, end - 4)) {
-      return skip_to_next_mark(at, "a chunk whose checksum does not match (" +
-                                       std::to_string(count) + " ticks from tick " +
-                                       std::to_string(first) + " if its head is right)");
+      return skip_to_next_mark(
+          at, "a chunk whose checksum does not match (" + std::to_string(count) +
+                  (kind == kChunkSteps ? " modelling steps from step " : " ticks from tick ") +
+                  std::to_string(first) + " if its head is right)");
     }
     const size_t payload = at + kChunkHeadBytes;
     if (!s_.interrupted) problem(at, "a chunk after the end chunk");
@@ -130,6 +145,8 @@ class Reader {
       ticks(at, payload, bytes, count);
     } else if (kind == kChunkEvents) {
       s_.events_json = b_.substr(payload, bytes);
+    } else if (kind == kChunkSteps && s_.version >= 2) {
+      steps(at, payload, bytes, count, first);
     } else if (kind == kChunkEnd) {
       s_.end_json = b_.substr(payload, bytes);
       s_.interrupted = false;
@@ -140,14 +157,14 @@ class Reader {
   }
 
   void ticks(size_t at, size_t payload, uint32_t bytes, uint32_t count) {
-    if (static_cast<size_t>(count) * kTickRecordBytes != bytes) {
+    if (static_cast<size_t>(count) * record_bytes_ != bytes) {
       problem(at, "a ticks chunk whose length is not its count's, skipped");
       return;
     }
     for (uint32_t k = 0; k < count; ++k) {
       hardware::RecordedSample left, right;
       TickLog log;
-      if (!decode_tick(b_, payload + k * kTickRecordBytes, &left, &right, &log)) {
+      if (!decode_tick(b_, payload + k * record_bytes_, s_.version, &left, &right, &log)) {
         problem(at, "tick record " + std::to_string(k) +
                         " holds a non-finite value or an "
                         "unknown status; the ticks from there on are not replayed");
@@ -171,6 +188,43 @@ class Reader {
       s_.devices[0].samples.push_back(left);
       s_.devices[1].samples.push_back(right);
       s_.ticks.push_back(log);
+    }
+  }
+
+  // The modelling steps' reads from step 0 on; a step after a gap (a damaged chunk) is not kept,
+  // so a replay stops at the first tick that needs it.
+  void steps(size_t at, size_t payload, uint32_t bytes, uint32_t count, int64_t first) {
+    if (static_cast<size_t>(count) * kStepRecordBytes != bytes) {
+      problem(at, "a steps chunk whose length is not its count's, skipped");
+      return;
+    }
+    const auto have = static_cast<int64_t>(s_.steps.size());
+    if (first != have) {
+      if (!steps_gap_) {
+        problem(at, first < have ? "steps " + std::to_string(first) + " on again (a repeated or " +
+                                       "out-of-order chunk): skipped"
+                                 : "modelling steps " + std::to_string(have) + " to " +
+                                       std::to_string(first - 1) +
+                                       " are missing; the replay stops at the first tick that "
+                                       "read one");
+      }
+      steps_gap_ = steps_gap_ || first > have;
+      return;
+    }
+    if (steps_gap_) return;
+    for (uint32_t k = 0; k < count; ++k) {
+      const size_t p = payload + static_cast<size_t>(k) * kStepRecordBytes;
+      StepLog step{get<int64_t>(b_, p), get<int64_t>(b_, p + 8)};
+      // Each step reads a tick already published, in order: anything else is damage.
+      const int64_t last = s_.steps.empty() ? -1 : s_.steps.back().haptic_tick_read;
+      if (step.haptic_tick_read < last || step.tick < 0) {
+        problem(at, "step record " + std::to_string(k) +
+                        " reads a haptic tick out of order; the steps from there on are not "
+                        "replayed");
+        steps_gap_ = true;
+        return;
+      }
+      s_.steps.push_back(step);
     }
   }
 
@@ -211,6 +265,8 @@ class Reader {
   RecordedSession s_;
   std::string header_problem_;
   bool gap_ = false;
+  bool steps_gap_ = false;
+  size_t record_bytes_ = kTickRecordBytes;
 };
 
 }  // namespace

@@ -22,8 +22,12 @@ struct RecordedSession {
   /// The devices' samples of the ticks from 0 on without a gap (what a replay can use).
   std::array<hardware::DeviceRecording, 2> devices;
   std::vector<TickLog> ticks;  ///< the same ticks' commands
-  int64_t ticks_read = 0;      ///< every tick read, after a gap too
-  bool interrupted = true;     ///< no end chunk
+  /// The modelling steps' reads from 0 on without a gap (none in a LAPREC01 file): with the
+  /// ticks' own, what a lockstep replay needs (Session::replay_in_lockstep).
+  std::vector<StepLog> steps;
+  int version = 2;          ///< 1: LAPREC01 (no reads recorded), 2: LAPREC02
+  int64_t ticks_read = 0;   ///< every tick read, after a gap too
+  bool interrupted = true;  ///< no end chunk
   std::string events_json;
   std::string end_json;
   std::vector<std::string> problems;  ///< corrupted or missing parts, each with its offset

@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <utility>
 
 #include "core/bounded_file.h"
 #include "hardware/device_spec.h"
@@ -297,11 +299,6 @@ Result<ReplayedSession> replay_session(
                                  "--allow-path DIR");
     }
   }
-  if (!out.record.settings.fast) {
-    out.notes.push_back(
-        "recorded in real time: the replay steps the loops in lockstep, so the watchdog's "
-        "late-tick pauses of the live session are not in it and its figures may differ");
-  }
   const SceneLoadResult scene = load_scene_file(out.record.scenario, load);
   if (!scene.ok()) return scene.diagnostics();
   // Compared on the very bytes loaded.
@@ -319,6 +316,9 @@ Result<ReplayedSession> replay_session(
   const bool lapdevs = std::filesystem::is_regular_file(dir / "left.lapdev", ec) &&
                        std::filesystem::is_regular_file(dir / "right.lapdev", ec);
   int64_t recorded = -1;  // ticks to replay, when known before the replay devices read them
+  // Which snapshot each loop read from the other, as the session ran (LAPREC02): the replay
+  // takes the same ones (lockstep_order.h).
+  std::optional<std::pair<std::vector<TickLog>, std::vector<StepLog>>> reads;
   if (std::filesystem::exists(std::filesystem::symlink_status(lrec, ec))) {
     // The streamed recording: what a crash left, too.
     Result<RecordedSession> rec = read_session_recording(lrec);
@@ -338,6 +338,9 @@ Result<ReplayedSession> replay_session(
       out.streamed = false;
     } else {
       recorded = out.recorded_ticks;
+      if (rec.value().version >= 2) {
+        reads.emplace(std::move(rec.value().ticks), std::move(rec.value().steps));
+      }
       for (size_t side = 0; side < 2; ++side) {
         hardware::DeviceRecording r = std::move(rec.value().devices[side]);
         r.period_s = 1.0 / out.record.settings.haptic_rate_hz;
@@ -356,6 +359,12 @@ Result<ReplayedSession> replay_session(
       devices[static_cast<size_t>(side)] = std::move(device).value();
     }
   }
+  if (!out.record.settings.fast && !reads) {
+    out.notes.push_back(
+        "recorded in real time without the loops' reads (a LAPREC01 recording, or the .lapdev "
+        "files): the replay steps the loops in plain lockstep, so its figures may differ from "
+        "the session's");
+  }
   RuntimeSettings rs = out.record.settings;
   rs.fast = true;
   // As long as what was recorded (a window's session is given a day, and stops much sooner):
@@ -365,8 +374,12 @@ Result<ReplayedSession> replay_session(
   }
   auto session = Session::create(scene.value(), std::move(devices), rs);
   if (!session.ok()) return session.diagnostics();
+  if (reads) session.value()->replay_in_lockstep(std::move(reads->first), std::move(reads->second));
   if (prepare) prepare(*session.value(), scene.value());
   out.metrics = session.value()->run();
+  if (!session.value()->lockstep_problem().empty()) {
+    out.notes.push_back(session.value()->lockstep_problem());
+  }
   return out;
 }
 

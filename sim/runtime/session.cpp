@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "haptics/point_proxy.h"
+#include "sim/runtime/lockstep_order.h"
 #include "sim/runtime/realtime_thread.h"
 
 namespace lap::sim {
@@ -206,6 +207,10 @@ Result<std::unique_ptr<Session>> Session::create(
     r.samples.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
   }
   s->tick_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
+  // Live, the modelling loop steps on its own clock: more steps than ticks / 5 when the haptic
+  // loop runs behind it (a loaded machine, a sanitizer's build); one per tick is room for a
+  // haptic loop five times slower than its rate.
+  s->step_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + 64);
   s->events_.reserve(1024);
 
   for (Tool& tool : s->tools_) {
@@ -286,16 +291,24 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
 // Resume, the tick's timing, a model's fault, and the surfaces as the modelling loop last
 // deformed them (already refitted there): the proxies feel them from this tick on.
 const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noexcept {
-  if (resume_requested_.exchange(false, std::memory_order_relaxed) &&
-      paused_.load(std::memory_order_relaxed)) {
+  // A lockstep replay resumes where the session did (resume() live is another thread's).
+  const bool resume =
+      scheduled_ ? scheduled_resume_ : resume_requested_.exchange(false, std::memory_order_relaxed);
+  tick_reads_.resumed = resume && paused_.load(std::memory_order_relaxed);
+  if (tick_reads_.resumed) {
     paused_.store(false, std::memory_order_relaxed);
     gain_ = 0.0;
     ramp_s_ = model_->settings().resume_ramp_s;
   }
   check_timing(tick, lateness_s);
-  const ModelSnapshot& model = model_to_haptic_.latest();
+  const ModelSnapshot& model =
+      scheduled_model_ != nullptr ? *scheduled_model_ : model_to_haptic_.latest();
   if (model.fault) trip(tick, -1, WatchdogReason::kModelFault, model.fault);
   if (surfaces_to_haptic_.update()) surfaces_to_haptic_.read()->point(objects_);
+  // What thread timing decided, for the recording: a replay takes the same (lockstep_order.h).
+  tick_reads_.lateness_s = lateness_s;
+  tick_reads_.model_steps_read = model.steps;
+  tick_reads_.surface_steps_read = surfaces_to_haptic_.read()->model_steps();
   // An author's tuning, felt from this tick on; re-applied after every switch of the surfaces'
   // copy, which resets the shading pointers (surface_tuning.h).
   tuned_surfaces_.take(&tuning_mailbox_);
@@ -628,8 +641,14 @@ void Session::log_tick(int64_t tick, const std::array<hardware::DeviceCommand, 2
     log.gain = gain_;
     log.late = late;
     log.paused = paused;
+    log.resumed = tick_reads_.resumed;
+    log.after_hold = after_hold_;
+    log.lateness_s = tick_reads_.lateness_s;
+    log.model_steps_read = tick_reads_.model_steps_read;
+    log.surface_steps_read = tick_reads_.surface_steps_read;
     tick_log_.push_back(log);
   }
+  after_hold_ = false;
   const size_t complete =
       std::min({recordings_[0].samples.size(), recordings_[1].samples.size(), tick_log_.size()});
   published_ticks_.store(static_cast<int64_t>(complete), std::memory_order_release);
@@ -651,7 +670,8 @@ void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
 }
 
 void Session::model_tick(int64_t tick) noexcept {
-  const HapticSnapshot& h = to_model_.latest();
+  const HapticSnapshot& h = scheduled_haptic_ != nullptr ? *scheduled_haptic_ : to_model_.latest();
+  if (step_log_.size() < step_log_.capacity()) step_log_.push_back({tick, h.tick});
   for (size_t i = 0; i < 2; ++i) {
     ToolModelInput& in = model_input_[i];
     in.valid = h.tick >= 0;
@@ -674,6 +694,8 @@ void Session::model_tick(int64_t tick) noexcept {
   ++model_steps_;
   step_task_engine(tick, h);
   for (const Eigen::Vector3d& p : world_->catheter().positions) hash_vector(&model_hash_, p);
+  // Before the snapshots: a tick that reads them is published after this step's read is.
+  published_steps_.store(static_cast<int64_t>(step_log_.size()), std::memory_order_release);
   for (hardware::TripleBuffer<ModelSnapshot>* buf : {&model_to_haptic_, &model_to_graphics_}) {
     ModelSnapshot& m = buf->write_slot();
     m.tick = tick;
@@ -697,9 +719,10 @@ void Session::model_tick(int64_t tick) noexcept {
                               &m.catheter_on_bodies.torque_W[static_cast<size_t>(b)]);
     }
     m.task = task_progress_;
-    if (buf == &model_to_haptic_) {
+    if (buf == &model_to_haptic_ && !scheduled_) {
       // The proxies' next copy of the surfaces takes up the same deformations here, on this
-      // thread, so the haptic step only switches to it.
+      // thread, so the haptic step only switches to it. (A lockstep replay takes up the copy
+      // each tick felt live: schedule_surfaces.)
       surfaces_to_haptic_.write_slot()->take_up(m.organs, model_steps_);
       surfaces_to_haptic_.publish();
     }
@@ -788,6 +811,130 @@ void Session::run_fast() {
   model_stats_.set_elapsed(elapsed);
 }
 
+namespace {
+
+// Where a lockstep replay keeps snapshot i of a loop's last Session::kLockstepHistory.
+size_t history_slot(int64_t i) {
+  constexpr int64_t n = Session::kLockstepHistory;
+  return static_cast<size_t>(((i % n) + n) % n);
+}
+
+}  // namespace
+
+// A lockstep replay (replay_in_lockstep): ticks and steps in LockstepOrder's order, each tick
+// given the model snapshot, surfaces, lateness and resume of its record, each step the haptic
+// snapshot of its; both loops' last kLockstepHistory snapshots kept, and the next tick's older
+// read apart (allocated here, before the first tick: a replay is not real-time, but it runs
+// the same tick code).
+void Session::run_scheduled() {
+  const size_t ticks =
+      std::min(schedule_ticks_.size(), static_cast<size_t>(model_->timing().max_ticks));
+  std::vector<int64_t> oldest(ticks), newest(ticks), reads(schedule_steps_.size());
+  for (size_t t = 0; t < ticks; ++t) {
+    const TickLog& r = schedule_ticks_[t];
+    oldest[t] = std::min(r.model_steps_read, r.surface_steps_read);
+    newest[t] = std::max(r.model_steps_read, r.surface_steps_read);
+  }
+  for (size_t k = 0; k < reads.size(); ++k) reads[k] = schedule_steps_[k].haptic_tick_read;
+  haptic_history_.assign(static_cast<size_t>(kLockstepHistory), to_model_.latest());
+  model_history_.assign(static_cast<size_t>(kLockstepHistory), model_to_haptic_.latest());
+  model_kept_ = model_to_haptic_.latest();
+  model_kept_.steps = -1;  // nothing kept apart yet
+  LockstepOrder order(oldest, newest, reads);
+  // A review's frame of tick t once the steps run after it have run too (as run_fast's).
+  int64_t frame = -1;
+  const auto show = [&] {
+    if (frame >= 0) fast_observer_(frame, to_graphics_.latest(), model_to_graphics_.latest());
+    frame = -1;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  for (LockstepOrder::Next next = order.next(); next != LockstepOrder::Next::kDone;
+       next = order.next()) {
+    const int64_t t = order.ticks_done();
+    if (next == LockstepOrder::Next::kStuck) {
+      lockstep_problem_ = "tick " + std::to_string(t) + " read modelling step " +
+                          std::to_string(newest[static_cast<size_t>(t)]) + ", which the " +
+                          "recording does not have (it holds " +
+                          std::to_string(order.steps_done()) + " steps): the replay stops there";
+      break;
+    }
+    if (next == LockstepOrder::Next::kTick) show();
+    const bool ran = next == LockstepOrder::Next::kTick
+                         ? scheduled_tick(t)
+                         : scheduled_step(order.steps_done(), order.next_tick_oldest_read());
+    if (!ran) {
+      lockstep_problem_ = "at tick " + std::to_string(t) + " the loops were further apart live " +
+                          "than the replay keeps (" + std::to_string(kLockstepHistory) +
+                          " snapshots of each): the replay stops there";
+      break;
+    }
+    if (next == LockstepOrder::Next::kTick && fast_observer_ && t % fast_observe_every_ == 0) {
+      frame = t;
+    }
+    order.ran(next);
+  }
+  show();
+  scheduled_haptic_ = nullptr;
+  scheduled_model_ = nullptr;
+  const double elapsed = seconds_since(t0);
+  haptic_stats_.set_elapsed(elapsed);
+  model_stats_.set_elapsed(elapsed);
+}
+
+// The model snapshot after `steps` steps if the replay still has it (in its history, or kept
+// apart for the next tick), else null.
+const ModelSnapshot* Session::kept_model(int64_t steps) const {
+  const ModelSnapshot& m = model_history_[history_slot(steps)];
+  if (m.steps == steps) return &m;
+  return model_kept_.steps == steps ? &model_kept_ : nullptr;
+}
+
+// Tick t of a lockstep replay, on the surfaces, model snapshot, lateness and resume it had live;
+// its snapshot kept for the steps that read it. False, and nothing run, when a snapshot it read
+// is no longer kept.
+bool Session::scheduled_tick(int64_t t) {
+  const TickLog& r = schedule_ticks_[static_cast<size_t>(t)];
+  const ModelSnapshot* model = kept_model(r.model_steps_read);
+  const bool new_surfaces = r.surface_steps_read != scheduled_surface_steps_;
+  const ModelSnapshot* surfaces = new_surfaces ? kept_model(r.surface_steps_read) : model;
+  if (model == nullptr || surfaces == nullptr) return false;
+  if (new_surfaces) {
+    // The copy of the surfaces it felt, taken up here as the modelling thread does live.
+    surfaces_to_haptic_.write_slot()->take_up(surfaces->organs, r.surface_steps_read);
+    surfaces_to_haptic_.publish();
+    scheduled_surface_steps_ = r.surface_steps_read;
+  }
+  scheduled_model_ = model;
+  scheduled_resume_ = r.resumed;
+  if (r.after_hold) {
+    zero_for_hold();
+    ramp_after_hold();
+    after_hold_ = true;
+  }
+  const auto a = std::chrono::steady_clock::now();
+  haptic_tick(t, r.lateness_s);
+  haptic_stats_.add(r.lateness_s, seconds_since(a));
+  haptic_history_[history_slot(t + 1)] = to_model_.latest();
+  return true;
+}
+
+// Step k of a lockstep replay, on the haptic snapshot it had live; its snapshot kept for the
+// ticks that read it, and the one it replaces in the history kept apart when it is the next
+// tick's (`next_tick_read`). False, and nothing run, when its haptic snapshot is no longer kept.
+bool Session::scheduled_step(int64_t k, int64_t next_tick_read) {
+  const StepLog& r = schedule_steps_[static_cast<size_t>(k)];
+  const HapticSnapshot& h = haptic_history_[history_slot(r.haptic_tick_read + 1)];
+  if (h.tick != r.haptic_tick_read) return false;
+  scheduled_haptic_ = &h;
+  const auto b = std::chrono::steady_clock::now();
+  model_tick(r.tick);
+  model_stats_.add(0.0, seconds_since(b));
+  ModelSnapshot& slot = model_history_[history_slot(k + 1)];
+  if (slot.steps == next_tick_read && model_kept_.steps != next_tick_read) model_kept_ = slot;
+  slot = model_to_haptic_.latest();
+  return true;
+}
+
 double Session::injected_lateness(int64_t tick) const noexcept {
   double late = 0.0;
   for (size_t i = 0; i < injected_late_count_; ++i) {
@@ -835,9 +982,11 @@ void Session::run_realtime() {
           start_ns + hold_offset_ns_.load(std::memory_order_relaxed) + tick * period_ns;
       if (hold_requested_.load(std::memory_order_relaxed)) {
         deadline = wait_while_held(deadline);
+        after_hold_ = true;
         if (stop_.load(std::memory_order_relaxed)) break;
       }
-      sleep_until_ns(deadline, settings.spin_ns);
+      // A test's late tick (inject_lateness): the thread wakes that much after its deadline.
+      sleep_until_ns(deadline + std::llround(injected_lateness(tick) * 1e9), settings.spin_ns);
       const int64_t begin = monotonic_ns();
       const double late = static_cast<double>(begin - deadline) * 1e-9;
       haptic_tick(tick, late);
@@ -898,8 +1047,7 @@ void Session::run_realtime() {
 }
 
 int64_t Session::wait_while_held(int64_t deadline_ns) noexcept {
-  // Zero first, past the rate limit: the hand feels nothing from the moment the hold is taken.
-  for (Tool& tool : tools_) (void)tool.device->write(tool.limiter.zero());
+  zero_for_hold();
   holding_.store(true, std::memory_order_release);
   const int64_t period_ns = std::llround(model_->timing().dt_s * 1e9);
   // Acquire: what the releasing thread did before release() happens before the ticks after it
@@ -914,11 +1062,20 @@ int64_t Session::wait_while_held(int64_t deadline_ns) noexcept {
     hold_offset_ns_.fetch_add(now_ns - deadline_ns, std::memory_order_release);
     deadline_ns = now_ns;
   }
-  // The forces come back as after a resume: from zero, over resume_ramp_s.
-  gain_ = 0.0;
-  ramp_s_ = model_->settings().resume_ramp_s;
+  ramp_after_hold();
   holding_.store(false, std::memory_order_release);
   return deadline_ns;
+}
+
+// Zero first, past the rate limit: the hand feels nothing from the moment the hold is taken.
+void Session::zero_for_hold() noexcept {
+  for (Tool& tool : tools_) (void)tool.device->write(tool.limiter.zero());
+}
+
+// The forces come back as after a resume: from zero, over resume_ramp_s.
+void Session::ramp_after_hold() noexcept {
+  gain_ = 0.0;
+  ramp_s_ = model_->settings().resume_ramp_s;
 }
 
 std::vector<std::string> Session::scheduling_warnings() const {
@@ -939,9 +1096,11 @@ Status Session::record_to(const std::filesystem::path& file, const std::string& 
 SessionMetrics Session::run() {
   if (recorder_) {
     recorder_->start(recordings_[0].samples.data(), recordings_[1].samples.data(), tick_log_.data(),
-                     &published_ticks_);
+                     &published_ticks_, step_log_.data(), &published_steps_);
   }
-  if (model_->settings().fast) {
+  if (scheduled_) {
+    run_scheduled();
+  } else if (model_->settings().fast) {
     run_fast();
   } else {
     run_realtime();

@@ -224,7 +224,8 @@ class Session {
   /// The haptic loop has taken a hold up: zero sent, no tick running until release().
   [[nodiscard]] bool held() const { return holding_.load(std::memory_order_acquire); }
 
-  /// Tests (fast mode): make tick `tick` start `late_s` late, as a loop held up would; up to
+  /// Tests: make tick `tick` start `late_s` late, as a loop held up would (fast mode: as if; real
+  /// time: the haptic thread wakes that much after the tick's deadline); up to
   /// kMaxInjectedLateness ticks, one call each (false once full).
   bool inject_lateness(int64_t tick, double late_s) {
     if (injected_late_count_ >= kMaxInjectedLateness) return false;
@@ -240,6 +241,21 @@ class Session {
     injected_fault_ = kind;
     injected_fault_steps_ = steps;
   }
+  /// Replay (before run(), fast mode): run the recorded ticks and modelling steps of a session
+  /// in the order lockstep_order.h gives, each tick reading the model snapshot, the surfaces,
+  /// the lateness and the resume it read live, each step the haptic tick it read (the streamed
+  /// recording's reads, session_recorder.h), so that a session run in real time replays to its
+  /// own state_hash. The run ends with the recorded ticks, not with the task.
+  void replay_in_lockstep(std::vector<TickLog> ticks, std::vector<StepLog> steps) {
+    schedule_ticks_ = std::move(ticks);
+    schedule_steps_ = std::move(steps);
+    scheduled_ = true;
+  }
+  /// After a replay_in_lockstep run(): why it stopped before the recording's last tick, if it
+  /// did (its steps cut or damaged; the loops further apart live than the replay keeps).
+  [[nodiscard]] const std::string& lockstep_problem() const { return lockstep_problem_; }
+  /// How many snapshots of each loop a lockstep replay keeps (the newest and those before).
+  static constexpr int64_t kLockstepHistory = 8;
   /// Tests (real time): the modelling step at haptic tick `tick` takes `delay_s` longer, as a
   /// step held up by the machine would (issue 25's fault injection: a 100 ms step).
   void inject_model_delay(int64_t tick, double delay_s) {
@@ -346,9 +362,17 @@ class Session {
   void trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault = {}) noexcept;
   void run_fast();
   void run_realtime();
+  void run_scheduled();
+  bool scheduled_tick(int64_t t);
+  bool scheduled_step(int64_t k, int64_t next_tick_read);
+  [[nodiscard]] const ModelSnapshot* kept_model(int64_t steps) const;
   /// Haptic thread, real time: zero to both devices, then wait until released (or stopped);
   /// returns when the tick due at `deadline_ns` may run, the schedule moved on by the wait.
   int64_t wait_while_held(int64_t deadline_ns) noexcept;
+  /// The state a hold changes, apart from waiting: zero to both devices past the rate limit as
+  /// it is taken, then the forces' ramp back from zero (live, and in a lockstep replay).
+  void zero_for_hold() noexcept;
+  void ramp_after_hold() noexcept;
 
   /// A tool's state: its device, its proxies, its limiter, where its shaft points.
   struct Tool {
@@ -396,6 +420,10 @@ class Session {
   int64_t injected_fault_steps_ = 0;
   int64_t injected_delay_tick_ = -1;  ///< modelling thread reads; set before run()
   double injected_delay_s_ = 0.0;
+  // What each modelling step read (modelling thread writes, capacity reserved at set-up), for
+  // the recording; the steps complete are published to the recorder's thread.
+  std::vector<StepLog> step_log_;
+  std::atomic<int64_t> published_steps_{0};
   // The task engine's state and its inputs' storage, sized at set-up (modelling thread).
   TaskState task_;
   MetricsModel metrics_model_;
@@ -456,10 +484,26 @@ class Session {
   int64_t missed_deadlines_ = 0;
   int64_t model_steps_ = 0;  ///< modelling thread
 
+  // A lockstep replay (replay_in_lockstep): the recorded reads, each loop's last snapshots, and
+  // which ones the next tick or step reads (null: the newest, as live).
+  bool scheduled_ = false;
+  std::vector<TickLog> schedule_ticks_;
+  std::vector<StepLog> schedule_steps_;
+  std::vector<HapticSnapshot> haptic_history_;  ///< tick t at (t + 1) % kLockstepHistory
+  std::vector<ModelSnapshot> model_history_;    ///< n steps at n % kLockstepHistory
+  ModelSnapshot model_kept_;  ///< the next tick's older read, once out of model_history_
+  const HapticSnapshot* scheduled_haptic_ = nullptr;
+  const ModelSnapshot* scheduled_model_ = nullptr;
+  bool scheduled_resume_ = false;
+  int64_t scheduled_surface_steps_ = 0;
+  std::string lockstep_problem_;
+
   // Recording (haptic thread writes, capacity reserved at set-up).
   std::array<hardware::DeviceRecording, 2> recordings_{};
   std::vector<TickLog> tick_log_;
-  std::atomic<int64_t> published_ticks_{0};    ///< complete in recordings_ and tick_log_
+  std::atomic<int64_t> published_ticks_{0};  ///< complete in recordings_ and tick_log_
+  TickLog tick_reads_;  ///< this tick's lateness, resume and reads, for its log (haptic thread)
+  bool after_hold_ = false;  ///< the tick about to run is the first after a hold (its log says)
   std::unique_ptr<SessionRecorder> recorder_;  ///< streams them to disk (record_to)
   int64_t dropped_samples_ = 0;
   uint64_t hash_ = 1469598103934665603ULL;        ///< haptic thread: commands, tool poses

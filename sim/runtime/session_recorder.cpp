@@ -66,9 +66,20 @@ void append_tick_record(const hardware::RecordedSample& left, const hardware::Re
   put(out, log.gain);
   put(out, static_cast<uint8_t>(log.late ? 1 : 0));
   put(out, static_cast<uint8_t>(log.paused ? 1 : 0));
-  out->append(6, '\0');
+  put(out, static_cast<uint8_t>(log.resumed ? 1 : 0));
+  put(out, static_cast<uint8_t>(log.after_hold ? 1 : 0));
+  out->append(4, '\0');
+  put(out, log.lateness_s);
+  put(out, log.model_steps_read);
+  put(out, log.surface_steps_read);
 }
-static_assert(kTickRecordBytes == 8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 1 + 1 + 6);
+static_assert(kTickRecordBytes ==
+              8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 1 + 1 + 1 + 1 + 4 + 24);
+
+void append_step_record(const StepLog& step, std::string* out) {
+  put(out, step.tick);
+  put(out, step.haptic_tick_read);
+}
 
 Result<std::unique_ptr<SessionRecorder>> SessionRecorder::open(const std::filesystem::path& file,
                                                                const std::string& header_json) {
@@ -101,11 +112,14 @@ SessionRecorder::~SessionRecorder() {
 
 void SessionRecorder::start(const hardware::RecordedSample* left,
                             const hardware::RecordedSample* right, const TickLog* log,
-                            const std::atomic<int64_t>* published) {
+                            const std::atomic<int64_t>* published, const StepLog* steps,
+                            const std::atomic<int64_t>* published_steps) {
   left_ = left;
   right_ = right;
   log_ = log;
   published_ = published;
+  steps_ = steps;
+  published_steps_ = published_steps;
   thread_ = std::thread([this] { run(); });
 }
 
@@ -113,7 +127,30 @@ void SessionRecorder::run() {
   const auto period = std::chrono::duration<double>(kFlushPeriodS);
   while (!stop_.load(std::memory_order_relaxed)) {
     std::this_thread::sleep_for(period);
-    write_ticks_up_to(published_->load(std::memory_order_acquire));
+    write_published();
+  }
+}
+
+// The ticks' count is loaded first: every step a tick read was published before the tick read
+// it, so the steps loaded after include them all. The steps are written first: a session killed
+// between the two chunks leaves steps without their ticks (unused), never ticks without steps.
+void SessionRecorder::write_published() {
+  const int64_t ticks = published_->load(std::memory_order_acquire);
+  const int64_t steps =
+      published_steps_ != nullptr ? published_steps_->load(std::memory_order_acquire) : 0;
+  write_steps_up_to(steps);
+  write_ticks_up_to(ticks);
+}
+
+void SessionRecorder::write_steps_up_to(int64_t published) {
+  const int64_t from = written_steps_;
+  if (!problem_.empty() || published <= from) return;
+  payload_.clear();
+  for (int64_t i = from; i < published; ++i) {
+    append_step_record(steps_[static_cast<size_t>(i)], &payload_);
+  }
+  if (write_chunk(kChunkSteps, static_cast<uint32_t>(published - from), from, payload_)) {
+    written_steps_ = published;
   }
 }
 
@@ -155,7 +192,7 @@ bool SessionRecorder::write_chunk(uint32_t kind, uint32_t count, int64_t first_t
 Status SessionRecorder::finish(const std::string& events_json, const std::string& end_json) {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
-  if (published_ != nullptr) write_ticks_up_to(published_->load(std::memory_order_acquire));
+  if (published_ != nullptr) write_published();
   write_chunk(kChunkEvents, 0, 0, events_json);
   write_chunk(kChunkEnd, 0, 0, end_json);
   // On the disk, not only in the kernel's cache, before it is called done.

@@ -7,14 +7,23 @@
 /// writes the events and an end chunk; a file without one is an interrupted session.
 ///
 /// File (session.lrec), little-endian:
-///   "LAPREC01" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
+///   "LAPREC02" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
 ///   chunks:    uint32 magic "LRCK" | uint32 kind | uint32 payload bytes | uint32 count |
-///              int64 first tick | payload | uint32 CRC-32 of kind … payload
-///   kinds:     1 ticks (count records of kTickRecordBytes), 2 events (JSON), 3 end (JSON)
+///              int64 first tick (or step) | payload | uint32 CRC-32 of kind … payload
+///   kinds:     1 ticks (count records of kTickRecordBytes), 2 events (JSON), 3 end (JSON),
+///              4 modelling steps (count records of kStepRecordBytes)
 /// A tick record: int64 tick, int64 wall clock [ns since the epoch], per tool (left, right) the
 /// device's sample (double time_s, position[3], orientation w x y z, velocity[3], gripper angle;
 /// uint32 buttons, uint32 status) and what was sent (double force[3], squeeze), then double
-/// gain, uint8 late, uint8 paused, 6 bytes zero.
+/// gain, uint8 late, uint8 paused, uint8 resumed, uint8 after a hold, 4 bytes zero, double
+/// lateness [s], int64 the
+/// modelling steps of the model snapshot it read, int64 those of the proxies' surfaces it felt.
+/// A step record: int64 the haptic tick the step is labelled with, int64 the haptic tick whose
+/// snapshot it read (-1: none yet).
+/// The reads make a real-time session replayable in lockstep to the same state (issue 24): they
+/// say which snapshot each loop took from the other, which thread timing decided live.
+/// "LAPREC01" files (tick records of 304 bytes, ending after `paused` and 6 bytes zero; no steps)
+/// are still read; they replay in plain lockstep.
 
 #include <atomic>
 #include <cstdint>
@@ -38,15 +47,31 @@ struct TickLog {
   double gain = 1.0;  ///< the watchdog's factor on every command
   bool late = false;  ///< a late tick: zero sent
   bool paused = false;
+  bool resumed = false;     ///< a resume() taken up on this tick (while paused)
+  bool after_hold = false;  ///< the first tick after the trainee's pause (Session::hold)
+  double lateness_s = 0.0;  ///< how late the tick started
+  /// Which snapshots this tick read (their ModelSnapshot::steps, HapticSurfaces::model_steps).
+  int64_t model_steps_read = 0;
+  int64_t surface_steps_read = 0;
 };
 
-inline constexpr char kRecordingMagic[9] = "LAPREC01";
+/// What one modelling step read from the haptic loop (written by the modelling thread).
+struct StepLog {
+  int64_t tick = 0;               ///< the haptic tick the step is labelled with
+  int64_t haptic_tick_read = -1;  ///< whose HapticSnapshot it read; -1: the initial one
+};
+
+inline constexpr char kRecordingMagic[9] = "LAPREC02";
+inline constexpr char kRecordingMagicV1[9] = "LAPREC01";
 inline constexpr uint32_t kChunkMagic = 0x4B43524CU;  // "LRCK"
 inline constexpr uint32_t kChunkTicks = 1;
 inline constexpr uint32_t kChunkEvents = 2;
 inline constexpr uint32_t kChunkEnd = 3;
+inline constexpr uint32_t kChunkSteps = 4;
 inline constexpr size_t kChunkHeadBytes = 24;
-inline constexpr size_t kTickRecordBytes = 16 + 2 * (104 + 32) + 16;  // 304
+inline constexpr size_t kTickRecordBytes = 16 + 2 * (104 + 32) + 16 + 24;  // 328
+inline constexpr size_t kTickRecordBytesV1 = 16 + 2 * (104 + 32) + 16;     // 304
+inline constexpr size_t kStepRecordBytes = 16;
 
 /// CRC-32 (IEEE 802.3, reflected, as zlib's crc32) of `n` bytes, continuing from `crc`.
 [[nodiscard]] uint32_t crc32(const void* data, size_t n, uint32_t crc = 0);
@@ -54,6 +79,8 @@ inline constexpr size_t kTickRecordBytes = 16 + 2 * (104 + 32) + 16;  // 304
 /// One tick as its record's bytes (appended to `out`).
 void append_tick_record(const hardware::RecordedSample& left, const hardware::RecordedSample& right,
                         const TickLog& log, std::string* out);
+/// One modelling step as its record's bytes (appended to `out`).
+void append_step_record(const StepLog& step, std::string* out);
 
 class SessionRecorder {
  public:
@@ -67,9 +94,11 @@ class SessionRecorder {
   SessionRecorder& operator=(const SessionRecorder&) = delete;
 
   /// Starts the writer over storage the haptic loop fills (reserved: it never moves), of which
-  /// the first `*published` entries are complete (release-stored by the haptic thread).
+  /// the first `*published` entries are complete (release-stored by the haptic thread), and
+  /// storage the modelling loop fills the same way (`steps`, `*published_steps`).
   void start(const hardware::RecordedSample* left, const hardware::RecordedSample* right,
-             const TickLog* log, const std::atomic<int64_t>* published);
+             const TickLog* log, const std::atomic<int64_t>* published, const StepLog* steps,
+             const std::atomic<int64_t>* published_steps);
   /// Stops the writer, writes what is left, the events chunk and the end chunk, and closes.
   /// The problem that stopped the recording early (a full disk), if any, is returned; what was
   /// written before it stays.
@@ -81,7 +110,9 @@ class SessionRecorder {
  private:
   SessionRecorder() = default;
   void run();
+  void write_published();
   void write_ticks_up_to(int64_t published);
+  void write_steps_up_to(int64_t published);
   bool write_chunk(uint32_t kind, uint32_t count, int64_t first_tick, const std::string& payload);
 
   std::filesystem::path file_;
@@ -93,7 +124,10 @@ class SessionRecorder {
   const hardware::RecordedSample* right_ = nullptr;
   const TickLog* log_ = nullptr;
   const std::atomic<int64_t>* published_ = nullptr;
-  std::string problem_;  ///< writer thread's until finish() joins it
+  const StepLog* steps_ = nullptr;
+  const std::atomic<int64_t>* published_steps_ = nullptr;
+  int64_t written_steps_ = 0;  ///< writer thread's until finish() joins it
+  std::string problem_;        ///< writer thread's until finish() joins it
   std::string payload_;
 };
 

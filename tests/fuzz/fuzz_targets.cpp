@@ -160,6 +160,16 @@ bool fuzz_session_recording(std::span<const uint8_t> data) {
     require(d.samples.empty() || d.samples.size() == r.value().ticks.size());
     for (const hardware::RecordedSample& s : d.samples) require(s.sample.position_W.allFinite());
   }
+  // What a lockstep replay relies on: finite lateness, reads of no negative step, steps reading
+  // ticks in order.
+  for (const sim::TickLog& t : r.value().ticks) {
+    require(std::isfinite(t.lateness_s) && t.model_steps_read >= 0 && t.surface_steps_read >= 0);
+  }
+  int64_t last = -1;
+  for (const sim::StepLog& s : r.value().steps) {
+    require(s.haptic_tick_read >= last);
+    last = s.haptic_tick_read;
+  }
   return r.value().problems.empty();
 }
 

@@ -680,6 +680,15 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
     EXPECT_FALSE(streamed.value().interrupted);
     EXPECT_TRUE(streamed.value().problems.empty());
     EXPECT_EQ(static_cast<int64_t>(streamed.value().ticks.size()), std::stoll(ticks));
+    // Replayed from its recording, the real-time session comes to the same state and metrics
+    // (issue 24: the recording keeps which snapshot each loop read from the other).
+    const CommandResult report = run_command(cli() + " report --session " + rec);
+    ASSERT_EQ(report.exit_code, 0) << report.err;
+    const auto replayed = nlohmann::ordered_json::parse(report.out, nullptr, false);
+    ASSERT_FALSE(replayed.is_discarded()) << report.out;
+    EXPECT_EQ(replayed["state_hash"], j["state_hash"]) << report.err;
+    EXPECT_EQ(replayed["metrics"], j["metrics"]);
+    EXPECT_EQ(replayed["task"], j["task"]);
   }
 }
 

@@ -1,0 +1,168 @@
+// Issue 24: a session run in real time replays from its recording to the same state_hash. Live,
+// each loop takes the other's newest snapshot, and which one that was depends on the threads'
+// timing; the streamed recording keeps, per tick, its lateness, its resume and the model
+// snapshot and surfaces it read, and per modelling step the tick it read
+// (sim/runtime/session_recorder.h), and the replay runs ticks and steps in an order that gives
+// each the very snapshot it had (sim/runtime/lockstep_order.h).
+
+#include "sim/report/session_replay.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <thread>
+
+#include "hardware/replay_device.h"
+#include "sim/report/recording_reader.h"
+#include "sim/report/session_report.h"
+#include "sim/runtime/session.h"
+#include "tests/sim/session_test_support.h"
+
+namespace lap::sim {
+namespace {
+
+using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
+
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+
+// The expert's first 6 s in real time (it takes the catheter at 2.8 s), recorded as
+// `run --record` does, with what a loaded machine does to the loops, injected: a late tick, a
+// stall (the watchdog pauses; another thread resumes 150 ms later), and a modelling step held up
+// 100 ms while the ticks go on; and the trainee's pause (hold, release) 300 ms after the resume.
+TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnStateHash) {
+  const test::TempDir dir;
+  const Scene& scene = default_scene();
+  RuntimeSettings rs;
+  rs.duration_s = 6.0;
+  rs.realtime_priority = false;  // a test: not above the other tests running beside it
+  auto created = Session::create(scene, scripted_devices(kScripts, "expert"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  Session& session = *created.value();
+  ASSERT_TRUE(session.inject_lateness(3200, 0.005));  // over 2 periods: a late tick
+  ASSERT_TRUE(session.inject_lateness(3600, 0.030));  // over 20 ms: a stall, paused
+  session.inject_model_delay(4200, 0.100);
+  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const Result<std::string> header = session_record_json(scenario, rs);
+  ASSERT_TRUE(header.ok());
+  ASSERT_TRUE(session.record_to(dir.path() / "session.lrec", header.value()).ok());
+  std::atomic<bool> done{false};
+  std::thread resumer([&] {
+    const auto wait = [](int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); };
+    while (!done.load() && !session.paused()) wait(1);
+    wait(150);
+    session.resume();
+    // Then the trainee's pause (hold): no tick while held, the forces ramped back after.
+    wait(300);
+    session.hold();
+    wait(100);
+    session.release();
+  });
+  const SessionMetrics live = session.run();
+  done.store(true);
+  resumer.join();
+  ASSERT_TRUE(save_session(session, live, scenario.string(), false, dir.path().string()).ok());
+
+  // What thread timing decided, as recorded: the injected stall, a resume, some tick that read
+  // a model snapshot older than the newest there was (the slow step's ticks), all there.
+  const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(rec.ok()) << rec.message();
+  ASSERT_EQ(rec.value().version, 2);
+  ASSERT_TRUE(rec.value().problems.empty());
+  const std::vector<TickLog>& ticks = rec.value().ticks;
+  ASSERT_GT(ticks.size(), 3600U);
+  EXPECT_GE(ticks[3600].lateness_s, 0.030);
+  EXPECT_TRUE(ticks[3600].paused);
+  bool resumed = false, held = false;
+  for (const TickLog& t : ticks) {
+    resumed = resumed || t.resumed;
+    held = held || t.after_hold;
+  }
+  EXPECT_TRUE(resumed);
+  EXPECT_TRUE(held);
+  EXPECT_FALSE(live.events.empty());
+  ASSERT_FALSE(rec.value().steps.empty());
+  // The ticks during the slow step all read the step before it.
+  int64_t longest_wait = 0, run = 0;
+  for (size_t t = 1; t < ticks.size(); ++t) {
+    run = ticks[t].model_steps_read == ticks[t - 1].model_steps_read ? run + 1 : 0;
+    longest_wait = std::max(longest_wait, run);
+  }
+  EXPECT_GE(longest_wait, 50);  // 100 live; fewer if this loaded machine also held up ticks
+
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r.value().notes.empty()) << r.value().notes.front();
+  const SessionMetrics& again = r.value().metrics;
+  EXPECT_EQ(live.state_hash, again.state_hash);
+  EXPECT_EQ(live.late_ticks, again.late_ticks);
+  ASSERT_EQ(live.events.size(), again.events.size());
+  for (size_t i = 0; i < live.events.size(); ++i) {
+    EXPECT_EQ(live.events[i].tick, again.events[i].tick);
+    EXPECT_EQ(live.events[i].reason, again.events[i].reason);
+  }
+  EXPECT_EQ(event_kinds(live.task), event_kinds(again.task));
+  ASSERT_EQ(live.training.size(), again.training.size());
+  for (size_t i = 0; i < live.training.size(); ++i) {
+    EXPECT_EQ(std::memcmp(&live.training[i].value, &again.training[i].value, sizeof(double)), 0)
+        << live.training[i].name << ": " << live.training[i].value << " vs "
+        << again.training[i].value;
+  }
+  EXPECT_EQ(live.series.duct_force_n, again.series.duct_force_n);
+  EXPECT_EQ(live.haptic.ticks(), again.haptic.ticks());
+
+  // Without the reads — the same inputs in plain lockstep, as a LAPREC01 recording replays —
+  // the state is another: the reads are what makes the replay exact.
+  RuntimeSettings plain = rs;
+  plain.fast = true;
+  plain.duration_s = static_cast<double>(ticks.size() + 2) / plain.haptic_rate_hz;
+  Devices d;
+  for (size_t side = 0; side < 2; ++side) {
+    hardware::DeviceRecording recorded = rec.value().devices[side];
+    recorded.period_s = 1.0 / plain.haptic_rate_hz;
+    d[side] = std::make_unique<hardware::ReplayDevice>(std::move(recorded), "replay");
+  }
+  auto lockstep = Session::create(scene, std::move(d), plain);
+  ASSERT_TRUE(lockstep.ok()) << lockstep.message();
+  EXPECT_NE(lockstep.value()->run().state_hash, live.state_hash);
+}
+
+// A recording cut where a tick read a modelling step that did not reach the file (a damaged
+// steps chunk, as a bad disk leaves): the replay runs up to that tick and says why it stopped.
+TEST(RealTimeReplay, ARecordingWhoseStepsAreMissingReplaysUpToThemAndSaysSo) {
+  const test::TempDir dir;
+  const Scene& scene = default_scene();
+  RuntimeSettings rs = fast(1.0);
+  auto created = Session::create(scene, scripted_devices(kScripts, "expert"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const Result<std::string> header = session_record_json(scenario, rs);
+  ASSERT_TRUE(header.ok());
+  ASSERT_TRUE(created.value()->record_to(dir.path() / "session.lrec", header.value()).ok());
+  const SessionMetrics live = created.value()->run();
+  ASSERT_TRUE(
+      save_session(*created.value(), live, scenario.string(), true, dir.path().string()).ok());
+  // The first steps chunk's mark spoiled: its steps are skipped, and every later one is after a
+  // gap.
+  std::string bytes = file_text(dir.path() / "session.lrec");
+  const uint32_t steps_kind = kChunkSteps;
+  std::string mark("LRCK");
+  mark.append(reinterpret_cast<const char*>(&steps_kind), 4);
+  const size_t at = bytes.find(mark);
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 30] = static_cast<char>(bytes[at + 30] ^ 0x5A);  // in its first record: CRC fails
+  fs::remove(dir.path() / "session.lrec");
+  dir.write("session.lrec", bytes);
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_FALSE(r.value().recording_problems.empty());
+  ASSERT_FALSE(r.value().notes.empty());
+  EXPECT_NE(r.value().notes.back().find("which the recording does not have"), std::string::npos)
+      << r.value().notes.back();
+  EXPECT_LT(r.value().metrics.haptic.ticks(), live.haptic.ticks());
+}
+
+}  // namespace
+}  // namespace lap::sim
