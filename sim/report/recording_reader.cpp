@@ -1,5 +1,6 @@
 #include "sim/report/recording_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -64,6 +65,12 @@ bool decode_tick(const std::string& b, size_t at, int version, hardware::Recorde
   if (version == 1) return finite && std::isfinite(log->gain);
   log->resumed = b[p + 2] != 0;
   log->after_hold = b[p + 3] != 0;
+  log->tuned = b[p + 4] != 0;
+  for (size_t i = 0; i < 2; ++i) {
+    const auto status = static_cast<uint8_t>(b[p + 5 + i]);
+    if (status > static_cast<uint8_t>(hardware::DeviceStatus::kError)) return false;
+    log->write_status[i] = static_cast<hardware::DeviceStatus>(status);
+  }
   p += 8;
   log->lateness_s = d();
   log->model_steps_read = get<int64_t>(b, p);
@@ -82,6 +89,21 @@ class Reader {
     if (head == 0) return file_diagnostic(file_, 0, "", header_problem_);
     for (size_t at = head; at < b_.size();) at = chunk(at);
     if (!s_.end_json.empty()) truncated();
+    // A session reserves room for this many steps and no more (a replay runs each that read a
+    // tick it has; those after, what a cut leaves, are never run).
+    const auto runnable = static_cast<size_t>(
+        std::partition_point(s_.steps.begin(), s_.steps.end(),
+                             [&](const StepLog& k) {
+                               return k.haptic_tick_read < static_cast<int64_t>(s_.ticks.size());
+                             }) -
+        s_.steps.begin());
+    if (runnable > s_.ticks.size() + kStepsBeyondTicks) {
+      problem(b_.size(),
+              std::to_string(runnable) + " modelling steps for " + std::to_string(s_.ticks.size()) +
+                  " ticks: more than a session " + "records; those after the first " +
+                  std::to_string(s_.ticks.size() + kStepsBeyondTicks) + " are not replayed");
+      s_.steps.resize(s_.ticks.size() + kStepsBeyondTicks);
+    }
     return std::move(s_);
   }
 
@@ -166,8 +188,8 @@ class Reader {
       TickLog log;
       if (!decode_tick(b_, payload + k * record_bytes_, s_.version, &left, &right, &log)) {
         problem(at, "tick record " + std::to_string(k) +
-                        " holds a non-finite value or an "
-                        "unknown status; the ticks from there on are not replayed");
+                        " holds a non-finite value, an unknown status or a negative read; the "
+                        "ticks from there on are not replayed");
         gap_ = true;
         return;
       }
@@ -178,6 +200,16 @@ class Reader {
         return;
       }
       const bool next = log.tick == static_cast<int64_t>(s_.ticks.size());
+      // Each tick reads the newest snapshots there are: never older ones than the tick before.
+      if (next && !gap_ && !s_.ticks.empty() &&
+          (log.model_steps_read < s_.ticks.back().model_steps_read ||
+           log.surface_steps_read < s_.ticks.back().surface_steps_read)) {
+        problem(at, "tick " + std::to_string(log.tick) +
+                        " reads an older modelling step than the tick before; the ticks from "
+                        "there on are not replayed");
+        gap_ = true;
+        return;
+      }
       if (!next && !gap_) {
         problem(at, "ticks " + std::to_string(s_.ticks.size()) + " to " +
                         std::to_string(log.tick - 1) +
@@ -215,12 +247,14 @@ class Reader {
     for (uint32_t k = 0; k < count; ++k) {
       const size_t p = payload + static_cast<size_t>(k) * kStepRecordBytes;
       StepLog step{get<int64_t>(b_, p), get<int64_t>(b_, p + 8)};
-      // Each step reads a tick already published, in order: anything else is damage.
+      // Each step reads a tick already published, in order, and is labelled with a later tick
+      // than the step before: anything else is damage.
       const int64_t last = s_.steps.empty() ? -1 : s_.steps.back().haptic_tick_read;
-      if (step.haptic_tick_read < last || step.tick < 0) {
+      const int64_t label = s_.steps.empty() ? -1 : s_.steps.back().tick;
+      if (step.haptic_tick_read < last || step.tick <= label) {
         problem(at, "step record " + std::to_string(k) +
-                        " reads a haptic tick out of order; the steps from there on are not "
-                        "replayed");
+                        " reads a haptic tick out of order, or is labelled with no later tick "
+                        "than the step before; the steps from there on are not replayed");
         steps_gap_ = true;
         return;
       }

@@ -339,6 +339,15 @@ Result<ReplayedSession> replay_session(
     } else {
       recorded = out.recorded_ticks;
       if (rec.value().version >= 2) {
+        const std::vector<TickLog>& ticks = rec.value().ticks;
+        const auto tuned =
+            std::find_if(ticks.begin(), ticks.end(), [](const TickLog& t) { return t.tuned; });
+        if (tuned != ticks.end()) {
+          out.notes.push_back(
+              "an author tuned organ surfaces live from tick " + std::to_string(tuned->tick) +
+              " on; the recording does not hold the values, so the replay renders the "
+              "scenario's and its figures may differ from the session's");
+        }
         reads.emplace(std::move(rec.value().ticks), std::move(rec.value().steps));
       }
       for (size_t side = 0; side < 2; ++side) {
@@ -379,6 +388,10 @@ Result<ReplayedSession> replay_session(
   out.metrics = session.value()->run();
   if (!session.value()->lockstep_problem().empty()) {
     out.notes.push_back(session.value()->lockstep_problem());
+  } else if (session.value()->lockstep_steps_not_run() > 0 && !out.interrupted) {
+    out.notes.push_back(std::to_string(session.value()->lockstep_steps_not_run()) +
+                        " recorded modelling steps read a tick after the recording's last: "
+                        "they were not replayed (the recording is damaged)");
   }
   return out;
 }

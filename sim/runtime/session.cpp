@@ -210,7 +210,7 @@ Result<std::unique_ptr<Session>> Session::create(
   // Live, the modelling loop steps on its own clock: more steps than ticks / 5 when the haptic
   // loop runs behind it (a loaded machine, a sanitizer's build); one per tick is room for a
   // haptic loop five times slower than its rate.
-  s->step_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + 64);
+  s->step_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + kStepsBeyondTicks);
   s->events_.reserve(1024);
 
   for (Tool& tool : s->tools_) {
@@ -311,7 +311,7 @@ const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noe
   tick_reads_.surface_steps_read = surfaces_to_haptic_.read()->model_steps();
   // An author's tuning, felt from this tick on; re-applied after every switch of the surfaces'
   // copy, which resets the shading pointers (surface_tuning.h).
-  tuned_surfaces_.take(&tuning_mailbox_);
+  tick_reads_.tuned = tuned_surfaces_.take(&tuning_mailbox_);
   tuned_surfaces_.apply(objects_);
   return model;
 }
@@ -609,7 +609,10 @@ void Session::send_commands(int64_t tick, const std::array<hardware::DeviceComma
   }
   for (size_t i = 0; i < 2; ++i) {
     tools_[i].passivity.sent(sent[i].force_W);
-    const hardware::DeviceStatus st = tools_[i].device->write(sent[i]);
+    hardware::DeviceStatus st = tools_[i].device->write(sent[i]);
+    // A lockstep replay's device takes any command; the live one's answer is in the record.
+    if (scheduled_) st = schedule_ticks_[static_cast<size_t>(tick)].write_status[i];
+    tick_reads_.write_status[i] = st;
     if (st == hardware::DeviceStatus::kDisconnected || st == hardware::DeviceStatus::kError) {
       trip(tick, static_cast<int32_t>(i),
            st == hardware::DeviceStatus::kError ? WatchdogReason::kDeviceError
@@ -643,6 +646,8 @@ void Session::log_tick(int64_t tick, const std::array<hardware::DeviceCommand, 2
     log.paused = paused;
     log.resumed = tick_reads_.resumed;
     log.after_hold = after_hold_;
+    log.tuned = tick_reads_.tuned;
+    log.write_status = tick_reads_.write_status;
     log.lateness_s = tick_reads_.lateness_s;
     log.model_steps_read = tick_reads_.model_steps_read;
     log.surface_steps_read = tick_reads_.surface_steps_read;
@@ -852,10 +857,10 @@ void Session::run_scheduled() {
        next = order.next()) {
     const int64_t t = order.ticks_done();
     if (next == LockstepOrder::Next::kStuck) {
-      lockstep_problem_ = "tick " + std::to_string(t) + " read modelling step " +
+      lockstep_problem_ = "tick " + std::to_string(t) + " read the snapshot of modelling step " +
                           std::to_string(newest[static_cast<size_t>(t)]) + ", which the " +
-                          "recording does not have (it holds " +
-                          std::to_string(order.steps_done()) + " steps): the replay stops there";
+                          "recording does not have whole (it is missing, or a step before it " +
+                          "reads a tick after the recording's last): the replay stops there";
       break;
     }
     if (next == LockstepOrder::Next::kTick) show();
@@ -873,6 +878,7 @@ void Session::run_scheduled() {
     }
     order.ran(next);
   }
+  lockstep_steps_not_run_ = static_cast<int64_t>(reads.size()) - order.steps_done();
   show();
   scheduled_haptic_ = nullptr;
   scheduled_model_ = nullptr;

@@ -254,6 +254,9 @@ class Session {
   /// After a replay_in_lockstep run(): why it stopped before the recording's last tick, if it
   /// did (its steps cut or damaged; the loops further apart live than the replay keeps).
   [[nodiscard]] const std::string& lockstep_problem() const { return lockstep_problem_; }
+  /// After a replay_in_lockstep run(): recorded steps that read a tick after the last one run
+  /// (normal at the end of an interrupted recording; damage in a complete one).
+  [[nodiscard]] int64_t lockstep_steps_not_run() const { return lockstep_steps_not_run_; }
   /// How many snapshots of each loop a lockstep replay keeps (the newest and those before).
   static constexpr int64_t kLockstepHistory = 8;
   /// Tests (real time): the modelling step at haptic tick `tick` takes `delay_s` longer, as a
@@ -497,6 +500,7 @@ class Session {
   bool scheduled_resume_ = false;
   int64_t scheduled_surface_steps_ = 0;
   std::string lockstep_problem_;
+  int64_t lockstep_steps_not_run_ = 0;
 
   // Recording (haptic thread writes, capacity reserved at set-up).
   std::array<hardware::DeviceRecording, 2> recordings_{};

@@ -68,13 +68,15 @@ void append_tick_record(const hardware::RecordedSample& left, const hardware::Re
   put(out, static_cast<uint8_t>(log.paused ? 1 : 0));
   put(out, static_cast<uint8_t>(log.resumed ? 1 : 0));
   put(out, static_cast<uint8_t>(log.after_hold ? 1 : 0));
-  out->append(4, '\0');
+  put(out, static_cast<uint8_t>(log.tuned ? 1 : 0));
+  put(out, static_cast<uint8_t>(log.write_status[0]));
+  put(out, static_cast<uint8_t>(log.write_status[1]));
+  out->append(1, '\0');
   put(out, log.lateness_s);
   put(out, log.model_steps_read);
   put(out, log.surface_steps_read);
 }
-static_assert(kTickRecordBytes ==
-              8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 1 + 1 + 1 + 1 + 4 + 24);
+static_assert(kTickRecordBytes == 8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 8 * 1 + 24);
 
 void append_step_record(const StepLog& step, std::string* out) {
   put(out, step.tick);

@@ -15,8 +15,8 @@
 /// A tick record: int64 tick, int64 wall clock [ns since the epoch], per tool (left, right) the
 /// device's sample (double time_s, position[3], orientation w x y z, velocity[3], gripper angle;
 /// uint32 buttons, uint32 status) and what was sent (double force[3], squeeze), then double
-/// gain, uint8 late, uint8 paused, uint8 resumed, uint8 after a hold, 4 bytes zero, double
-/// lateness [s], int64 the
+/// gain, uint8 late, uint8 paused, uint8 resumed, uint8 after a hold, uint8 tuned, uint8 per
+/// tool the status its write returned, 1 byte zero, double lateness [s], int64 the
 /// modelling steps of the model snapshot it read, int64 those of the proxies' surfaces it felt.
 /// A step record: int64 the haptic tick the step is labelled with, int64 the haptic tick whose
 /// snapshot it read (-1: none yet).
@@ -49,6 +49,10 @@ struct TickLog {
   bool paused = false;
   bool resumed = false;     ///< a resume() taken up on this tick (while paused)
   bool after_hold = false;  ///< the first tick after the trainee's pause (Session::hold)
+  bool tuned = false;       ///< an author's surface tuning taken up (Session::tune_surface)
+  /// What each device's write returned (a fault reported there trips the watchdog).
+  std::array<hardware::DeviceStatus, 2> write_status{hardware::DeviceStatus::kOk,
+                                                     hardware::DeviceStatus::kOk};
   double lateness_s = 0.0;  ///< how late the tick started
   /// Which snapshots this tick read (their ModelSnapshot::steps, HapticSurfaces::model_steps).
   int64_t model_steps_read = 0;
@@ -72,6 +76,9 @@ inline constexpr size_t kChunkHeadBytes = 24;
 inline constexpr size_t kTickRecordBytes = 16 + 2 * (104 + 32) + 16 + 24;  // 328
 inline constexpr size_t kTickRecordBytesV1 = 16 + 2 * (104 + 32) + 16;     // 304
 inline constexpr size_t kStepRecordBytes = 16;
+/// Modelling steps a session records beyond one per tick (a haptic loop five times slower than
+/// its rate, live): the room the session reserves, and what a reader accepts.
+inline constexpr size_t kStepsBeyondTicks = 64;
 
 /// CRC-32 (IEEE 802.3, reflected, as zlib's crc32) of `n` bytes, continuing from `crc`.
 [[nodiscard]] uint32_t crc32(const void* data, size_t n, uint32_t crc = 0);

@@ -108,6 +108,45 @@ TEST(SessionRecording, ADamagedChunkIsReportedAndTheRestStillReads) {
 }
 
 // Cut at 40 random places: never a crash, every whole chunk before the cut, interrupted.
+// Untrusted input: a replay runs every recorded step that read a tick it has, so a file may not
+// make it run more than a session records (one per tick, and kStepsBeyondTicks more).
+TEST(SessionRecording, MoreStepsThanASessionRecordsAreNotReplayed) {
+  const test::TempDir dir;
+  const auto session = expert_session();
+  ASSERT_TRUE(session->record_to(dir.path() / "session.lrec", "{}").ok());
+  session->run();
+  const Result<RecordedSession> before = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(before.ok()) << before.message();
+  ASSERT_TRUE(before.value().problems.empty());
+  const size_t ticks = before.value().ticks.size();
+  const StepLog last = before.value().steps.back();
+  // A steps chunk after the last, each step reading the last tick (all of them could run).
+  std::string payload;
+  const size_t extra = ticks + 100;
+  for (size_t i = 0; i < extra; ++i) {
+    append_step_record({last.tick + 5 * static_cast<int64_t>(i + 1), last.haptic_tick_read},
+                       &payload);
+  }
+  std::string chunk;
+  const auto put = [&](auto v) { chunk.append(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  put(kChunkMagic);
+  put(kChunkSteps);
+  put(static_cast<uint32_t>(payload.size()));
+  put(static_cast<uint32_t>(extra));
+  put(static_cast<int64_t>(before.value().steps.size()));
+  chunk += payload;
+  put(crc32(chunk.data() + 4, chunk.size() - 4));
+  write_bytes(dir.path() / "flood.lrec", bytes_of(dir.path() / "session.lrec") + chunk);
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "flood.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r.value().steps.size(), ticks + kStepsBeyondTicks);
+  bool said = false;
+  for (const std::string& p : r.value().problems) {
+    said = said || p.find("more than a session records") != std::string::npos;
+  }
+  EXPECT_TRUE(said) << r.value().problems.front();
+}
+
 TEST(SessionRecording, CutAnywhereItReadsUpToItsLastWholeChunk) {
   const test::TempDir dir;
   const auto session = expert_session();

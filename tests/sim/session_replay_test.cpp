@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "hardware/replay_device.h"
+#include "hardware/scripted_device.h"
 #include "sim/report/recording_reader.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
@@ -159,9 +160,86 @@ TEST(RealTimeReplay, ARecordingWhoseStepsAreMissingReplaysUpToThemAndSaysSo) {
   ASSERT_TRUE(r.ok()) << r.message();
   ASSERT_FALSE(r.value().recording_problems.empty());
   ASSERT_FALSE(r.value().notes.empty());
-  EXPECT_NE(r.value().notes.back().find("which the recording does not have"), std::string::npos)
+  EXPECT_NE(r.value().notes.back().find("which the recording does not have whole"),
+            std::string::npos)
       << r.value().notes.back();
   EXPECT_LT(r.value().metrics.haptic.ticks(), live.haptic.ticks());
+}
+
+// A device whose `failing_write`-th write reports a fault, as a PHANToM's servo thread does: the
+// watchdog trips on it. The replay's device takes every command, so the recording keeps what
+// each write returned.
+class WriteFaultDevice final : public hardware::HapticDevice {
+ public:
+  WriteFaultDevice(hardware::ScriptedTrajectory t, int64_t failing_write)
+      : inner_(std::move(t), "left"), failing_(failing_write) {}
+  Status start() override { return inner_.start(); }
+  void stop() override {}
+  hardware::DeviceStatus read(int64_t tick, double dt,
+                              hardware::DeviceSample* out) noexcept override {
+    return inner_.read(tick, dt, out);
+  }
+  hardware::DeviceStatus write(const hardware::DeviceCommand& /*c*/) noexcept override {
+    return writes_++ == failing_ ? hardware::DeviceStatus::kError : hardware::DeviceStatus::kOk;
+  }
+  [[nodiscard]] const hardware::DeviceLimits& limits() const override { return inner_.limits(); }
+  [[nodiscard]] std::string_view name() const override { return "left"; }
+  [[nodiscard]] std::string last_error() const override { return {}; }
+
+ private:
+  hardware::ScriptedDevice inner_;
+  int64_t failing_ = 0;
+  int64_t writes_ = 0;
+};
+
+// The session recorded as `run --record` does, into `dir`.
+SessionMetrics run_recorded(Session& session, const RuntimeSettings& rs, const fs::path& dir) {
+  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const Result<std::string> header = session_record_json(scenario, rs);
+  EXPECT_TRUE(header.ok());
+  EXPECT_TRUE(session.record_to(dir / "session.lrec", header.value()).ok());
+  const SessionMetrics m = session.run();
+  EXPECT_TRUE(save_session(session, m, scenario.string(), rs.fast, dir.string()).ok());
+  return m;
+}
+
+TEST(RealTimeReplay, AFaultADeviceReportedOnAWriteIsReplayed) {
+  const test::TempDir dir;
+  Devices d = scripted_devices(kScripts, "expert");
+  auto left = hardware::load_scripted_trajectory(kScripts / "expert_left.csv");
+  ASSERT_TRUE(left.ok()) << left.message();
+  d[0] = std::make_unique<WriteFaultDevice>(std::move(left).value(), 500);
+  const RuntimeSettings rs = fast(1.0);
+  auto created = Session::create(default_scene(), std::move(d), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  const SessionMetrics live = run_recorded(*created.value(), rs, dir.path());
+  ASSERT_EQ(live.events.size(), 1U);
+  EXPECT_EQ(live.events[0].tick, 500);
+  EXPECT_EQ(live.events[0].reason, WatchdogReason::kDeviceError);
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.value().metrics.events.size(), 1U);
+  EXPECT_EQ(r.value().metrics.events[0].tick, 500);
+  EXPECT_EQ(r.value().metrics.events[0].tool, 0);
+  EXPECT_EQ(r.value().metrics.state_hash, live.state_hash);
+}
+
+// An author's live tuning is not in the recording: the replay says its figures may differ.
+TEST(RealTimeReplay, ASessionTunedLiveSaysItsReplayRendersTheScenariosValues) {
+  const test::TempDir dir;
+  const RuntimeSettings rs = fast(0.2);
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  SurfaceParameters p = created.value()->surface_parameters(0);
+  p.stiffness_n_per_m *= 0.5;
+  ASSERT_TRUE(created.value()->tune_surface(0, p));
+  run_recorded(*created.value(), rs, dir.path());
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.value().notes.size(), 1U);
+  EXPECT_NE(r.value().notes[0].find("an author tuned organ surfaces live from tick 0 on"),
+            std::string::npos)
+      << r.value().notes[0];
 }
 
 }  // namespace
