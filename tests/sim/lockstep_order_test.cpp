@@ -106,7 +106,7 @@ struct Kept {
 // tick's older read kept apart, as Session::run_scheduled keeps them; a read of a snapshot no
 // longer kept stops it.
 Replayed replay(const LiveRun& live, std::vector<int64_t> step_reads) {
-  const int64_t n = Session::kLockstepHistory;
+  constexpr int64_t n = Session::kLockstepHistory;
   std::vector<int64_t> oldest, newest;
   for (size_t t = 0; t < live.tick_model_read.size(); ++t) {
     oldest.push_back(std::min(live.tick_model_read[t], live.tick_surface_read[t]));
@@ -115,7 +115,7 @@ Replayed replay(const LiveRun& live, std::vector<int64_t> step_reads) {
   Replayed out;
   std::vector<Kept> haptic_ring(n, {-1, kHapticSeed}), model_ring(n, {0, kModelSeed});
   Kept model_apart;
-  const auto slot = [n](int64_t i) { return static_cast<size_t>(((i % n) + n) % n); };
+  const auto slot = [](int64_t i) { return static_cast<size_t>(((i % n) + n) % n); };
   const auto model_read = [&](int64_t steps, uint64_t* state) {
     const bool in_ring = model_ring[slot(steps)].id == steps;
     const Kept& k = in_ring ? model_ring[slot(steps)] : model_apart;
