@@ -107,7 +107,6 @@ TEST(SessionRecording, ADamagedChunkIsReportedAndTheRestStillReads) {
   }
 }
 
-// Cut at 40 random places: never a crash, every whole chunk before the cut, interrupted.
 // Untrusted input: a replay runs every recorded step that read a tick it has, so a file may not
 // make it run more than a session records (one per tick, and kStepsBeyondTicks more).
 TEST(SessionRecording, MoreStepsThanASessionRecordsAreNotReplayed) {
@@ -147,6 +146,7 @@ TEST(SessionRecording, MoreStepsThanASessionRecordsAreNotReplayed) {
   EXPECT_TRUE(said) << r.value().problems.front();
 }
 
+// Cut at 40 random places: never a crash, every whole chunk before the cut, interrupted.
 TEST(SessionRecording, CutAnywhereItReadsUpToItsLastWholeChunk) {
   const test::TempDir dir;
   const auto session = expert_session();
