@@ -631,6 +631,20 @@ pid_t spawn_cli(const std::vector<std::string>& args, const std::filesystem::pat
   return rc == 0 ? pid : -1;
 }
 
+// Waits until the session recording into `rec` has its first ticks on disk (a chunk is written
+// every 40 ms once the loops run): set-up takes 1.4 s in the ASan build on an idle machine, more
+// under load, so a fixed wait could signal a session that has not started.
+void wait_until_ticking(const std::filesystem::path& rec) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  std::error_code ec;
+  while (std::chrono::steady_clock::now() < until) {
+    const auto size = std::filesystem::file_size(rec / "session.lrec", ec);
+    if (!ec && size > 4096) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ADD_FAILURE() << "the session recording into " << rec << " never started";
+}
+
 // Issue 25: SIGTERM ended `run` at once (exit 143 from the default action, nothing written).
 // Now SIGINT and SIGTERM stop the session at the next tick, zero the forces, write the metrics
 // and the recording so far, and exit 130 / 143 (README.md).
@@ -643,7 +657,8 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
          "simulated", "--right", "simulated", "--duration", "120", "--record", rec},
         dir.path() / "out.json", dir.path() / "err.txt");
     ASSERT_GT(pid, 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    wait_until_ticking(rec);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
     ASSERT_EQ(kill(pid, sig), 0);
     const auto sent = std::chrono::steady_clock::now();
     int status = 0;
@@ -705,7 +720,8 @@ TEST(CliRun, KilledMidSessionTheRecordingLosesAtMost100Ms) {
        "scripted:" + (scripts / "expert_right.csv").string(), "--duration", "60", "--record", rec},
       dir.path() / "out.json", dir.path() / "err.txt");
   ASSERT_GT(pid, 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(3500));
+  wait_until_ticking(rec);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));
   timespec now{};
   clock_gettime(CLOCK_REALTIME, &now);
   ASSERT_EQ(kill(pid, SIGKILL), 0);
