@@ -727,7 +727,7 @@ void Session::model_tick(int64_t tick) noexcept {
     if (buf == &model_to_haptic_ && !scheduled_) {
       // The proxies' next copy of the surfaces takes up the same deformations here, on this
       // thread, so the haptic step only switches to it. (A lockstep replay takes up the copy
-      // each tick felt live: schedule_surfaces.)
+      // each tick felt live: scheduled_tick.)
       surfaces_to_haptic_.write_slot()->take_up(m.organs, model_steps_);
       surfaces_to_haptic_.publish();
     }
