@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/bounded_file.h"
+#include "sim/runtime/tissue_world.h"
 
 namespace lap::sim {
 
@@ -14,9 +15,9 @@ namespace {
 /// A recording's header JSON is a few hundred bytes, a chunk of ticks 40 ms of them.
 constexpr uint32_t kMaxHeaderBytes = 1U << 20;
 constexpr uint32_t kMaxPayloadBytes = 64U << 20;
-/// Three hours of ticks at 1 kHz (328 bytes each) and steps at 200 Hz (16 bytes each): what a
-/// session may leave.
-constexpr std::uintmax_t kMaxRecordingBytes = std::uintmax_t{4} << 30;
+/// Three hours of ticks at 1 kHz (400 bytes each: 4.3 GB) and steps at 200 Hz (16 bytes each):
+/// what a session may leave.
+constexpr std::uintmax_t kMaxRecordingBytes = std::uintmax_t{5} << 30;
 
 template <typename T>
 T get(const std::string& bytes, size_t at) {
@@ -25,10 +26,40 @@ T get(const std::string& bytes, size_t at) {
   return v;
 }
 
-/// Reads one tick record at `at` (a LAPREC0`version` one); false when a value is not finite, the
-/// status unknown, or a read impossible.
-bool decode_tick(const std::string& b, size_t at, int version, hardware::RecordedSample* left,
-                 hardware::RecordedSample* right, TickLog* log) {
+/// One tool's touch at `p` (a LAPREC03 tick record's): what makes it impossible, or empty.
+std::string_view decode_touch(const std::string& b, size_t p, ToolTouch* t) {
+  const auto flags = static_cast<uint8_t>(b[p]);
+  t->catheter_held = (flags & 1U) != 0;
+  t->duct_held = (flags & 2U) != 0;
+  t->organs = static_cast<uint8_t>(b[p + 1]);
+  t->contacts = static_cast<uint8_t>(b[p + 2]);
+  if (flags > 3U) return "unknown grasp flags (expected 0 to 3)";
+  if (t->contacts > ToolModelInput::kMaxContacts || t->organs > t->contacts) {
+    return "more contacts than a tool has (12), or more organs touched than contacts";
+  }
+  int32_t listed_contacts = 0;
+  for (size_t k = 0; k < ToolTouch::kListedOrgans; ++k) {
+    const size_t at = p + 4 + 8 * k;
+    t->organ[k] = get<uint16_t>(b, at);
+    t->organ_contacts[k] = get<uint16_t>(b, at + 2);
+    t->force_n[k] = get<float>(b, at + 4);
+    if (!std::isfinite(t->force_n[k]) || t->force_n[k] < 0.0F) {
+      return "a push on an organ that is not finite, or negative";
+    }
+    if (k < t->listed() ? t->organ_contacts[k] == 0 : t->organ_contacts[k] != 0) {
+      return "a listed organ without contacts, or contacts on an unlisted one";
+    }
+    listed_contacts += t->organ_contacts[k];
+  }
+  if (listed_contacts > t->contacts) return "more contacts on its organs than the tool had";
+  return {};
+}
+
+/// Reads one tick record at `at` (a LAPREC0`version` one): what is wrong with it (a value not
+/// finite, a status unknown, a read impossible, a touch that cannot be), or empty.
+std::string decode_tick(const std::string& b, size_t at, int version,
+                        hardware::RecordedSample* left, hardware::RecordedSample* right,
+                        TickLog* log) {
   log->tick = get<int64_t>(b, at);
   log->wall_ns = get<int64_t>(b, at + 8);
   size_t p = at + 16;
@@ -37,8 +68,12 @@ bool decode_tick(const std::string& b, size_t at, int version, hardware::Recorde
     p += 8;
     return v;
   };
-  bool finite = true;
+  static constexpr auto kLastStatus = static_cast<uint32_t>(hardware::DeviceStatus::kError);
+  static constexpr const char* kStatuses =
+      " (expected 0 ok, 1 finished, 2 disconnected or 3 error)";
+  constexpr const char* kNotFinite = "a value that is not finite";
   for (size_t i = 0; i < 2; ++i) {
+    const char* tool = i == 0 ? "the left tool's " : "the right tool's ";
     hardware::RecordedSample& r = i == 0 ? *left : *right;
     r.tick = log->tick;
     hardware::DeviceSample& s = r.sample;
@@ -51,32 +86,51 @@ bool decode_tick(const std::string& b, size_t at, int version, hardware::Recorde
     s.buttons = get<uint32_t>(b, p);
     const auto status = get<uint32_t>(b, p + 4);
     p += 8;
-    if (status > static_cast<uint32_t>(hardware::DeviceStatus::kError)) return false;
+    if (status > kLastStatus) {
+      return std::string(tool) + "device status " + std::to_string(status) + kStatuses;
+    }
     r.status = static_cast<hardware::DeviceStatus>(status);
     log->force_W[i] = {d(), d(), d()};
     log->squeeze_n[i] = d();
-    finite = finite && s.position_W.allFinite() && s.orientation_W.coeffs().allFinite() &&
-             s.velocity_W.allFinite() && std::isfinite(s.gripper_angle_rad) &&
-             std::isfinite(s.time_s) && log->force_W[i].allFinite();
+    if (!s.position_W.allFinite() || !s.orientation_W.coeffs().allFinite() ||
+        !s.velocity_W.allFinite() || !std::isfinite(s.gripper_angle_rad) ||
+        !std::isfinite(s.time_s) || !log->force_W[i].allFinite()) {
+      return std::string(tool) + "sample or force holds " + kNotFinite;
+    }
   }
   log->gain = d();
+  if (!std::isfinite(log->gain)) return std::string("the watchdog's gain is ") + kNotFinite;
   log->late = b[p] != 0;
   log->paused = b[p + 1] != 0;
-  if (version == 1) return finite && std::isfinite(log->gain);
+  if (version == 1) return {};
   log->resumed = b[p + 2] != 0;
   log->after_hold = b[p + 3] != 0;
   log->tuned = b[p + 4] != 0;
   for (size_t i = 0; i < 2; ++i) {
     const auto status = static_cast<uint8_t>(b[p + 5 + i]);
-    if (status > static_cast<uint8_t>(hardware::DeviceStatus::kError)) return false;
+    if (status > kLastStatus) {
+      return std::string(i == 0 ? "the left" : "the right") + " device's write status " +
+             std::to_string(status) + kStatuses;
+    }
     log->write_status[i] = static_cast<hardware::DeviceStatus>(status);
   }
   p += 8;
   log->lateness_s = d();
+  if (!std::isfinite(log->lateness_s)) return std::string("its lateness is ") + kNotFinite;
   log->model_steps_read = get<int64_t>(b, p);
   log->surface_steps_read = get<int64_t>(b, p + 8);
-  return finite && std::isfinite(log->gain) && std::isfinite(log->lateness_s) &&
-         log->model_steps_read >= 0 && log->surface_steps_read >= 0;
+  p += 16;
+  if (log->model_steps_read < 0 || log->surface_steps_read < 0) {
+    return "it reads a negative modelling step";
+  }
+  if (version == 2) return {};
+  for (size_t i = 0; i < 2; ++i) {
+    const std::string_view why = decode_touch(b, p, &log->touch[i]);
+    if (!why.empty())
+      return (i == 0 ? "the left tool's touch: " : "the right tool's touch: ") + std::string(why);
+    p += kToolTouchBytes;
+  }
+  return {};
 }
 
 class Reader {
@@ -112,10 +166,13 @@ class Reader {
     if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV1) == 0) {
       s_.version = 1;
       record_bytes_ = kTickRecordBytesV1;
+    } else if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV2) == 0) {
+      s_.version = 2;
+      record_bytes_ = kTickRecordBytesV2;
     } else if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
       header_problem_ =
-          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC02, "
-          "or LAPREC01)";
+          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC03, "
+          "LAPREC02 or LAPREC01)";
       return 0;
     }
     const auto n = get<uint32_t>(b_, 8);
@@ -186,10 +243,11 @@ class Reader {
     for (uint32_t k = 0; k < count; ++k) {
       hardware::RecordedSample left, right;
       TickLog log;
-      if (!decode_tick(b_, payload + k * record_bytes_, s_.version, &left, &right, &log)) {
-        problem(at, "tick record " + std::to_string(k) +
-                        " holds a non-finite value, an unknown status or a negative read; the "
-                        "ticks from there on are not replayed");
+      const std::string why =
+          decode_tick(b_, payload + k * record_bytes_, s_.version, &left, &right, &log);
+      if (!why.empty()) {
+        problem(at, "tick record " + std::to_string(k) + ": " + why +
+                        "; the ticks from there on are not replayed");
         gap_ = true;
         return;
       }

@@ -25,7 +25,8 @@ struct RecordedSession {
   /// The modelling steps' reads from 0 on without a gap (none in a LAPREC01 file): with the
   /// ticks' own, what a lockstep replay needs (Session::replay_in_lockstep).
   std::vector<StepLog> steps;
-  int version = 2;          ///< 1: LAPREC01 (no reads recorded), 2: LAPREC02
+  /// 1: LAPREC01 (no reads recorded), 2: LAPREC02 (no touches: TickLog::touch empty), 3.
+  int version = 3;
   int64_t ticks_read = 0;   ///< every tick read, after a gap too
   bool interrupted = true;  ///< no end chunk
   std::string events_json;

@@ -18,6 +18,7 @@
 #include "hardware/device_spec.h"
 #include "hardware/replay_device.h"
 #include "sim/report/recording_reader.h"
+#include "sim/report/touch_departure.h"
 #include "sim/setup/device_factory.h"
 #include "sim/setup/gltf_references.h"
 #include "sim/setup/json_lines.h"
@@ -319,6 +320,8 @@ Result<ReplayedSession> replay_session(
   // Which snapshot each loop read from the other, as the session ran (LAPREC02): the replay
   // takes the same ones (lockstep_order.h).
   std::optional<std::pair<std::vector<TickLog>, std::vector<StepLog>>> reads;
+  // What each tool touched and held live (LAPREC03), to check the replay against.
+  std::vector<std::array<ToolTouch, 2>> touches;
   if (std::filesystem::exists(std::filesystem::symlink_status(lrec, ec))) {
     // The streamed recording: what a crash left, too.
     Result<RecordedSession> rec = read_session_recording(lrec);
@@ -347,6 +350,10 @@ Result<ReplayedSession> replay_session(
               "an author tuned organ surfaces live from tick " + std::to_string(tuned->tick) +
               " on; the recording does not hold the values, so the replay renders the "
               "scenario's and its figures may differ from the session's");
+        }
+        if (rec.value().version >= 3) {
+          touches.reserve(ticks.size());
+          for (const TickLog& t : ticks) touches.push_back(t.touch);
         }
         reads.emplace(std::move(rec.value().ticks), std::move(rec.value().steps));
       }
@@ -386,6 +393,9 @@ Result<ReplayedSession> replay_session(
   if (reads) session.value()->replay_in_lockstep(std::move(reads->first), std::move(reads->second));
   if (prepare) prepare(*session.value(), scene.value());
   out.metrics = session.value()->run();
+  const std::optional<std::string> departure = touch_departure(
+      touches, session.value()->tick_log(), out.metrics.organ_names, rs.haptic_rate_hz);
+  if (departure) out.notes.push_back(*departure);
   if (!session.value()->lockstep_problem().empty()) {
     out.notes.push_back(session.value()->lockstep_problem());
   } else if (session.value()->lockstep_steps_not_run() > 0 && !out.interrupted) {

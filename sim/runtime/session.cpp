@@ -260,6 +260,9 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   std::array<hardware::DeviceCommand, 2> wanted{};
   int32_t touched = -1;
   for (size_t i = 0; i < 2; ++i) {
+    // What it holds in the model it read; what it touches once its proxies have moved.
+    tick_reads_.touch[i] =
+        tool_touch(nullptr, 0, model.grasps[i].held, model.duct_grasps[i].grasping());
     ToolKinematics k;
     if (!read_tool(i, tick, &k)) continue;  // keep the tool where it was
     wanted[i] = tools_[i].probe ? probe_command(i, k, &snap.tools[i], tick)
@@ -272,6 +275,9 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
       bodies_.push(tc.organ, tc.force_on_organ_W, tc.point_W);
     }
     if (ts.organ_contact_count > 0) touched = ts.organ_contacts[0].organ;
+    tick_reads_.touch[i] =
+        tool_touch(ts.organ_contacts.data(), ts.organ_contact_count,
+                   tick_reads_.touch[i].catheter_held, tick_reads_.touch[i].duct_held);
   }
   touched_organ_.store(touched, std::memory_order_relaxed);
   if (bodies_.count() > 0) {
@@ -651,6 +657,7 @@ void Session::log_tick(int64_t tick, const std::array<hardware::DeviceCommand, 2
     log.lateness_s = tick_reads_.lateness_s;
     log.model_steps_read = tick_reads_.model_steps_read;
     log.surface_steps_read = tick_reads_.surface_steps_read;
+    log.touch = tick_reads_.touch;
     tick_log_.push_back(log);
   }
   after_hold_ = false;

@@ -319,6 +319,9 @@ class Session {
   [[nodiscard]] const hardware::DeviceRecording& recording(int tool) const {
     return recordings_[static_cast<size_t>(tool)];
   }
+  /// After run(): what the haptic loop sent, read and touched on each tick recorded, in order
+  /// (what session.lrec holds beside the devices' inputs).
+  [[nodiscard]] const std::vector<TickLog>& tick_log() const { return tick_log_; }
   /// Writes DIR/left.lapdev, DIR/right.lapdev; diagnostics name the file on failure.
   [[nodiscard]] Status write_recording(const std::string& dir) const;
   /// Before run(): the session is also recorded as it runs into `file` (session_recorder.h),

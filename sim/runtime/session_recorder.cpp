@@ -75,8 +75,20 @@ void append_tick_record(const hardware::RecordedSample& left, const hardware::Re
   put(out, log.lateness_s);
   put(out, log.model_steps_read);
   put(out, log.surface_steps_read);
+  for (const ToolTouch& t : log.touch) {
+    put(out, static_cast<uint8_t>((t.catheter_held ? 1U : 0U) | (t.duct_held ? 2U : 0U)));
+    put(out, t.organs);
+    put(out, t.contacts);
+    out->append(1, '\0');
+    for (size_t k = 0; k < ToolTouch::kListedOrgans; ++k) {
+      put(out, t.organ[k]);
+      put(out, t.organ_contacts[k]);
+      put(out, t.force_n[k]);
+    }
+  }
 }
-static_assert(kTickRecordBytes == 8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 8 * 1 + 24);
+static_assert(kTickRecordBytes ==
+              8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 8 * 1 + 24 + 2 * (4 + 4 * (2 + 2 + 4)));
 
 void append_step_record(const StepLog& step, std::string* out) {
   put(out, step.tick);

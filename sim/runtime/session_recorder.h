@@ -7,7 +7,7 @@
 /// writes the events and an end chunk; a file without one is an interrupted session.
 ///
 /// File (session.lrec), little-endian:
-///   "LAPREC02" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
+///   "LAPREC03" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
 ///   chunks:    uint32 magic "LRCK" | uint32 kind | uint32 payload bytes | uint32 count |
 ///              int64 first tick (or step) | payload | uint32 CRC-32 of kind … payload
 ///   kinds:     1 ticks (count records of kTickRecordBytes), 2 events (JSON), 3 end (JSON),
@@ -17,13 +17,17 @@
 /// uint32 buttons, uint32 status) and what was sent (double force[3], squeeze), then double
 /// gain, uint8 late, uint8 paused, uint8 resumed, uint8 after a hold, uint8 tuned, uint8 per
 /// tool the status its write returned, 1 byte zero, double lateness [s], int64 the
-/// modelling steps of the model snapshot it read, int64 those of the proxies' surfaces it felt.
+/// modelling steps of the model snapshot it read, int64 those of the proxies' surfaces it felt;
+/// then per tool what it touched and held (tool_touch.h): uint8 flags (1: the catheter held, 2:
+/// the duct), uint8 organs touched, uint8 contacts, 1 byte zero, and ToolTouch::kListedOrgans
+/// times uint16 organ, uint16 contacts on it, float32 force on it [N] (unlisted ones zero).
 /// A step record: int64 the haptic tick the step is labelled with, int64 the haptic tick whose
 /// snapshot it read (-1: none yet).
 /// The reads make a real-time session replayable in lockstep to the same state (issue 24): they
 /// say which snapshot each loop took from the other, which thread timing decided live.
-/// "LAPREC01" files (tick records of 304 bytes, ending after `paused` and 6 bytes zero; no steps)
-/// are still read; they replay in plain lockstep.
+/// Older files are still read: "LAPREC02" (tick records of 328 bytes, without the touches) and
+/// "LAPREC01" (304 bytes, ending after `paused` and 6 bytes zero; no steps, so they replay in
+/// plain lockstep).
 
 #include <atomic>
 #include <cstdint>
@@ -35,6 +39,7 @@
 
 #include "core/result.h"
 #include "hardware/device_recording.h"
+#include "sim/runtime/tool_touch.h"
 
 namespace lap::sim {
 
@@ -57,6 +62,7 @@ struct TickLog {
   /// Which snapshots this tick read (their ModelSnapshot::steps, HapticSurfaces::model_steps).
   int64_t model_steps_read = 0;
   int64_t surface_steps_read = 0;
+  std::array<ToolTouch, 2> touch{};  ///< what each tool touched and held (tool_touch.h)
 };
 
 /// What one modelling step read from the haptic loop (written by the modelling thread).
@@ -65,7 +71,8 @@ struct StepLog {
   int64_t haptic_tick_read = -1;  ///< whose HapticSnapshot it read; -1: the initial one
 };
 
-inline constexpr char kRecordingMagic[9] = "LAPREC02";
+inline constexpr char kRecordingMagic[9] = "LAPREC03";
+inline constexpr char kRecordingMagicV2[9] = "LAPREC02";
 inline constexpr char kRecordingMagicV1[9] = "LAPREC01";
 inline constexpr uint32_t kChunkMagic = 0x4B43524CU;  // "LRCK"
 inline constexpr uint32_t kChunkTicks = 1;
@@ -73,8 +80,11 @@ inline constexpr uint32_t kChunkEvents = 2;
 inline constexpr uint32_t kChunkEnd = 3;
 inline constexpr uint32_t kChunkSteps = 4;
 inline constexpr size_t kChunkHeadBytes = 24;
-inline constexpr size_t kTickRecordBytes = 16 + 2 * (104 + 32) + 16 + 24;  // 328
-inline constexpr size_t kTickRecordBytesV1 = 16 + 2 * (104 + 32) + 16;     // 304
+inline constexpr size_t kToolTouchBytes = 4 + ToolTouch::kListedOrgans * 8;  // 36
+inline constexpr size_t kTickRecordBytes =
+    16 + 2 * (104 + 32) + 16 + 24 + 2 * kToolTouchBytes;                     // 400
+inline constexpr size_t kTickRecordBytesV2 = 16 + 2 * (104 + 32) + 16 + 24;  // 328
+inline constexpr size_t kTickRecordBytesV1 = 16 + 2 * (104 + 32) + 16;       // 304
 inline constexpr size_t kStepRecordBytes = 16;
 /// Modelling steps a session records beyond one per tick (a haptic loop five times slower than
 /// its rate, live): the room the session reserves, and what a reader accepts.

@@ -92,6 +92,21 @@ def tick_record(tick, position=(0.0, 0.0, 0.1), status=0):
     return out + struct.pack("<dBB6x", 1.0, 0, 0)
 
 
+def tick_record_v3(tick, touch=(0, 0, 0, ())):
+    # LAPREC03: the first part as LAPREC01's up to the gain, then uint8 late, paused, resumed,
+    # after a hold, tuned, two write statuses, one zero byte; double lateness; int64 the model
+    # and surface steps read; per tool its touch: uint8 flags, organs, contacts, one zero byte,
+    # and four (uint16 organ, uint16 contacts, float32 force) (sim/runtime/session_recorder.h).
+    out = tick_record(tick)[:-8]
+    out += struct.pack("<7Bxdqq", 0, 0, 0, 0, 0, 0, 0, 0.0, 0, 0)
+    flags, organs, contacts, listed = touch
+    out += struct.pack("<3Bx", flags, organs, contacts)
+    for k in range(4):
+        organ, n, force = listed[k] if k < len(listed) else (0, 0, 0.0)
+        out += struct.pack("<HHf", organ, n, force)
+    return out + struct.pack("<3Bx", 0, 0, 0) + struct.pack("<HHf", 0, 0, 0.0) * 4
+
+
 def lrec(header_json, chunks=b"", magic=b"LAPREC01", length=None, crc_ok=True):
     h = header_json.encode()
     crc = zlib.crc32(h) & 0xFFFFFFFF
@@ -144,6 +159,10 @@ def session_cases():
             head, chunk(1, tick_record(0, (NAN, 0.0, 0.1)) + tick_record(1), 2, 0))},
         "recording-unknown-status": {"session.json": head.encode(), "session.lrec": lrec(
             head, chunk(1, tick_record(0, status=12), 1, 0))},
+        # a tool on one organ with two contacts, of which the record lists three there
+        "recording-impossible-touch": {"session.json": head.encode(), "session.lrec": lrec(
+            head, chunk(1, tick_record_v3(0, (0, 1, 2, ((1, 3, 0.5),))), 1, 0),
+            magic=b"LAPREC03")},
         "recording-a-folder": {"session.json": head.encode(), "session.lrec/": None,
                                "session.lrec/README": b"a folder\n"},
     }

@@ -8,6 +8,8 @@
 #include <signal.h>
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -70,11 +72,82 @@ TEST(SessionRecording, ReadsBackTheSamplesItRecorded) {
   EXPECT_NE(r.value().end_json.find("\"result\":\"success\""), std::string::npos)
       << r.value().end_json;
   EXPECT_NE(r.value().events_json.find("catheter_grasped"), std::string::npos);
+  // What each tool touched and held, as the haptic loop logged it live. The catheter is held
+  // from the grasp the task engine saw on: that step's snapshot reaches the haptic loop within
+  // one modelling period (5 ticks), and on a tick the jaws had just closed on it.
+  ASSERT_EQ(session->tick_log().size(), r.value().ticks.size());
+  int64_t first_held = -1;
+  for (size_t k = 0; k < r.value().ticks.size(); ++k) {
+    const TickLog& t = r.value().ticks[k];
+    ASSERT_EQ(t.touch, session->tick_log()[k].touch) << k;
+    if (first_held < 0 && t.touch[1].catheter_held) first_held = t.tick;
+  }
+  const auto grasped = std::find_if(m.task.events.begin(), m.task.events.end(), [](auto& e) {
+    return e.kind == TaskEventKind::kCatheterGrasped;
+  });
+  ASSERT_NE(grasped, m.task.events.end());
+  EXPECT_EQ(grasped->tool, 1);
+  const double rate_hz = fast(1.0).haptic_rate_hz;
+  const auto grasp_tick = static_cast<int64_t>(std::llround(grasped->t_s * rate_hz));
+  EXPECT_GE(first_held, grasp_tick - 5);
+  EXPECT_LE(first_held, grasp_tick + 5);
   // What was sent: the grasp's and the duct's forces are in it, never more than the device's.
   double largest = 0.0;
   for (const TickLog& t : r.value().ticks) largest = std::max(largest, t.force_W[1].norm());
   EXPECT_GT(largest, 0.0);
   EXPECT_LE(largest, m.max_force_sent_n);
+}
+
+// The recorded touches against the training metrics' own figures, computed apart in the other
+// loop: the clumsy trainee pushes on the gallbladder and tears the duct by pulling on it in the
+// jaws. Each modelling step sums the contacts of the haptic tick it read (the recording's steps
+// name it), so the largest push on the gallbladder over the ticks the steps read is the metric's
+// max_force_gallbladder_n (float in the record); and a tool holds the duct throughout the tear.
+TEST(SessionRecording, TheRecordedTouchesAreTheOnesTheMetricsSaw) {
+  const test::TempDir dir;
+  auto created =
+      Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), fast(60.0));
+  ASSERT_TRUE(created.ok()) << created.message();
+  Session& session = *created.value();
+  ASSERT_TRUE(session.record_to(dir.path() / "session.lrec", "{}").ok());
+  const SessionMetrics m = session.run();
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  const std::vector<TickLog>& ticks = r.value().ticks;
+  const auto organ = std::find(m.organ_names.begin(), m.organ_names.end(), "gallbladder");
+  ASSERT_NE(organ, m.organ_names.end());
+  const auto gallbladder = static_cast<uint16_t>(organ - m.organ_names.begin());
+  const auto metric = std::find_if(m.training.begin(), m.training.end(),
+                                   [](auto& t) { return t.name == "max_force_gallbladder_n"; });
+  ASSERT_NE(metric, m.training.end());
+  ASSERT_GT(metric->value, 0.0);
+  // The tear is told at its end, after its duration.
+  const auto tear = std::find_if(m.task.events.begin(), m.task.events.end(), [](auto& e) {
+    return e.kind == TaskEventKind::kDuctInjury && !e.squeeze;
+  });
+  ASSERT_NE(tear, m.task.events.end());
+  const double rate_hz = fast(1.0).haptic_rate_hz;
+  const auto tear_from = std::llround((tear->t_s - tear->duration_s) * rate_hz);
+  const auto tear_to = std::llround(tear->t_s * rate_hz);
+  float peak = 0.0F;
+  int64_t tear_steps = 0, tear_steps_held = 0;
+  for (const StepLog& k : r.value().steps) {
+    if (k.haptic_tick_read < 0) continue;
+    ASSERT_LT(static_cast<size_t>(k.haptic_tick_read), ticks.size());
+    const TickLog& read = ticks[static_cast<size_t>(k.haptic_tick_read)];
+    for (const ToolTouch& t : read.touch) {
+      for (size_t o = 0; o < t.listed(); ++o) {
+        if (t.organ[o] == gallbladder) peak = std::max(peak, t.force_n[o]);
+      }
+    }
+    if (k.tick >= tear_from && k.tick <= tear_to) {
+      ++tear_steps;
+      if (read.touch[0].duct_held || read.touch[1].duct_held) ++tear_steps_held;
+    }
+  }
+  EXPECT_EQ(peak, static_cast<float>(metric->value));
+  EXPECT_GT(tear_steps, 100);  // a second at 200 Hz
+  EXPECT_EQ(tear_steps_held, tear_steps);
 }
 
 TEST(SessionRecording, ADamagedChunkIsReportedAndTheRestStillReads) {

@@ -70,19 +70,21 @@ TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnState
   // a model snapshot older than the newest there was (the slow step's ticks), all there.
   const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
   ASSERT_TRUE(rec.ok()) << rec.message();
-  ASSERT_EQ(rec.value().version, 2);
+  ASSERT_EQ(rec.value().version, 3);
   ASSERT_TRUE(rec.value().problems.empty());
   const std::vector<TickLog>& ticks = rec.value().ticks;
   ASSERT_GT(ticks.size(), 3600U);
   EXPECT_GE(ticks[3600].lateness_s, 0.030);
   EXPECT_TRUE(ticks[3600].paused);
-  bool resumed = false, held = false;
+  bool resumed = false, held = false, catheter = false;
   for (const TickLog& t : ticks) {
     resumed = resumed || t.resumed;
     held = held || t.after_hold;
+    catheter = catheter || t.touch[1].catheter_held;
   }
   EXPECT_TRUE(resumed);
   EXPECT_TRUE(held);
+  EXPECT_TRUE(catheter);  // taken at 2.8 s
   EXPECT_FALSE(live.events.empty());
   ASSERT_FALSE(rec.value().steps.empty());
   // The ticks during the slow step all read the step before it.
@@ -93,6 +95,7 @@ TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnState
   }
   EXPECT_GE(longest_wait, 50);  // 100 live; fewer if this loaded machine also held up ticks
 
+  // No note: among them, every tick's touches replayed as recorded (touch_departure.h).
   const Result<ReplayedSession> r = replay_session(dir.path());
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_TRUE(r.value().notes.empty()) << r.value().notes.front();
@@ -240,6 +243,55 @@ TEST(RealTimeReplay, ASessionTunedLiveSaysItsReplayRendersTheScenariosValues) {
   EXPECT_NE(r.value().notes[0].find("an author tuned organ surfaces live from tick 0 on"),
             std::string::npos)
       << r.value().notes[0];
+}
+
+// A recording altered after its checksums were written (or a replay by a build that renders
+// differently): the replay names the first tick whose touches it did not give.
+TEST(RealTimeReplay, AReplayThatDepartsFromTheRecordedTouchesSaysWhere) {
+  const test::TempDir dir;
+  const RuntimeSettings rs = fast(0.5);
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  run_recorded(*created.value(), rs, dir.path());
+  const Result<ReplayedSession> same = replay_session(dir.path());
+  ASSERT_TRUE(same.ok()) << same.message();
+  EXPECT_TRUE(same.value().notes.empty()) << same.value().notes.front();
+
+  // Tick 100's left tool marked as holding the catheter, its chunk's checksum made good again.
+  std::string bytes = file_text(dir.path() / "session.lrec");
+  const uint32_t ticks_kind = kChunkTicks;
+  std::string mark("LRCK");
+  mark.append(reinterpret_cast<const char*>(&ticks_kind), 4);
+  bool altered = false;
+  for (size_t at = bytes.find(mark); at != std::string::npos && !altered;
+       at = bytes.find(mark, at + 1)) {
+    uint32_t payload_bytes = 0, count = 0;
+    int64_t first = 0;
+    std::memcpy(&payload_bytes, bytes.data() + at + 8, 4);
+    std::memcpy(&count, bytes.data() + at + 12, 4);
+    std::memcpy(&first, bytes.data() + at + 16, 8);
+    if (first > 100 || first + count <= 100) continue;
+    const size_t record =
+        at + kChunkHeadBytes + static_cast<size_t>(100 - first) * kTickRecordBytes;
+    ASSERT_EQ(bytes[record + kTickRecordBytesV2], 0);  // the left tool's flags: holds nothing
+    bytes[record + kTickRecordBytesV2] = 1;
+    const uint32_t crc = crc32(bytes.data() + at + 4, kChunkHeadBytes - 4 + payload_bytes);
+    std::memcpy(bytes.data() + at + kChunkHeadBytes + payload_bytes, &crc, 4);
+    altered = true;
+  }
+  ASSERT_TRUE(altered);
+  fs::remove(dir.path() / "session.lrec");
+  dir.write("session.lrec", bytes);
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r.value().recording_problems.empty());
+  ASSERT_EQ(r.value().notes.size(), 1U);
+  EXPECT_EQ(r.value().notes[0].rfind("the replay departs from the session at tick 100 (0.100 s): "
+                                     "live, the left tool held the catheter, touched ",
+                                     0),
+            0U)
+      << r.value().notes[0];
+  EXPECT_EQ(r.value().metrics.state_hash, same.value().metrics.state_hash);  // a note, no more
 }
 
 }  // namespace
