@@ -177,6 +177,10 @@ Result<std::unique_ptr<Session>> Session::create(
   s->objects_ = m.objects();
   s->surfaces_to_haptic_.read()->point(s->objects_);
   s->tuned_surfaces_.init(s->objects_);
+  for (int32_t o = 0; o < s->tuned_surfaces_.organ_count(); ++o) {
+    s->stiffness_for_model_.push_back(s->tuned_surfaces_.parameters(o).stiffness_n_per_m);
+  }
+  s->stiffness_waiting_.assign(s->stiffness_for_model_.size(), 0);
   s->bodies_.init(m.bodies(), m.organ_count());
   for (Tool& tool : s->tools_) tool.objects_holding_duct = s->objects_;
 
@@ -269,10 +273,15 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
                                 : tool_command(i, k, model, &snap.tools[i], tick);
     // The tool's contacts push the free bodies (moving_bodies.h: this tick, right after the
     // proxies, so the coupling creates no energy).
-    const ToolSnapshot& ts = snap.tools[i];
+    // Each contact also carries the stiffness it was rendered with, for the tissue model's dent
+    // (an author's live tuning reaches the model with the very tick that felt it).
+    ToolSnapshot& ts = snap.tools[i];
     for (int32_t c = 0; c < ts.organ_contact_count; ++c) {
-      const ToolContact& tc = ts.organ_contacts[static_cast<size_t>(c)];
+      ToolContact& tc = ts.organ_contacts[static_cast<size_t>(c)];
       bodies_.push(tc.organ, tc.force_on_organ_W, tc.point_W);
+      if (tc.organ >= 0 && static_cast<size_t>(tc.organ) < objects_.size()) {
+        tc.stiffness_n_per_m = objects_[static_cast<size_t>(tc.organ)].law.stiffness_n_per_m;
+      }
     }
     if (ts.organ_contact_count > 0) touched = ts.organ_contacts[0].organ;
     tick_reads_.touch[i] =
@@ -319,7 +328,28 @@ const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noe
   // copy, which resets the shading pointers (surface_tuning.h).
   tick_reads_.tuned = tuned_surfaces_.take(&tuning_mailbox_);
   tuned_surfaces_.apply(objects_);
+  if (tick_reads_.tuned || stiffness_waiting_count_ > 0) forward_stiffness_to_model();
   return model;
+}
+
+// A tuned stiffness reaches the catheter's contacts too (TissueWorld::set_stiffness; the tools'
+// contacts carry theirs): each organ's newest, posted once; one the mailbox had no room for
+// waits for a later tick. A stiffness of 0 (no force) is not one the catheter can meet: it
+// keeps the last positive one.
+void Session::forward_stiffness_to_model() noexcept {
+  stiffness_waiting_count_ = 0;
+  for (size_t o = 0; o < stiffness_for_model_.size(); ++o) {
+    const double k = tuned_surfaces_.parameters(static_cast<int32_t>(o)).stiffness_n_per_m;
+    if (k > 0.0 && k != stiffness_for_model_[o]) {
+      stiffness_for_model_[o] = k;
+      stiffness_waiting_[o] = 1;
+    }
+    if (stiffness_waiting_[o] == 0) continue;
+    SurfaceParameters p;
+    p.stiffness_n_per_m = k;
+    stiffness_waiting_[o] = stiffness_to_model_.post(static_cast<int32_t>(o), p) ? 0 : 1;
+    stiffness_waiting_count_ += stiffness_waiting_[o];
+  }
 }
 
 // A stall pauses; a late tick only zeroes this tick's commands and restarts the ramp back.
@@ -684,6 +714,9 @@ void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
 void Session::model_tick(int64_t tick) noexcept {
   const HapticSnapshot& h = scheduled_haptic_ != nullptr ? *scheduled_haptic_ : to_model_.latest();
   if (step_log_.size() < step_log_.capacity()) step_log_.push_back({tick, h.tick});
+  stiffness_to_model_.take([this](int32_t organ, const SurfaceParameters& p) {
+    world_->set_stiffness(organ, p.stiffness_n_per_m);
+  });
   for (size_t i = 0; i < 2; ++i) {
     ToolModelInput& in = model_input_[i];
     in.valid = h.tick >= 0;

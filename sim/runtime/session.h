@@ -343,6 +343,7 @@ class Session {
   Session() = default;
   void haptic_tick(int64_t tick, double lateness_s) noexcept;
   const ModelSnapshot& take_up_model(int64_t tick, double lateness_s) noexcept;
+  void forward_stiffness_to_model() noexcept;
   void check_timing(int64_t tick, double lateness_s) noexcept;
   [[nodiscard]] double injected_lateness(int64_t tick) const noexcept;
   bool read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept;
@@ -415,6 +416,13 @@ class Session {
   // thread's tuned surfaces it feeds (surface_tuning.h).
   SurfaceTuningMailbox tuning_mailbox_;
   TunedSurfaces tuned_surfaces_;
+  // A tuned stiffness, forwarded by the haptic thread to the modelling loop's catheter contacts
+  // (TissueWorld::set_stiffness): per organ the last one posted and whether it still waits for
+  // room in the mailbox (the haptic thread's), the mailbox (haptic thread to modelling thread).
+  std::vector<double> stiffness_for_model_;
+  std::vector<uint8_t> stiffness_waiting_;
+  int32_t stiffness_waiting_count_ = 0;
+  SurfaceTuningMailbox stiffness_to_model_;
   std::atomic<int32_t> touched_organ_{-1};
   MovingBodies bodies_;  ///< the free rigid bodies, stepped every haptic tick (§6.4)
 

@@ -15,8 +15,12 @@
 ///   objects; `apply` writes them into the objects the proxies read, every tick after the
 ///   surfaces' copy is switched (which resets the shading pointers).
 ///
-/// Only the haptic surface changes (force law §4, friction §6.2, shading §6.1 on/off, texture
-/// §6.3 height): the modelling loop's tissue models keep the stiffness they were built with.
+/// The haptic surface changes (force law §4, friction §6.2, shading §6.1 on/off, texture §6.3
+/// height), and the tissue models follow the stiffness: each tool contact carries the k it was
+/// rendered with to the modelling loop (ToolContact::stiffness_n_per_m: a local organ's dent
+/// infers the tool's displacement as force / k), and the session forwards a tuned k to the
+/// catheter's contacts through a second mailbox of this kind (haptic thread to modelling
+/// thread; Session::forward_stiffness_to_model). The rest keeps what it was built with.
 
 #include <array>
 #include <atomic>
@@ -43,7 +47,8 @@ struct SurfaceParameters {
   double texture_scale = 1.0;
 };
 
-/// One producer thread posts, the haptic thread takes (see the file comment).
+/// One producer thread posts, one consumer thread takes (see the file comment): the author's
+/// thread to the haptic thread, or the haptic thread to the modelling thread.
 class SurfaceTuningMailbox {
  public:
   static constexpr uint64_t kCapacity = 64;

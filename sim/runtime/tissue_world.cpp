@@ -1,6 +1,7 @@
 #include "sim/runtime/tissue_world.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace lap::sim {
@@ -44,6 +45,8 @@ std::unique_ptr<TissueWorld> TissueWorld::create(std::shared_ptr<const TissueMod
   for (int32_t i = 0; i < m.organ_count(); ++i) {
     const OrganTissue& t = m.organ(i);
     OrganState s;
+    s.stiffness_n_per_m = t.stiffness_n_per_m;
+    s.contact = t.contact;
     if (t.kind == TissueKind::kLocal) {
       s.local = std::make_unique<models::LocalDeformationState>(*t.local);
       s.dents.resize(particles + static_cast<size_t>(2 * ToolModelInput::kMaxContacts));
@@ -152,7 +155,7 @@ void TissueWorld::find_catheter_contacts() noexcept {
     OrganState& s = organs_[static_cast<size_t>(i)];
     const OrganTissue& t = model_->organ(i);
     s.reaction_count = models::update_surface_contacts(
-        contact_surface(i), organ_pose_W_[static_cast<size_t>(i)], t.contact, s.tracking.get(),
+        contact_surface(i), organ_pose_W_[static_cast<size_t>(i)], s.contact, s.tracking.get(),
         catheter_.get(), s.reactions, t.open_faces);
     catheter_contacts_ += s.reaction_count;
     if (t.kind == TissueKind::kDuct) set_duct_wall_velocities(s);
@@ -182,13 +185,24 @@ void TissueWorld::set_duct_wall_velocities(const OrganState& s) noexcept {
   }
 }
 
+bool TissueWorld::set_stiffness(int32_t organ, double stiffness_n_per_m) noexcept {
+  if (organ < 0 || static_cast<size_t>(organ) >= organs_.size() ||
+      !std::isfinite(stiffness_n_per_m) || stiffness_n_per_m <= 0.0) {
+    return false;
+  }
+  OrganState& s = organs_[static_cast<size_t>(organ)];
+  s.stiffness_n_per_m = stiffness_n_per_m;
+  s.contact.stiffness_n_per_m = stiffness_n_per_m;
+  return true;
+}
+
 bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInput, 2>& tools,
                                    std::span<const models::SurfaceReaction> reactions) noexcept {
   // 4. Dents: the catheter's (conforming), then the tools' (their share of the push).
   const OrganTissue& t = model_->organ(organ);
   OrganState& s = organs_[static_cast<size_t>(organ)];
   int32_t n = models::catheter_dents(*t.local, *t.rest, Eigen::Isometry3d::Identity(),
-                                     t.stiffness_n_per_m, reactions, s.dents);
+                                     s.stiffness_n_per_m, reactions, s.dents);
   // Each tool contact's penetration is its tool's displacement into the rest surface (its
   // depth below the dent the haptic loop felt, force / k, plus that dent's depth there:
   // rest_contact), so the dent takes surface_share of the tool's displacement and the tool
@@ -214,9 +228,9 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
     for (int32_t c = 0; c < tool.contact_count && tool.valid; ++c) {
       const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
       if (tc.organ != organ || n >= static_cast<int32_t>(s.dents.size())) continue;
-      models::DeformationContact dent =
-          models::rest_contact(*t.local, *t.rest, s.local->positions, tc.primitive, tc.point_W,
-                               tc.force_on_organ_W, t.stiffness_n_per_m);
+      models::DeformationContact dent = models::rest_contact(
+          *t.local, *t.rest, s.local->positions, tc.primitive, tc.point_W, tc.force_on_organ_W,
+          tc.stiffness_n_per_m > 0.0 ? tc.stiffness_n_per_m : s.stiffness_n_per_m);
       dent.penetration_O /= static_cast<double>(contacts_near(tc.point_W));
       // A contact that finds no face on the rest shape is no dent (as catheter_dents skips
       // it): deform() would refuse it, and that is not a model fault.

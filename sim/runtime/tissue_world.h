@@ -58,6 +58,10 @@ struct ToolContact {
   haptics::PrimitiveRef primitive;
   Eigen::Vector3d point_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_on_organ_W = Eigen::Vector3d::Zero();  ///< [N]
+  /// The contact spring k the haptic loop rendered it with (the organ's, as an author may have
+  /// tuned it live that tick): the tissue model infers the tool's displacement from the force
+  /// with it (§4: force / k). 0: not known, the organ's (TissueWorld::stiffness_n_per_m).
+  double stiffness_n_per_m = 0.0;
 };
 
 /// What the modelling loop needs of one tool.
@@ -139,6 +143,16 @@ class TissueWorld {
   /// Largest displacement of any surface vertex from rest, at the last step [m].
   [[nodiscard]] double deepest_dent_m() const { return deepest_dent_; }
 
+  /// Organ `organ`'s contact stiffness k from the next step on, as an author tuned its haptic
+  /// surface live (surface_tuning.h): the catheter meets the organ with it, and a tool's contact
+  /// that does not carry the k it was rendered with (ToolContact::stiffness_n_per_m) dents by
+  /// force / k. False, and nothing changed, for an organ that is not one or a k that is not
+  /// finite and positive.
+  bool set_stiffness(int32_t organ, double stiffness_n_per_m) noexcept;
+  [[nodiscard]] double stiffness_n_per_m(int32_t organ) const {
+    return organs_[static_cast<size_t>(organ)].stiffness_n_per_m;
+  }
+
   /// Where a free rigid organ is now (its body's pose, sim/runtime/moving_bodies.h): the
   /// catheter meets its rest surface there from the next step on. Fixed organs stay at the
   /// identity.
@@ -160,6 +174,11 @@ class TissueWorld {
  private:
   /// One organ's state.
   struct OrganState {
+    // The contact stiffness the haptic loop renders the organ with (an author's live tuning,
+    // else the scenario's): the tools' dents infer their displacement from it, the catheter
+    // meets the organ with it.
+    double stiffness_n_per_m = 0.0;
+    models::SurfaceContactSettings contact;
     std::unique_ptr<models::LocalDeformationState> local;  // kLocal
     std::vector<models::DeformationContact> dents;         // tools' + catheter's, capacity reserved
     std::unique_ptr<models::SurfaceTracking> tracking;

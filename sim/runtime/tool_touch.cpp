@@ -2,10 +2,13 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <limits>
 
 #include "sim/runtime/tissue_world.h"
 
 namespace lap::sim {
+
+static_assert(ToolModelInput::kMaxContacts <= 255, "ToolTouch counts contacts in a uint8");
 
 ToolTouch tool_touch(const ToolContact* contacts, int32_t count, bool catheter_held,
                      bool duct_held) noexcept {
@@ -33,7 +36,13 @@ ToolTouch tool_touch(const ToolContact* contacts, int32_t count, bool catheter_h
     push[slot] += tc.force_on_organ_W;
   }
   t.organs = static_cast<uint8_t>(distinct);
-  for (size_t k = 0; k < t.listed(); ++k) t.force_n[k] = static_cast<float>(push[k].norm());
+  // A push too large for a float, or not finite (the watchdog trips on it), is kept as the
+  // largest float: the record stays one its reader takes.
+  constexpr double kLargest = std::numeric_limits<float>::max();
+  for (size_t k = 0; k < t.listed(); ++k) {
+    const double f = push[k].norm();
+    t.force_n[k] = static_cast<float>(f < kLargest ? f : kLargest);
+  }
   return t;
 }
 

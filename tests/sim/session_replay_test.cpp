@@ -239,7 +239,8 @@ TEST(RealTimeReplay, ASessionTunedLiveSaysItsReplayRendersTheScenariosValues) {
   run_recorded(*created.value(), rs, dir.path());
   const Result<ReplayedSession> r = replay_session(dir.path());
   ASSERT_TRUE(r.ok()) << r.message();
-  ASSERT_EQ(r.value().notes.size(), 1U);
+  // First; a note of where the replay departs may follow, if the tools touched the organ.
+  ASSERT_GE(r.value().notes.size(), 1U);
   EXPECT_NE(r.value().notes[0].find("an author tuned organ surfaces live from tick 0 on"),
             std::string::npos)
       << r.value().notes[0];

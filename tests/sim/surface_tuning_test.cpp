@@ -25,20 +25,26 @@ constexpr double kK = 200.0;      // the slab's contact spring [N/m]
 constexpr double kDepth = 0.001;  // pressed 1 mm: k d = 0.2 N, 2k d = 0.4 N (under the
                                   // default device's 0.88 N sustained force: sent unscaled)
 
-// A slab (top at y = 0) with friction, the right tool a point probe straight above it.
-Scene slab_scene(const test::TempDir& dir) {
-  EXPECT_TRUE(save_obj(haptics::make_box({0.06, 0.01, 0.06}, 6), dir.path() / "slab.obj").ok());
+// A slab (top at y = 0), the right tool a point probe straight above it: rigid with friction,
+// or deforming locally (`model: local`, a finer mesh) without.
+Scene slab_scene(const test::TempDir& dir, bool local = false) {
+  EXPECT_TRUE(
+      save_obj(haptics::make_box({0.06, 0.01, 0.06}, local ? 24 : 6), dir.path() / "slab.obj")
+          .ok());
+  const std::string material = local ? "    model: local\n"
+                                       "    material:\n"
+                                       "      stiffness_n_per_m: 200\n"
+                                     : "    material:\n"
+                                       "      stiffness_n_per_m: 200\n"
+                                       "      friction_static: 0.4\n"
+                                       "      friction_dynamic: 0.2\n";
   const SceneLoadResult r = load_scene_file(dir.write("slab.yaml", R"(version: 1
 name: slab
 organs:
   - name: slab
     mesh: slab.obj
     transform: {translation_m: [0, -0.005, 0]}
-    material:
-      stiffness_n_per_m: 200
-      friction_static: 0.4
-      friction_dynamic: 0.2
-trocars:
+)" + material + R"(trocars:
   - {name: pl, position_m: [-0.15, 0.12, 0.0]}
   - {name: pr, position_m: [0.0, 0.15, 0.0]}
 tools:
@@ -47,6 +53,13 @@ tools:
 )"));
   EXPECT_TRUE(r.ok()) << r.message();
   return r.value();
+}
+
+// The author doubles the slab's stiffness (from the observer, between ticks).
+void double_the_stiffness(Session* session) {
+  SurfaceParameters p = session->surface_parameters(0);
+  p.stiffness_n_per_m = 2.0 * kK;
+  EXPECT_TRUE(session->tune_surface(0, p));
 }
 
 std::vector<TipWaypoint> parked() {
@@ -72,11 +85,7 @@ TEST(SurfaceTuning, DoublingTheStiffnessIsFeltAtTheNextTick) {
                                 if (tick == 1200) {
                                   EXPECT_EQ(session->touched_organ(), 0);
                                 }
-                                if (tick == kChangeTick) {
-                                  SurfaceParameters p = session->surface_parameters(0);
-                                  p.stiffness_n_per_m = 2.0 * kK;
-                                  EXPECT_TRUE(session->tune_surface(0, p));
-                                }
+                                if (tick == kChangeTick) double_the_stiffness(session);
                               });
   ASSERT_NE(run.session, nullptr);
   session = run.session.get();
@@ -171,6 +180,37 @@ TEST(SurfaceTuning, AFullMailboxRefusesAndKeepsOrder) {
   });
   EXPECT_EQ(n, static_cast<int32_t>(SurfaceTuningMailbox::kCapacity));
   EXPECT_TRUE(mailbox.post(0, p));
+}
+
+// A slab that deforms locally (thesis §6.3's local model), pressed kDepth deep by the probe: the
+// dent takes its share s of the probe's displacement, s·d, and the probe feels (1 − s)·k·d
+// (models/local_deformation.h). The model infers that displacement from the haptic loop's
+// force, as force / k + the dent's depth, so it must divide by the k the haptic loop renders:
+// the stiffness doubled live, the probe feels (1 − s)·2k·d and the dent stays s·d. Dividing by
+// the scenario's k instead, the dent would settle at 2·s·d / (1 + s), 4/3 of it at s = 0.5.
+TEST(SurfaceTuning, ATunedStiffnessReachesTheTissueModelSoTheDentKeepsItsShare) {
+  const test::TempDir dir;
+  const Scene scene = slab_scene(dir, true);
+  constexpr int64_t kChangeTick = 1300;  // held 1 mm deep since tick 1000
+  std::map<int64_t, double> felt, dent;  // by tick: the probe's normal force [N], the dent [m]
+  Session* session = nullptr;
+  const std::vector<TipWaypoint> hold = {
+      {0.0, V(0.0, 0.03, 0.0)}, {1.0, V(0.0, -kDepth, 0.0)}, {2.0, V(0.0, -kDepth, 0.0)}};
+  auto run = observed_session(scene, {parked(), hold}, 1.95,
+                              [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot& m) {
+                                felt[h.tick] = tip_force(h.tools[1]).y();
+                                dent[tick] = m.deepest_dent_m;
+                                if (tick == kChangeTick) double_the_stiffness(session);
+                              });
+  ASSERT_NE(run.session, nullptr);
+  session = run.session.get();
+  run.session->run();
+  const double before = dent.at(kChangeTick - 10);
+  const double after = dent.at(1900);
+  ASSERT_GT(before, 0.25 * kDepth);  // pressed: about s·d, less between vertices
+  EXPECT_NEAR(after, before, 0.01 * before);
+  // What the probe feels: twice the force for the same dent.
+  EXPECT_NEAR(felt.at(1900), 2.0 * felt.at(kChangeTick - 10), 0.02 * felt.at(kChangeTick - 10));
 }
 
 // The author keeps moving a slider: a tuning every 5 ticks, and the haptic tick still allocates

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <random>
 #include <set>
@@ -118,6 +119,21 @@ std::unique_ptr<LiverWorld> liver_world() {
   return w;
 }
 
+// One tool pushing `push_n` on the middle of the liver's face 100, along its inward normal.
+std::array<ToolModelInput, 2> push_on_face_100(const LiverWorld& lw, double push_n) {
+  std::array<ToolModelInput, 2> tools{};
+  tools[0].valid = true;
+  tools[0].jaws.opening_rad = 0.8;
+  tools[0].contact_count = 1;
+  ToolContact& c = tools[0].contacts[0];
+  c.organ = lw.liver;
+  c.primitive = {haptics::PrimitiveKind::kFace, 100};
+  const auto& fv = lw.db.face_vertices(100);
+  c.point_W = (lw.db.position(fv[0]) + lw.db.position(fv[1]) + lw.db.position(fv[2])) / 3.0;
+  c.force_on_organ_W = -push_n * lw.db.face_normal(100);
+  return tools;
+}
+
 TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
   const Scene& scene = default_scene();
   const auto lw = liver_world();
@@ -128,16 +144,8 @@ TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
   // normal.
   const double k = scene.organs[static_cast<size_t>(liver)].material.stiffness_n_per_m;
   const double push_n = 0.002 * k;
-  std::array<ToolModelInput, 2> tools{};
-  tools[0].valid = true;
-  tools[0].jaws.opening_rad = 0.8;
-  tools[0].contact_count = 1;
-  ToolContact& c = tools[0].contacts[0];
-  c.organ = liver;
-  c.primitive = {haptics::PrimitiveKind::kFace, 100};
-  const auto& fv = db.face_vertices(100);
-  c.point_W = (db.position(fv[0]) + db.position(fv[1]) + db.position(fv[2])) / 3.0;
-  c.force_on_organ_W = -push_n * db.face_normal(100);
+  std::array<ToolModelInput, 2> tools = push_on_face_100(*lw, push_n);
+  const ToolContact& c = tools[0].contacts[0];
   for (int step = 0; step < 5; ++step) world->step(tools, 0.005);
   std::vector<SurfaceDeformation> d = world->make_deformations();
   world->write_deformations(&d);
@@ -163,6 +171,38 @@ TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
   world->step(tools, 0.005);
   world->write_deformations(&d);
   EXPECT_EQ(d[static_cast<size_t>(liver)].count, 0);
+}
+
+// An author's live stiffness (TissueWorld::set_stiffness): the same push on a liver tuned to half
+// its stiffness implies twice the tool's displacement, so it dents twice as deep; a stiffness
+// that is not finite and positive, or an organ that is not one, changes nothing.
+TEST(TissueWorld, ATunedStiffnessScalesTheDentAToolsPushImplies) {
+  const Scene& scene = default_scene();
+  const auto lw = liver_world();
+  ASSERT_GE(lw->liver, 0);
+  const auto& [cache, world, liver, db] = *lw;
+  const double k = scene.organs[static_cast<size_t>(liver)].material.stiffness_n_per_m;
+  EXPECT_EQ(world->stiffness_n_per_m(liver), k);
+  EXPECT_FALSE(world->set_stiffness(liver, 0.0));
+  EXPECT_FALSE(world->set_stiffness(liver, -k));
+  EXPECT_FALSE(world->set_stiffness(liver, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_FALSE(world->set_stiffness(world->organ_count(), k));
+  EXPECT_FALSE(world->set_stiffness(-1, k));
+  EXPECT_EQ(world->stiffness_n_per_m(liver), k);
+  std::array<ToolModelInput, 2> tools = push_on_face_100(*lw, 0.001 * k);  // 1 mm at its k
+  const auto dent_after_one_step = [&] {
+    world->step(tools, 0.005);
+    const double d = world->deepest_dent_m();
+    tools[0].contact_count = 0;  // released: back to rest
+    world->step(tools, 0.005);
+    tools[0].contact_count = 1;
+    return d;
+  };
+  const double at_k = dent_after_one_step();
+  ASSERT_GT(at_k, 0.0);
+  ASSERT_TRUE(world->set_stiffness(liver, 0.5 * k));
+  EXPECT_EQ(world->stiffness_n_per_m(liver), 0.5 * k);
+  EXPECT_NEAR(dent_after_one_step(), 2.0 * at_k, 1e-9 * at_k);
 }
 
 // A tool held 4 mm into the liver with its three segments on one spot, each pushing as the
