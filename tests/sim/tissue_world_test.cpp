@@ -180,7 +180,8 @@ TEST(TissueWorld, ATunedStiffnessScalesTheDentAToolsPushImplies) {
   const Scene& scene = default_scene();
   const auto lw = liver_world();
   ASSERT_GE(lw->liver, 0);
-  const auto& [cache, world, liver, db] = *lw;
+  TissueWorld* world = lw->world.get();  // a pointer, not a binding: lambdas capture it
+  const int32_t liver = lw->liver;
   const double k = scene.organs[static_cast<size_t>(liver)].material.stiffness_n_per_m;
   EXPECT_EQ(world->stiffness_n_per_m(liver), k);
   EXPECT_FALSE(world->set_stiffness(liver, 0.0));
