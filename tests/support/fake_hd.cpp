@@ -46,8 +46,18 @@ struct Scheduled {
   bool active;
 };
 
+// What a servo callback reads between hdBeginFrame and hdEndFrame: the device's state as the
+// frame began, as the HD API gives it (one consistent state per frame), so that a test moving
+// the stylus mid-frame never has a callback read the new buttons with the old position.
+struct FrameState {
+  double position_mm[3] = {0, 0, 0};
+  double velocity_mm_s[3] = {0, 0, 0};
+  int buttons = 0;
+};
+
 std::mutex g_mutex;
 std::array<Device, 4> g_devices;
+std::array<FrameState, 4> g_frames;
 HHD g_current = 0xFFFFFFFFU;
 unsigned int g_error = 0;
 unsigned int g_servo_error = 0;  // reported by the next hdGetError in the servo thread
@@ -134,12 +144,15 @@ void hdGetDoublev(HDenum what, double* out) {
   const std::lock_guard<std::mutex> lock(g_mutex);
   if (g_current >= g_devices.size()) return;
   const Device& d = g_devices[g_current];
+  const bool framed = t_in_callback >= 0;  // in a servo callback's frame: the frame's state
   switch (what) {
     case 0x2050:
-      std::memcpy(out, d.position_mm, sizeof(d.position_mm));
+      std::memcpy(out, framed ? g_frames[g_current].position_mm : d.position_mm,
+                  sizeof(d.position_mm));
       break;
     case 0x2051:
-      std::memcpy(out, d.velocity_mm_s, sizeof(d.velocity_mm_s));
+      std::memcpy(out, framed ? g_frames[g_current].velocity_mm_s : d.velocity_mm_s,
+                  sizeof(d.velocity_mm_s));
       break;
     case 0x2052:
       std::memcpy(out, d.transform, sizeof(d.transform));
@@ -159,7 +172,9 @@ void hdGetDoublev(HDenum what, double* out) {
 }
 void hdGetIntegerv(HDenum what, int* out) {
   const std::lock_guard<std::mutex> lock(g_mutex);
-  if (what == 0x2000 && g_current < g_devices.size()) *out = g_devices[g_current].buttons;
+  if (what == 0x2000 && g_current < g_devices.size()) {
+    *out = t_in_callback >= 0 ? g_frames[g_current].buttons : g_devices[g_current].buttons;
+  }
 }
 void hdSetDoublev(HDenum what, const double* in) {
   const std::lock_guard<std::mutex> lock(g_mutex);
@@ -171,6 +186,12 @@ void hdBeginFrame(HHD h) {
   const std::lock_guard<std::mutex> lock(g_mutex);
   g_current = h;
   if (t_in_callback >= 0) g_callbacks[static_cast<size_t>(t_in_callback)].device = h;
+  if (h < g_devices.size()) {
+    FrameState& f = g_frames[h];
+    std::memcpy(f.position_mm, g_devices[h].position_mm, sizeof(f.position_mm));
+    std::memcpy(f.velocity_mm_s, g_devices[h].velocity_mm_s, sizeof(f.velocity_mm_s));
+    f.buttons = g_devices[h].buttons;
+  }
 }
 void hdEndFrame(HHD) {}
 unsigned long hdScheduleAsynchronous(Callback fn, void* data, unsigned short) {
