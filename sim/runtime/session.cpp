@@ -264,9 +264,11 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
   std::array<hardware::DeviceCommand, 2> wanted{};
   int32_t touched = -1;
   for (size_t i = 0; i < 2; ++i) {
-    // What it holds in the model it read; what it touches once its proxies have moved.
-    tick_reads_.touch[i] =
-        tool_touch(nullptr, 0, model.grasps[i].held, model.duct_grasps[i].grasping());
+    // What it holds in the model it read; what it touches once its proxies have moved (a tool
+    // not read touches nothing).
+    const bool catheter_held = model.grasps[i].held;
+    const bool duct_held = model.duct_grasps[i].grasping();
+    tick_reads_.touch[i] = tool_touch(nullptr, 0, catheter_held, duct_held);
     ToolKinematics k;
     if (!read_tool(i, tick, &k)) continue;  // keep the tool where it was
     wanted[i] = tools_[i].probe ? probe_command(i, k, &snap.tools[i], tick)
@@ -285,8 +287,7 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
     }
     if (ts.organ_contact_count > 0) touched = ts.organ_contacts[0].organ;
     tick_reads_.touch[i] =
-        tool_touch(ts.organ_contacts.data(), ts.organ_contact_count,
-                   tick_reads_.touch[i].catheter_held, tick_reads_.touch[i].duct_held);
+        tool_touch(ts.organ_contacts.data(), ts.organ_contact_count, catheter_held, duct_held);
   }
   touched_organ_.store(touched, std::memory_order_relaxed);
   if (bodies_.count() > 0) {

@@ -45,8 +45,7 @@ std::unique_ptr<TissueWorld> TissueWorld::create(std::shared_ptr<const TissueMod
   for (int32_t i = 0; i < m.organ_count(); ++i) {
     const OrganTissue& t = m.organ(i);
     OrganState s;
-    s.stiffness_n_per_m = t.stiffness_n_per_m;
-    s.contact = t.contact;
+    s.contact = t.contact;  // its stiffness is the organ's (TissueModel)
     if (t.kind == TissueKind::kLocal) {
       s.local = std::make_unique<models::LocalDeformationState>(*t.local);
       s.dents.resize(particles + static_cast<size_t>(2 * ToolModelInput::kMaxContacts));
@@ -190,9 +189,7 @@ bool TissueWorld::set_stiffness(int32_t organ, double stiffness_n_per_m) noexcep
       !std::isfinite(stiffness_n_per_m) || stiffness_n_per_m <= 0.0) {
     return false;
   }
-  OrganState& s = organs_[static_cast<size_t>(organ)];
-  s.stiffness_n_per_m = stiffness_n_per_m;
-  s.contact.stiffness_n_per_m = stiffness_n_per_m;
+  organs_[static_cast<size_t>(organ)].contact.stiffness_n_per_m = stiffness_n_per_m;
   return true;
 }
 
@@ -202,7 +199,7 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
   const OrganTissue& t = model_->organ(organ);
   OrganState& s = organs_[static_cast<size_t>(organ)];
   int32_t n = models::catheter_dents(*t.local, *t.rest, Eigen::Isometry3d::Identity(),
-                                     s.stiffness_n_per_m, reactions, s.dents);
+                                     s.contact.stiffness_n_per_m, reactions, s.dents);
   // Each tool contact's penetration is its tool's displacement into the rest surface (its
   // depth below the dent the haptic loop felt, force / k, plus that dent's depth there:
   // rest_contact), so the dent takes surface_share of the tool's displacement and the tool
@@ -230,7 +227,7 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
       if (tc.organ != organ || n >= static_cast<int32_t>(s.dents.size())) continue;
       models::DeformationContact dent = models::rest_contact(
           *t.local, *t.rest, s.local->positions, tc.primitive, tc.point_W, tc.force_on_organ_W,
-          tc.stiffness_n_per_m > 0.0 ? tc.stiffness_n_per_m : s.stiffness_n_per_m);
+          tc.stiffness_n_per_m > 0.0 ? tc.stiffness_n_per_m : s.contact.stiffness_n_per_m);
       dent.penetration_O /= static_cast<double>(contacts_near(tc.point_W));
       // A contact that finds no face on the rest shape is no dent (as catheter_dents skips
       // it): deform() would refuse it, and that is not a model fault.

@@ -150,7 +150,7 @@ class TissueWorld {
   /// finite and positive.
   bool set_stiffness(int32_t organ, double stiffness_n_per_m) noexcept;
   [[nodiscard]] double stiffness_n_per_m(int32_t organ) const {
-    return organs_[static_cast<size_t>(organ)].stiffness_n_per_m;
+    return organs_[static_cast<size_t>(organ)].contact.stiffness_n_per_m;
   }
 
   /// Where a free rigid organ is now (its body's pose, sim/runtime/moving_bodies.h): the
@@ -174,10 +174,9 @@ class TissueWorld {
  private:
   /// One organ's state.
   struct OrganState {
-    // The contact stiffness the haptic loop renders the organ with (an author's live tuning,
-    // else the scenario's): the tools' dents infer their displacement from it, the catheter
-    // meets the organ with it.
-    double stiffness_n_per_m = 0.0;
+    // The catheter against the organ, with the contact stiffness the haptic loop renders it
+    // with (an author's live tuning, else the scenario's): a tool contact that does not carry
+    // its own k dents by it too.
     models::SurfaceContactSettings contact;
     std::unique_ptr<models::LocalDeformationState> local;  // kLocal
     std::vector<models::DeformationContact> dents;         // tools' + catheter's, capacity reserved
