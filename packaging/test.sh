@@ -66,7 +66,7 @@ if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/hardware_tests \
     --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*:Phantom*'
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/session_tests \
-    --gtest_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*:RealTimeReplay.ASessionWith*'
+    --gtest_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*:RealTimeReplay.ASessionWith*:RealTimeReplay.AnAuthorTuning*'
 fi
 if [ "${LAP_SKIP_FUZZ:-0}" != "1" ]; then
   # Built with the ASan tests above (run.sh fails if a target is missing there); without that

@@ -169,10 +169,12 @@ class Reader {
     } else if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV2) == 0) {
       s_.version = 2;
       record_bytes_ = kTickRecordBytesV2;
+    } else if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV3) == 0) {
+      s_.version = 3;
     } else if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
       header_problem_ =
-          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC03, "
-          "LAPREC02 or LAPREC01)";
+          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC04, "
+          "LAPREC03, LAPREC02 or LAPREC01)";
       return 0;
     }
     const auto n = get<uint32_t>(b_, 8);
@@ -213,10 +215,12 @@ class Reader {
     }
     const uint32_t crc = crc32(b_.data() + at + 4, kChunkHeadBytes - 4 + bytes);
     if (crc != get<uint32_t>(b_, end - 4)) {
-      return skip_to_next_mark(
-          at, "a chunk whose checksum does not match (" + std::to_string(count) +
-                  (kind == kChunkSteps ? " modelling steps from step " : " ticks from tick ") +
-                  std::to_string(first) + " if its head is right)");
+      return skip_to_next_mark(at, "a chunk whose checksum does not match (" +
+                                       std::to_string(count) +
+                                       (kind == kChunkSteps     ? " modelling steps from step "
+                                        : kind == kChunkTunings ? " surface tunings from tuning "
+                                                                : " ticks from tick ") +
+                                       std::to_string(first) + " if its head is right)");
     }
     const size_t payload = at + kChunkHeadBytes;
     if (!s_.interrupted) problem(at, "a chunk after the end chunk");
@@ -226,6 +230,8 @@ class Reader {
       s_.events_json = b_.substr(payload, bytes);
     } else if (kind == kChunkSteps && s_.version >= 2) {
       steps(at, payload, bytes, count, first);
+    } else if (kind == kChunkTunings && s_.version >= 4) {
+      tunings(at, payload, bytes, count, first);
     } else if (kind == kChunkEnd) {
       s_.end_json = b_.substr(payload, bytes);
       s_.interrupted = false;
@@ -320,6 +326,64 @@ class Reader {
     }
   }
 
+  // An author's tunings from the first on; one after a gap (a damaged chunk) is not kept, so a
+  // replay departs at the first tick that took a missing one (recorded_tunings.h says where).
+  void tunings(size_t at, size_t payload, uint32_t bytes, uint32_t count, int64_t first) {
+    if (static_cast<size_t>(count) * kTuningRecordBytes != bytes) {
+      problem(at, "a tunings chunk whose length is not its count's, skipped");
+      return;
+    }
+    const auto have = static_cast<int64_t>(s_.tunings.size());
+    if (first != have) {
+      if (!tunings_gap_) {
+        problem(at, first < have ? "tunings " + std::to_string(first) + " on again (a repeated " +
+                                       "or out-of-order chunk): skipped"
+                                 : "surface tunings " + std::to_string(have) + " to " +
+                                       std::to_string(first - 1) +
+                                       " are missing; the replay renders without them");
+      }
+      tunings_gap_ = tunings_gap_ || first > have;
+      return;
+    }
+    if (tunings_gap_) return;
+    for (uint32_t k = 0; k < count; ++k) {
+      TuningLog t;
+      const std::string why =
+          decode_tuning(payload + static_cast<size_t>(k) * kTuningRecordBytes, &t);
+      if (!why.empty()) {
+        problem(at, "tuning record " + std::to_string(k) + ": " + why +
+                        "; the tunings from there on are not replayed");
+        tunings_gap_ = true;
+        return;
+      }
+      s_.tunings.push_back(t);
+    }
+  }
+
+  // One tuning record at `p`: what makes it impossible, or empty.
+  std::string decode_tuning(size_t p, TuningLog* t) const {
+    t->tick = get<int64_t>(b_, p);
+    t->organ = get<int32_t>(b_, p + 8);
+    const auto shading = static_cast<uint8_t>(b_[p + 12]);
+    SurfaceParameters& s = t->parameters;
+    s.shading = shading == 1U;
+    s.stiffness_n_per_m = get<double>(b_, p + 16);
+    s.damping_n_s_per_m = get<double>(b_, p + 24);
+    s.friction_static = get<double>(b_, p + 32);
+    s.friction_dynamic = get<double>(b_, p + 40);
+    s.texture_scale = get<double>(b_, p + 48);
+    const int64_t last = s_.tunings.empty() ? 0 : s_.tunings.back().tick;
+    if (t->tick < last) return "taken at an earlier tick than the tuning before";
+    if (t->organ < 0) return "a negative organ index";
+    if (shading > 1U) return "force shading neither 0 nor 1";
+    for (const double v : {s.stiffness_n_per_m, s.damping_n_s_per_m, s.friction_static,
+                           s.friction_dynamic, s.texture_scale}) {
+      if (!std::isfinite(v) || v < 0.0) return "a parameter that is not finite, or negative";
+    }
+    if (s.friction_dynamic > s.friction_static) return "dynamic friction above static friction";
+    return {};
+  }
+
   [[nodiscard]] size_t next_mark(size_t from) const {
     char mark[4];
     std::memcpy(mark, &kChunkMagic, 4);
@@ -331,12 +395,23 @@ class Reader {
   void truncated() {
     const nlohmann::json end = nlohmann::json::parse(s_.end_json, nullptr, false);
     if (!end.is_object()) return;
-    const int64_t ran = end.value("session_ticks", int64_t{-1});
-    const int64_t kept = end.value("ticks", int64_t{-1});
+    // Untrusted: a field that is not a whole number is as if absent.
+    const auto count = [&](const char* key, int64_t absent) {
+      const auto it = end.find(key);
+      return it != end.end() && it->is_number_integer() ? it->get<int64_t>() : absent;
+    };
+    const int64_t ran = count("session_ticks", -1);
+    const int64_t kept = count("ticks", -1);
     if (ran > 0 && kept >= 0 && ran > kept) {
       problem(b_.size(), "the session ran " + std::to_string(ran) +
                              " ticks and its recording kept " + std::to_string(kept) +
                              " (the space reserved for it ran out)");
+    }
+    const int64_t unrecorded = count("tunings_unrecorded", 0);
+    if (unrecorded > 0) {
+      problem(b_.size(), "an author's last " + std::to_string(unrecorded) +
+                             " surface tunings were not recorded (the room reserved for " +
+                             std::to_string(kMaxRecordedTunings) + " ran out)");
     }
   }
 
@@ -358,6 +433,7 @@ class Reader {
   std::string header_problem_;
   bool gap_ = false;
   bool steps_gap_ = false;
+  bool tunings_gap_ = false;
   size_t record_bytes_ = kTickRecordBytes;
 };
 

@@ -25,8 +25,11 @@ struct RecordedSession {
   /// The modelling steps' reads from 0 on without a gap (none in a LAPREC01 file): with the
   /// ticks' own, what a lockstep replay needs (Session::replay_in_lockstep).
   std::vector<StepLog> steps;
-  /// 1: LAPREC01 (no reads recorded), 2: LAPREC02 (no touches: TickLog::touch empty), 3.
-  int version = 3;
+  /// An author's surface tunings from the first on without a gap, in tick order (LAPREC04).
+  std::vector<TuningLog> tunings;
+  /// 1: LAPREC01 (no reads recorded), 2: LAPREC02 (no touches: TickLog::touch empty), 3:
+  /// LAPREC03 (no tunings: a tuned tick is only marked), 4.
+  int version = 4;
   int64_t ticks_read = 0;   ///< every tick read, after a gap too
   bool interrupted = true;  ///< no end chunk
   std::string events_json;

@@ -17,6 +17,7 @@
 #include "core/bounded_file.h"
 #include "hardware/device_spec.h"
 #include "hardware/replay_device.h"
+#include "sim/report/recorded_tunings.h"
 #include "sim/report/recording_reader.h"
 #include "sim/report/touch_departure.h"
 #include "sim/setup/device_factory.h"
@@ -322,6 +323,8 @@ Result<ReplayedSession> replay_session(
   std::optional<std::pair<std::vector<TickLog>, std::vector<StepLog>>> reads;
   // What each tool touched and held live (LAPREC03), to check the replay against.
   std::vector<std::array<ToolTouch, 2>> touches;
+  // An author's live tunings (LAPREC04), set again at the ticks that took them.
+  std::vector<TuningLog> tunings;
   if (std::filesystem::exists(std::filesystem::symlink_status(lrec, ec))) {
     // The streamed recording: what a crash left, too.
     Result<RecordedSession> rec = read_session_recording(lrec);
@@ -343,18 +346,17 @@ Result<ReplayedSession> replay_session(
       recorded = out.recorded_ticks;
       if (rec.value().version >= 2) {
         const std::vector<TickLog>& ticks = rec.value().ticks;
-        const auto tuned =
-            std::find_if(ticks.begin(), ticks.end(), [](const TickLog& t) { return t.tuned; });
-        if (tuned != ticks.end()) {
-          out.notes.push_back(
-              "an author tuned organ surfaces live from tick " + std::to_string(tuned->tick) +
-              " on; the recording does not hold the values, so the replay renders the "
-              "scenario's and its figures may differ from the session's");
+        for (std::string& note :
+             recorded_tuning_notes(ticks, rec.value().tunings, rec.value().version,
+                                   static_cast<int32_t>(scene.value().organs.size()),
+                                   out.record.settings.haptic_rate_hz)) {
+          out.notes.push_back(std::move(note));
         }
         if (rec.value().version >= 3) {
           touches.reserve(ticks.size());
           for (const TickLog& t : ticks) touches.push_back(t.touch);
         }
+        tunings = std::move(rec.value().tunings);
         reads.emplace(std::move(rec.value().ticks), std::move(rec.value().steps));
       }
       for (size_t side = 0; side < 2; ++side) {
@@ -390,7 +392,10 @@ Result<ReplayedSession> replay_session(
   }
   auto session = Session::create(scene.value(), std::move(devices), rs);
   if (!session.ok()) return session.diagnostics();
-  if (reads) session.value()->replay_in_lockstep(std::move(reads->first), std::move(reads->second));
+  if (reads) {
+    session.value()->replay_in_lockstep(std::move(reads->first), std::move(reads->second),
+                                        std::move(tunings));
+  }
   if (prepare) prepare(*session.value(), scene.value());
   out.metrics = session.value()->run();
   const std::optional<std::string> departure = touch_departure(

@@ -327,17 +327,45 @@ const ModelSnapshot& Session::take_up_model(int64_t tick, double lateness_s) noe
   tick_reads_.surface_steps_read = surfaces_to_haptic_.read()->model_steps();
   // An author's tuning, felt from this tick on; re-applied after every switch of the surfaces'
   // copy, which resets the shading pointers (surface_tuning.h).
-  tick_reads_.tuned = tuned_surfaces_.take(&tuning_mailbox_);
+  tick_reads_.tuned = take_tunings(tick);
   tuned_surfaces_.apply(objects_);
-  if (tick_reads_.tuned || stiffness_waiting_count_ > 0) forward_stiffness_to_model();
+  if (tick_reads_.tuned || stiffness_waiting_count_ > 0) forward_stiffness_to_model(tick);
   return model;
+}
+
+// The author's tunings waiting in the mailbox (a lockstep replay: those the session took at this
+// tick), and for the recording each organ's surface after them.
+bool Session::take_tunings(int64_t tick) noexcept {
+  tuned_surfaces_.clear_changed();
+  bool any = false;
+  if (scheduled_) {
+    for (; next_scheduled_tuning_ < schedule_tunings_.size() &&
+           schedule_tunings_[next_scheduled_tuning_].tick <= tick;
+         ++next_scheduled_tuning_) {
+      const TuningLog& t = schedule_tunings_[next_scheduled_tuning_];
+      any = tuned_surfaces_.set(t.organ, t.parameters) || any;
+    }
+  } else {
+    any = tuned_surfaces_.take(&tuning_mailbox_);
+  }
+  if (!any) return false;
+  for (int32_t o = 0; o < tuned_surfaces_.organ_count(); ++o) {
+    if (!tuned_surfaces_.changed(o)) continue;
+    if (tuning_log_.size() < tuning_log_.capacity()) {
+      tuning_log_.push_back({tick, o, tuned_surfaces_.parameters(o)});
+    } else {
+      ++tunings_unrecorded_;
+    }
+  }
+  published_tunings_.store(static_cast<int64_t>(tuning_log_.size()), std::memory_order_release);
+  return true;
 }
 
 // A tuned stiffness reaches the catheter's contacts too (TissueWorld::set_stiffness; the tools'
 // contacts carry theirs): each organ's newest, posted once; one the mailbox had no room for
 // waits for a later tick. A stiffness of 0 (no force) is not one the catheter can meet: it
 // keeps the last positive one.
-void Session::forward_stiffness_to_model() noexcept {
+void Session::forward_stiffness_to_model(int64_t tick) noexcept {
   stiffness_waiting_count_ = 0;
   for (size_t o = 0; o < stiffness_for_model_.size(); ++o) {
     const double k = tuned_surfaces_.parameters(static_cast<int32_t>(o)).stiffness_n_per_m;
@@ -348,7 +376,7 @@ void Session::forward_stiffness_to_model() noexcept {
     if (stiffness_waiting_[o] == 0) continue;
     SurfaceParameters p;
     p.stiffness_n_per_m = k;
-    stiffness_waiting_[o] = stiffness_to_model_.post(static_cast<int32_t>(o), p) ? 0 : 1;
+    stiffness_waiting_[o] = stiffness_to_model_.post(static_cast<int32_t>(o), p, tick) ? 0 : 1;
     stiffness_waiting_count_ += stiffness_waiting_[o];
   }
 }
@@ -715,8 +743,11 @@ void Session::publish_haptic(HapticSnapshot& snap, double lateness_s) noexcept {
 void Session::model_tick(int64_t tick) noexcept {
   const HapticSnapshot& h = scheduled_haptic_ != nullptr ? *scheduled_haptic_ : to_model_.latest();
   if (step_log_.size() < step_log_.capacity()) step_log_.push_back({tick, h.tick});
-  stiffness_to_model_.take([this](int32_t organ, const SurfaceParameters& p) {
+  // A tuned stiffness is part of the models' state: hashed where it is taken up.
+  stiffness_to_model_.take_until(h.tick, [this](int32_t organ, const SurfaceParameters& p) {
     world_->set_stiffness(organ, p.stiffness_n_per_m);
+    hash_bytes(&model_hash_, &organ, sizeof(organ));
+    hash_bytes(&model_hash_, &p.stiffness_n_per_m, sizeof(double));
   });
   for (size_t i = 0; i < 2; ++i) {
     ToolModelInput& in = model_input_[i];
@@ -1137,13 +1168,23 @@ Status Session::record_to(const std::filesystem::path& file, const std::string& 
   auto opened = SessionRecorder::open(file, header_json);
   if (!opened.ok()) return opened.diagnostics();
   recorder_ = std::move(opened).value();
+  // An author's tunings have room only in a session that records them (4 MB).
+  tuning_log_.reserve(kMaxRecordedTunings);
   return {};
 }
 
 SessionMetrics Session::run() {
   if (recorder_) {
-    recorder_->start(recordings_[0].samples.data(), recordings_[1].samples.data(), tick_log_.data(),
-                     &published_ticks_, step_log_.data(), &published_steps_);
+    RecordingSources from;
+    from.left = recordings_[0].samples.data();
+    from.right = recordings_[1].samples.data();
+    from.ticks = tick_log_.data();
+    from.published_ticks = &published_ticks_;
+    from.steps = step_log_.data();
+    from.published_steps = &published_steps_;
+    from.tunings = tuning_log_.data();
+    from.published_tunings = &published_tunings_;
+    recorder_->start(from);
   }
   if (scheduled_) {
     run_scheduled();
@@ -1200,9 +1241,12 @@ void Session::finish_recording(SessionMetrics* m) {
                                        {"watchdog_events", m->events.size()}};
   char hash[32];
   std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(m->state_hash));
-  // Fewer ticks recorded than run: the space reserved (RuntimeSettings::record_s) ran out.
+  // Fewer ticks recorded than run: the space reserved (RuntimeSettings::record_s) ran out; the
+  // same for an author's tunings (kMaxRecordedTunings).
   const nlohmann::ordered_json end = {{"ticks", published_ticks_.load()},
                                       {"session_ticks", m->haptic.ticks()},
+                                      {"tunings", published_tunings_.load()},
+                                      {"tunings_unrecorded", tunings_unrecorded_},
                                       {"result", std::string(to_string(m->task.result))},
                                       {"state_hash", hash}};
   const Status done = recorder_->finish(body.dump(), end.dump());

@@ -245,10 +245,13 @@ class Session {
   /// in the order lockstep_order.h gives, each tick reading the model snapshot, the surfaces,
   /// the lateness and the resume it read live, each step the haptic tick it read (the streamed
   /// recording's reads, session_recorder.h), so that a session run in real time replays to its
-  /// own state_hash. The run ends with the recorded ticks, not with the task.
-  void replay_in_lockstep(std::vector<TickLog> ticks, std::vector<StepLog> steps) {
+  /// own state_hash. The run ends with the recorded ticks, not with the task. `tunings`: an
+  /// author's, set at the ticks that took them live (tick order), in place of the mailbox's.
+  void replay_in_lockstep(std::vector<TickLog> ticks, std::vector<StepLog> steps,
+                          std::vector<TuningLog> tunings = {}) {
     schedule_ticks_ = std::move(ticks);
     schedule_steps_ = std::move(steps);
+    schedule_tunings_ = std::move(tunings);
     scheduled_ = true;
   }
   /// After a replay_in_lockstep run(): why it stopped before the recording's last tick, if it
@@ -280,6 +283,12 @@ class Session {
   /// (the acquire there orders it), after run(), or in fast mode between ticks.
   [[nodiscard]] const SurfaceParameters& surface_parameters(int32_t organ) const {
     return tuned_surfaces_.parameters(organ);
+  }
+  /// The contact stiffness the catheter meets organ `organ` with (TissueWorld, the modelling
+  /// thread's state: read after run(), or in fast mode between ticks): the scenario's, or the
+  /// author's tuning once the modelling step that read the tick which took it has run.
+  [[nodiscard]] double catheter_contact_stiffness(int32_t organ) const {
+    return world_->stiffness_n_per_m(organ);
   }
   /// The organ a tool touched at the latest haptic tick (the right tool's first contact, else
   /// the left's), or -1: the organ the authoring panel tunes. Any thread.
@@ -343,7 +352,8 @@ class Session {
   Session() = default;
   void haptic_tick(int64_t tick, double lateness_s) noexcept;
   const ModelSnapshot& take_up_model(int64_t tick, double lateness_s) noexcept;
-  void forward_stiffness_to_model() noexcept;
+  bool take_tunings(int64_t tick) noexcept;
+  void forward_stiffness_to_model(int64_t tick) noexcept;
   void check_timing(int64_t tick, double lateness_s) noexcept;
   [[nodiscard]] double injected_lateness(int64_t tick) const noexcept;
   bool read_tool(size_t i, int64_t tick, ToolKinematics* k) noexcept;
@@ -418,7 +428,9 @@ class Session {
   TunedSurfaces tuned_surfaces_;
   // A tuned stiffness, forwarded by the haptic thread to the modelling loop's catheter contacts
   // (TissueWorld::set_stiffness): per organ the last one posted and whether it still waits for
-  // room in the mailbox (the haptic thread's), the mailbox (haptic thread to modelling thread).
+  // room in the mailbox (the haptic thread's), the mailbox (haptic thread to modelling thread:
+  // each message carries the tick that posted it, taken by the step that read that tick's
+  // snapshot, so that a replay takes it at the same step).
   std::vector<double> stiffness_for_model_;
   std::vector<uint8_t> stiffness_waiting_;
   int32_t stiffness_waiting_count_ = 0;
@@ -503,6 +515,8 @@ class Session {
   bool scheduled_ = false;
   std::vector<TickLog> schedule_ticks_;
   std::vector<StepLog> schedule_steps_;
+  std::vector<TuningLog> schedule_tunings_;
+  size_t next_scheduled_tuning_ = 0;
   std::vector<HapticSnapshot> haptic_history_;  ///< tick t at (t + 1) % kLockstepHistory
   std::vector<ModelSnapshot> model_history_;    ///< n steps at n % kLockstepHistory
   ModelSnapshot model_kept_;  ///< the next tick's older read, once out of model_history_
@@ -517,6 +531,11 @@ class Session {
   std::array<hardware::DeviceRecording, 2> recordings_{};
   std::vector<TickLog> tick_log_;
   std::atomic<int64_t> published_ticks_{0};  ///< complete in recordings_ and tick_log_
+  // The organs' surfaces after each tick's tunings (haptic thread writes; kMaxRecordedTunings
+  // reserved by record_to(), none otherwise), and those there was no room for.
+  std::vector<TuningLog> tuning_log_;
+  std::atomic<int64_t> published_tunings_{0};
+  int64_t tunings_unrecorded_ = 0;
   TickLog tick_reads_;  ///< this tick's lateness, resume and reads, for its log (haptic thread)
   bool after_hold_ = false;  ///< the tick about to run is the first after a hold (its log says)
   std::unique_ptr<SessionRecorder> recorder_;  ///< streams them to disk (record_to)

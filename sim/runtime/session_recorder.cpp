@@ -87,12 +87,26 @@ void append_tick_record(const hardware::RecordedSample& left, const hardware::Re
     }
   }
 }
+static_assert(kTuningRecordBytes == 8 + 4 + 1 + 3 + 5 * 8);
 static_assert(kTickRecordBytes ==
               8 + 8 + 2 * (8 * 12 + 4 + 4 + 8 * 4) + 8 + 8 * 1 + 24 + 2 * (4 + 4 * (2 + 2 + 4)));
 
 void append_step_record(const StepLog& step, std::string* out) {
   put(out, step.tick);
   put(out, step.haptic_tick_read);
+}
+
+void append_tuning_record(const TuningLog& tuning, std::string* out) {
+  const SurfaceParameters& p = tuning.parameters;
+  put(out, tuning.tick);
+  put(out, tuning.organ);
+  put(out, static_cast<uint8_t>(p.shading ? 1 : 0));
+  out->append(3, '\0');
+  put(out, p.stiffness_n_per_m);
+  put(out, p.damping_n_s_per_m);
+  put(out, p.friction_static);
+  put(out, p.friction_dynamic);
+  put(out, p.texture_scale);
 }
 
 Result<std::unique_ptr<SessionRecorder>> SessionRecorder::open(const std::filesystem::path& file,
@@ -124,16 +138,8 @@ SessionRecorder::~SessionRecorder() {
   if (f_ != nullptr) std::fclose(f_);
 }
 
-void SessionRecorder::start(const hardware::RecordedSample* left,
-                            const hardware::RecordedSample* right, const TickLog* log,
-                            const std::atomic<int64_t>* published, const StepLog* steps,
-                            const std::atomic<int64_t>* published_steps) {
-  left_ = left;
-  right_ = right;
-  log_ = log;
-  published_ = published;
-  steps_ = steps;
-  published_steps_ = published_steps;
+void SessionRecorder::start(const RecordingSources& from) {
+  from_ = from;
   thread_ = std::thread([this] { run(); });
 }
 
@@ -145,14 +151,17 @@ void SessionRecorder::run() {
   }
 }
 
-// The ticks' count is loaded first: every step a tick read was published before the tick read
-// it, so the steps loaded after include them all. The steps are written first: a session killed
-// between the two chunks leaves steps without their ticks (unused), never ticks without steps.
+// The ticks' count is loaded first: every step a tick read, and every tuning a tick took, was
+// published before the tick, so the steps and tunings loaded after include them all. Those are
+// written first: a session killed between the chunks leaves steps or tunings without their
+// ticks (unused), never ticks without theirs.
 void SessionRecorder::write_published() {
-  const int64_t ticks = published_->load(std::memory_order_acquire);
-  const int64_t steps =
-      published_steps_ != nullptr ? published_steps_->load(std::memory_order_acquire) : 0;
-  write_steps_up_to(steps);
+  const int64_t ticks = from_.published_ticks->load(std::memory_order_acquire);
+  const auto published = [](const std::atomic<int64_t>* n) {
+    return n != nullptr ? n->load(std::memory_order_acquire) : 0;
+  };
+  write_steps_up_to(published(from_.published_steps));
+  write_tunings_up_to(published(from_.published_tunings));
   write_ticks_up_to(ticks);
 }
 
@@ -161,10 +170,22 @@ void SessionRecorder::write_steps_up_to(int64_t published) {
   if (!problem_.empty() || published <= from) return;
   payload_.clear();
   for (int64_t i = from; i < published; ++i) {
-    append_step_record(steps_[static_cast<size_t>(i)], &payload_);
+    append_step_record(from_.steps[static_cast<size_t>(i)], &payload_);
   }
   if (write_chunk(kChunkSteps, static_cast<uint32_t>(published - from), from, payload_)) {
     written_steps_ = published;
+  }
+}
+
+void SessionRecorder::write_tunings_up_to(int64_t published) {
+  const int64_t from = written_tunings_;
+  if (!problem_.empty() || published <= from) return;
+  payload_.clear();
+  for (int64_t i = from; i < published; ++i) {
+    append_tuning_record(from_.tunings[static_cast<size_t>(i)], &payload_);
+  }
+  if (write_chunk(kChunkTunings, static_cast<uint32_t>(published - from), from, payload_)) {
+    written_tunings_ = published;
   }
 }
 
@@ -174,9 +195,9 @@ void SessionRecorder::write_ticks_up_to(int64_t published) {
   payload_.clear();
   for (int64_t i = from; i < published; ++i) {
     const auto k = static_cast<size_t>(i);
-    append_tick_record(left_[k], right_[k], log_[k], &payload_);
+    append_tick_record(from_.left[k], from_.right[k], from_.ticks[k], &payload_);
   }
-  if (write_chunk(kChunkTicks, static_cast<uint32_t>(published - from), log_[from].tick,
+  if (write_chunk(kChunkTicks, static_cast<uint32_t>(published - from), from_.ticks[from].tick,
                   payload_)) {
     written_.store(published, std::memory_order_relaxed);
   }
@@ -206,7 +227,7 @@ bool SessionRecorder::write_chunk(uint32_t kind, uint32_t count, int64_t first_t
 Status SessionRecorder::finish(const std::string& events_json, const std::string& end_json) {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
-  if (published_ != nullptr) write_published();
+  if (from_.published_ticks != nullptr) write_published();
   write_chunk(kChunkEvents, 0, 0, events_json);
   write_chunk(kChunkEnd, 0, 0, end_json);
   // On the disk, not only in the kernel's cache, before it is called done.

@@ -7,11 +7,12 @@
 /// writes the events and an end chunk; a file without one is an interrupted session.
 ///
 /// File (session.lrec), little-endian:
-///   "LAPREC03" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
+///   "LAPREC04" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
 ///   chunks:    uint32 magic "LRCK" | uint32 kind | uint32 payload bytes | uint32 count |
 ///              int64 first tick (or step) | payload | uint32 CRC-32 of kind … payload
 ///   kinds:     1 ticks (count records of kTickRecordBytes), 2 events (JSON), 3 end (JSON),
-///              4 modelling steps (count records of kStepRecordBytes)
+///              4 modelling steps (count records of kStepRecordBytes), 5 an author's surface
+///              tunings (count records of kTuningRecordBytes; first: the first record's index)
 /// A tick record: int64 tick, int64 wall clock [ns since the epoch], per tool (left, right) the
 /// device's sample (double time_s, position[3], orientation w x y z, velocity[3], gripper angle;
 /// uint32 buttons, uint32 status) and what was sent (double force[3], squeeze), then double
@@ -23,11 +24,14 @@
 /// times uint16 organ, uint16 contacts on it, float32 force on it [N] (unlisted ones zero).
 /// A step record: int64 the haptic tick the step is labelled with, int64 the haptic tick whose
 /// snapshot it read (-1: none yet).
+/// A tuning record: int64 the haptic tick that took it, int32 the organ, uint8 force shading,
+/// 3 bytes zero, double stiffness [N/m], damping [N s/m], μs, μd, texture scale: the organ's
+/// surface as the haptic loop rendered it from that tick on (surface_tuning.h).
 /// The reads make a real-time session replayable in lockstep to the same state (issue 24): they
 /// say which snapshot each loop took from the other, which thread timing decided live.
-/// Older files are still read: "LAPREC02" (tick records of 328 bytes, without the touches) and
-/// "LAPREC01" (304 bytes, ending after `paused` and 6 bytes zero; no steps, so they replay in
-/// plain lockstep).
+/// Older files are still read: "LAPREC03" (no tunings: a tuned tick is only marked), "LAPREC02"
+/// (tick records of 328 bytes, without the touches) and "LAPREC01" (304 bytes, ending after
+/// `paused` and 6 bytes zero; no steps, so they replay in plain lockstep).
 
 #include <atomic>
 #include <cstdint>
@@ -39,6 +43,7 @@
 
 #include "core/result.h"
 #include "hardware/device_recording.h"
+#include "sim/runtime/surface_tuning.h"
 #include "sim/runtime/tool_touch.h"
 
 namespace lap::sim {
@@ -71,7 +76,29 @@ struct StepLog {
   int64_t haptic_tick_read = -1;  ///< whose HapticSnapshot it read; -1: the initial one
 };
 
-inline constexpr char kRecordingMagic[9] = "LAPREC03";
+/// An organ's surface as an author's tuning left it, from haptic tick `tick` on (written by the
+/// haptic thread, one per organ the tick's tunings changed).
+struct TuningLog {
+  int64_t tick = 0;
+  int32_t organ = -1;
+  SurfaceParameters parameters;
+};
+
+/// What the loops fill for the recorder: arrays reserved at set-up (they never move), of which
+/// the first `*published_…` entries are complete (release-stored by the thread that fills them).
+struct RecordingSources {
+  const hardware::RecordedSample* left = nullptr;  ///< haptic thread: the devices' samples
+  const hardware::RecordedSample* right = nullptr;
+  const TickLog* ticks = nullptr;  ///< haptic thread: beside them, per tick
+  const std::atomic<int64_t>* published_ticks = nullptr;
+  const StepLog* steps = nullptr;  ///< modelling thread
+  const std::atomic<int64_t>* published_steps = nullptr;
+  const TuningLog* tunings = nullptr;  ///< haptic thread
+  const std::atomic<int64_t>* published_tunings = nullptr;
+};
+
+inline constexpr char kRecordingMagic[9] = "LAPREC04";
+inline constexpr char kRecordingMagicV3[9] = "LAPREC03";
 inline constexpr char kRecordingMagicV2[9] = "LAPREC02";
 inline constexpr char kRecordingMagicV1[9] = "LAPREC01";
 inline constexpr uint32_t kChunkMagic = 0x4B43524CU;  // "LRCK"
@@ -79,6 +106,7 @@ inline constexpr uint32_t kChunkTicks = 1;
 inline constexpr uint32_t kChunkEvents = 2;
 inline constexpr uint32_t kChunkEnd = 3;
 inline constexpr uint32_t kChunkSteps = 4;
+inline constexpr uint32_t kChunkTunings = 5;
 inline constexpr size_t kChunkHeadBytes = 24;
 inline constexpr size_t kToolTouchBytes = 4 + ToolTouch::kListedOrgans * 8;  // 36
 inline constexpr size_t kTickRecordBytes =
@@ -86,6 +114,11 @@ inline constexpr size_t kTickRecordBytes =
 inline constexpr size_t kTickRecordBytesV2 = 16 + 2 * (104 + 32) + 16 + 24;  // 328
 inline constexpr size_t kTickRecordBytesV1 = 16 + 2 * (104 + 32) + 16;       // 304
 inline constexpr size_t kStepRecordBytes = 16;
+inline constexpr size_t kTuningRecordBytes = 16 + 5 * 8;  // 56
+/// The tunings a recording session keeps (4 MB reserved in memory, 56 bytes each on disk): a
+/// slider dragged for an hour posts tens of thousands; those beyond are counted in the end chunk
+/// and a replay says where it departs.
+inline constexpr size_t kMaxRecordedTunings = size_t{1} << 16;
 /// Modelling steps a session records beyond one per tick (a haptic loop five times slower than
 /// its rate, live): the room the session reserves, and what a reader accepts.
 inline constexpr size_t kStepsBeyondTicks = 64;
@@ -98,6 +131,8 @@ void append_tick_record(const hardware::RecordedSample& left, const hardware::Re
                         const TickLog& log, std::string* out);
 /// One modelling step as its record's bytes (appended to `out`).
 void append_step_record(const StepLog& step, std::string* out);
+/// One tuning as its record's bytes (appended to `out`).
+void append_tuning_record(const TuningLog& tuning, std::string* out);
 
 class SessionRecorder {
  public:
@@ -110,12 +145,8 @@ class SessionRecorder {
   SessionRecorder(const SessionRecorder&) = delete;
   SessionRecorder& operator=(const SessionRecorder&) = delete;
 
-  /// Starts the writer over storage the haptic loop fills (reserved: it never moves), of which
-  /// the first `*published` entries are complete (release-stored by the haptic thread), and
-  /// storage the modelling loop fills the same way (`steps`, `*published_steps`).
-  void start(const hardware::RecordedSample* left, const hardware::RecordedSample* right,
-             const TickLog* log, const std::atomic<int64_t>* published, const StepLog* steps,
-             const std::atomic<int64_t>* published_steps);
+  /// Starts the writer over what the loops fill (`from`: the steps' and tunings' may be null).
+  void start(const RecordingSources& from);
   /// Stops the writer, writes what is left, the events chunk and the end chunk, and closes.
   /// The problem that stopped the recording early (a full disk), if any, is returned; what was
   /// written before it stays.
@@ -130,6 +161,7 @@ class SessionRecorder {
   void write_published();
   void write_ticks_up_to(int64_t published);
   void write_steps_up_to(int64_t published);
+  void write_tunings_up_to(int64_t published);
   bool write_chunk(uint32_t kind, uint32_t count, int64_t first_tick, const std::string& payload);
 
   std::filesystem::path file_;
@@ -137,14 +169,10 @@ class SessionRecorder {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<int64_t> written_{0};
-  const hardware::RecordedSample* left_ = nullptr;
-  const hardware::RecordedSample* right_ = nullptr;
-  const TickLog* log_ = nullptr;
-  const std::atomic<int64_t>* published_ = nullptr;
-  const StepLog* steps_ = nullptr;
-  const std::atomic<int64_t>* published_steps_ = nullptr;
-  int64_t written_steps_ = 0;  ///< writer thread's until finish() joins it
-  std::string problem_;        ///< writer thread's until finish() joins it
+  RecordingSources from_;
+  int64_t written_steps_ = 0;    ///< writer thread's until finish() joins it
+  int64_t written_tunings_ = 0;  ///< writer thread's until finish() joins it
+  std::string problem_;          ///< writer thread's until finish() joins it
   std::string payload_;
 };
 

@@ -9,7 +9,8 @@
 ///   writes the slot then publishes its index with a release store, the consumer reads the index
 ///   with an acquire load, copies the slot, then frees it with a release store of its own index
 ///   (Lamport's ring). A full ring refuses the post (the caller posts again later; a slider only
-///   needs its latest value to arrive).
+///   needs its latest value to arrive). A message may carry the haptic tick that posted it, for a
+///   consumer that must take it at a point thread timing does not decide (take_until).
 /// - `TunedSurfaces`: the haptic thread's own per-organ parameters and what they need — a copy of
 ///   each organ's friction model and a texture scaled in height — set up once from the session's
 ///   objects; `apply` writes them into the objects the proxies read, every tick after the
@@ -21,6 +22,10 @@
 /// infers the tool's displacement as force / k), and the session forwards a tuned k to the
 /// catheter's contacts through a second mailbox of this kind (haptic thread to modelling
 /// thread; Session::forward_stiffness_to_model). The rest keeps what it was built with.
+///
+/// What each tick took is recorded (session_recorder.h, TuningLog: the organs' parameters after
+/// it), and a replay sets the same values at the same ticks (TunedSurfaces::set), so that a
+/// tuned session replays to its own state.
 
 #include <array>
 #include <atomic>
@@ -53,10 +58,11 @@ class SurfaceTuningMailbox {
  public:
   static constexpr uint64_t kCapacity = 64;
   /// Producer: queue organ `organ`'s new parameters; false when the ring is full.
-  bool post(int32_t organ, const SurfaceParameters& p) noexcept {
+  /// `tick`: the haptic tick posting it (take_until), else 0.
+  bool post(int32_t organ, const SurfaceParameters& p, int64_t tick = 0) noexcept {
     const uint64_t head = head_.load(std::memory_order_relaxed);
     if (head - tail_.load(std::memory_order_acquire) >= kCapacity) return false;
-    ring_[head % kCapacity] = {organ, p};
+    ring_[head % kCapacity] = {organ, tick, p};
     head_.store(head + 1, std::memory_order_release);
     return true;
   }
@@ -74,6 +80,22 @@ class SurfaceTuningMailbox {
     tail_.store(tail, std::memory_order_release);
     return n;
   }
+  /// Consumer: as take(), for the waiting messages posted at ticks up to `tick` only, oldest
+  /// first (a producer posts at ticks that do not decrease): the modelling step that read haptic
+  /// tick t's snapshot takes what ticks up to t posted, all of which were published before that
+  /// snapshot, and nothing a later tick may or may not have posted yet.
+  template <class F>
+  int32_t take_until(int64_t tick, F&& f) noexcept {
+    uint64_t tail = tail_.load(std::memory_order_relaxed);
+    const uint64_t head = head_.load(std::memory_order_acquire);
+    int32_t n = 0;
+    for (; tail != head && ring_[tail % kCapacity].tick <= tick; ++tail, ++n) {
+      const Message& m = ring_[tail % kCapacity];
+      f(m.organ, m.parameters);
+    }
+    tail_.store(tail, std::memory_order_release);
+    return n;
+  }
   /// Messages posted so far (producer's count; any thread).
   [[nodiscard]] uint64_t posted() const noexcept { return head_.load(std::memory_order_acquire); }
   /// Messages taken so far (any thread).
@@ -82,6 +104,7 @@ class SurfaceTuningMailbox {
  private:
   struct Message {
     int32_t organ = -1;
+    int64_t tick = 0;
     SurfaceParameters parameters;
   };
   std::array<Message, kCapacity> ring_{};
@@ -115,9 +138,16 @@ class TunedSurfaces {
   /// Setup: each organ's parameters as `objects` have them (the session's objects, pointed at
   /// their surfaces). Allocates.
   void init(std::span<const haptics::HapticObject> objects);
-  /// Haptic thread: takes the mailbox's messages (organs out of range and non-finite or negative
-  /// values are ignored; μd is capped at μs); true when any was taken. No allocation.
+  /// Haptic thread: takes the mailbox's messages, each as set() does; true when any organ's
+  /// parameters were set. No allocation.
   bool take(SurfaceTuningMailbox* mailbox) noexcept;
+  /// Haptic thread: organ o's parameters from now on; false, and nothing changed, for an organ
+  /// out of range or a value not finite or negative. μd is capped at μs, shading needs normals:
+  /// setting what parameters() then gives changes nothing (a replay sets the recorded values).
+  bool set(int32_t o, const SurfaceParameters& p) noexcept;
+  /// Whether organ o's parameters were set since the last clear_changed() (haptic thread).
+  [[nodiscard]] bool changed(int32_t o) const { return organs_[static_cast<size_t>(o)].changed; }
+  void clear_changed() noexcept;
   /// Haptic thread: writes every tuned organ's parameters into `objects` (the same organs as at
   /// init). No allocation.
   void apply(std::span<haptics::HapticObject> objects) noexcept;
@@ -138,7 +168,8 @@ class TunedSurfaces {
  private:
   struct Organ {
     SurfaceParameters now;
-    bool tuned = false;  ///< apply() leaves untouched organs as the model set them
+    bool tuned = false;    ///< apply() leaves untouched organs as the model set them
+    bool changed = false;  ///< set since clear_changed()
     /// The friction as the scenario has it (k_s, k_d, map), and the one rendered.
     haptics::FrictionModel base_friction;
     bool had_friction = false;
@@ -148,6 +179,7 @@ class TunedSurfaces {
     std::unique_ptr<ScaledHeightField> texture;        ///< null: the organ has none
   };
   std::vector<Organ> organs_;
+  int32_t changed_count_ = 0;
 };
 
 }  // namespace lap::sim

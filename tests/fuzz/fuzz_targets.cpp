@@ -14,6 +14,7 @@
 #include "hardware/device_recording.h"
 #include "hardware/gripper_protocol.h"
 #include "hardware/scripted_trajectory.h"
+#include "sim/report/recorded_tunings.h"
 #include "sim/report/recording_reader.h"
 #include "sim/report/session_replay.h"
 #include "sim/setup/height_image_loader.h"
@@ -180,6 +181,20 @@ bool fuzz_session_recording(std::span<const uint8_t> data) {
     require(s.haptic_tick_read >= last);
     last = s.haptic_tick_read;
   }
+  // What a replay's tunings rely on (TunedSurfaces::set would refuse the rest): in tick order,
+  // values finite, not negative, μd at most μs; and the notes on them (recorded_tunings.h).
+  int64_t tuned = 0;
+  for (const sim::TuningLog& t : r.value().tunings) {
+    const sim::SurfaceParameters& p = t.parameters;
+    require(t.tick >= tuned && t.organ >= 0 && p.friction_dynamic <= p.friction_static);
+    for (const double v : {p.stiffness_n_per_m, p.damping_n_s_per_m, p.friction_static,
+                           p.friction_dynamic, p.texture_scale}) {
+      require(std::isfinite(v) && v >= 0.0);
+    }
+    tuned = t.tick;
+  }
+  (void)sim::recorded_tuning_notes(r.value().ticks, r.value().tunings, r.value().version, 8,
+                                   1000.0);
   return r.value().problems.empty();
 }
 

@@ -70,7 +70,7 @@ TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnState
   // a model snapshot older than the newest there was (the slow step's ticks), all there.
   const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
   ASSERT_TRUE(rec.ok()) << rec.message();
-  ASSERT_EQ(rec.value().version, 3);
+  ASSERT_EQ(rec.value().version, 4);
   ASSERT_TRUE(rec.value().problems.empty());
   const std::vector<TickLog>& ticks = rec.value().ticks;
   ASSERT_GT(ticks.size(), 3600U);
@@ -227,23 +227,196 @@ TEST(RealTimeReplay, AFaultADeviceReportedOnAWriteIsReplayed) {
   EXPECT_EQ(r.value().metrics.state_hash, live.state_hash);
 }
 
-// An author's live tuning is not in the recording: the replay says its figures may differ.
-TEST(RealTimeReplay, ASessionTunedLiveSaysItsReplayRendersTheScenariosValues) {
+// The recording without its tunings chunks (kind 5), as a damaged disk or a LAPREC03 writer
+// leaves it; the other chunks as they were.
+std::string without_tunings(const std::string& bytes) {
+  uint32_t header = 0;
+  std::memcpy(&header, bytes.data() + 8, 4);
+  const size_t head = 12 + static_cast<size_t>(header) + 4;
+  std::string out = bytes.substr(0, head);
+  for (size_t at = head; at < bytes.size();) {
+    uint32_t kind = 0, payload = 0;
+    std::memcpy(&kind, bytes.data() + at + 4, 4);
+    std::memcpy(&payload, bytes.data() + at + 8, 4);
+    const size_t next = at + kChunkHeadBytes + payload + 4;
+    if (kind != kChunkTunings) out += bytes.substr(at, next - at);
+    at = next;
+  }
+  return out;
+}
+
+// Every organ's surface tuned, at tick `tick`, to values that depend on the tick (as a slider
+// dragged across them).
+void tune_every_organ(Session& session, int64_t tick) {
+  for (int32_t o = 0; o < session.model().organ_count(); ++o) {
+    SurfaceParameters p = session.surface_parameters(o);
+    p.stiffness_n_per_m *= 0.4 + 0.1 * static_cast<double>((tick / 100 + o) % 9);
+    p.friction_static = 0.3;
+    p.friction_dynamic = 0.2;
+    EXPECT_TRUE(session.tune_surface(o, p));
+  }
+}
+
+// An author tunes every organ live, several times (issue 26's authoring mode): the recording
+// keeps each organ's surface after each tick's tunings, and the replay sets them at the same
+// ticks, so the tuned session replays to its own state (issue 24) with a note that it was
+// tuned, and every tick's touches as recorded. Without the tunings chunk, the replay names the
+// first tick whose tuning it lacks, and departs from the session. The clumsy trainee's right
+// tool touches an organ from 2.75 s on (the expert's never does): there the tuning is felt.
+TEST(RealTimeReplay, ASessionTunedLiveReplaysToItsOwnStateFromTheRecordedTunings) {
   const test::TempDir dir;
-  const RuntimeSettings rs = fast(0.2);
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  const RuntimeSettings rs = fast(4.0);
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
   ASSERT_TRUE(created.ok()) << created.message();
-  SurfaceParameters p = created.value()->surface_parameters(0);
-  p.stiffness_n_per_m *= 0.5;
-  ASSERT_TRUE(created.value()->tune_surface(0, p));
-  run_recorded(*created.value(), rs, dir.path());
+  Session& session = *created.value();
+  const int32_t organs = session.model().organ_count();
+  session.observe_fast(
+      [&](int64_t tick, const HapticSnapshot&, const ModelSnapshot&) {
+        if (tick == 500 || tick == 2000 || tick == 3000) tune_every_organ(session, tick);
+      },
+      100);
+  const SessionMetrics live = run_recorded(session, rs, dir.path());
+  const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(rec.ok()) << rec.message();
+  EXPECT_TRUE(rec.value().problems.empty());
+  // Posted after ticks 500, 2000, 3000: taken at the start of the next.
+  ASSERT_EQ(rec.value().tunings.size(), static_cast<size_t>(3 * organs));
+  EXPECT_EQ(rec.value().tunings.front().tick, 501);
+  EXPECT_EQ(rec.value().tunings.back().tick, 3001);
+  EXPECT_EQ(rec.value().tunings.back().organ, organs - 1);
+  EXPECT_EQ(rec.value().tunings.back().parameters.friction_static, 0.3);
+  EXPECT_TRUE(rec.value().ticks[501].tuned);
+  EXPECT_FALSE(rec.value().ticks[502].tuned);
+
   const Result<ReplayedSession> r = replay_session(dir.path());
   ASSERT_TRUE(r.ok()) << r.message();
-  // First; a note of where the replay departs may follow, if the tools touched the organ.
-  ASSERT_GE(r.value().notes.size(), 1U);
-  EXPECT_NE(r.value().notes[0].find("an author tuned organ surfaces live from tick 0 on"),
+  ASSERT_EQ(r.value().notes.size(), 1U) << (r.value().notes.empty() ? "" : r.value().notes.back());
+  EXPECT_EQ(r.value().notes[0], "an author tuned organ surfaces live (" +
+                                    std::to_string(3 * organs) +
+                                    " changes, from tick 501 (0.501 s) on): the replay renders "
+                                    "the recorded values from the ticks that took them");
+  EXPECT_EQ(r.value().metrics.state_hash, live.state_hash);
+
+  // The tunings mattered: the same session untuned ends in another state.
+  auto untuned = Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
+  ASSERT_TRUE(untuned.ok()) << untuned.message();
+  EXPECT_NE(untuned.value()->run().state_hash, live.state_hash);
+
+  const std::string bytes = without_tunings(file_text(dir.path() / "session.lrec"));
+  fs::remove(dir.path() / "session.lrec");
+  dir.write("session.lrec", bytes);
+  const Result<ReplayedSession> lacking = replay_session(dir.path());
+  ASSERT_TRUE(lacking.ok()) << lacking.message();
+  ASSERT_GE(lacking.value().notes.size(), 1U);
+  EXPECT_EQ(lacking.value().notes[0].rfind("an author tuned organ surfaces live from tick 501 "
+                                           "(0.501 s) on, and the recording holds none of the "
+                                           "values",
+                                           0),
+            0U)
+      << lacking.value().notes[0];
+  EXPECT_NE(lacking.value().metrics.state_hash, live.state_hash);
+}
+
+// A tuning record that cannot be (a negative stiffness, its chunk's checksum made good, as a
+// recording altered by hand): the reader keeps the tunings before it and says why it stopped;
+// the replay names the first tick whose tuning it lacks.
+TEST(RealTimeReplay, AnImpossibleTuningRecordIsReportedAndTheReplaySaysWhereItDeparts) {
+  const test::TempDir dir;
+  const RuntimeSettings rs = fast(1.0);
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  Session& session = *created.value();
+  const auto organs = static_cast<size_t>(session.model().organ_count());
+  session.observe_fast(
+      [&](int64_t tick, const HapticSnapshot&, const ModelSnapshot&) {
+        if (tick == 200 || tick == 600) tune_every_organ(session, tick);
+      },
+      100);
+  run_recorded(session, rs, dir.path());
+  std::string bytes = file_text(dir.path() / "session.lrec");
+  const uint32_t tunings_kind = kChunkTunings;
+  std::string mark("LRCK");
+  mark.append(reinterpret_cast<const char*>(&tunings_kind), 4);
+  bool altered = false;
+  for (size_t at = bytes.find(mark); at != std::string::npos && !altered;
+       at = bytes.find(mark, at + 1)) {
+    uint32_t payload_bytes = 0, count = 0;
+    int64_t first = 0;
+    std::memcpy(&payload_bytes, bytes.data() + at + 8, 4);
+    std::memcpy(&count, bytes.data() + at + 12, 4);
+    std::memcpy(&first, bytes.data() + at + 16, 8);
+    const auto index = static_cast<int64_t>(organs);  // the second tuning's first record
+    if (first > index || first + count <= index) continue;
+    const size_t record =
+        at + kChunkHeadBytes + static_cast<size_t>(index - first) * kTuningRecordBytes;
+    const double negative = -1.0;
+    std::memcpy(bytes.data() + record + 16, &negative, 8);  // its stiffness
+    const uint32_t crc = crc32(bytes.data() + at + 4, kChunkHeadBytes - 4 + payload_bytes);
+    std::memcpy(bytes.data() + at + kChunkHeadBytes + payload_bytes, &crc, 4);
+    altered = true;
+  }
+  ASSERT_TRUE(altered);
+  fs::remove(dir.path() / "session.lrec");
+  dir.write("session.lrec", bytes);
+  const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(rec.ok()) << rec.message();
+  EXPECT_EQ(rec.value().tunings.size(), organs);
+  ASSERT_EQ(rec.value().problems.size(), 1U);
+  EXPECT_NE(rec.value().problems[0].find(": a parameter that is not finite, or negative; the "
+                                         "tunings from there on are not replayed"),
             std::string::npos)
-      << r.value().notes[0];
+      << rec.value().problems[0];
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_GE(r.value().notes.size(), 2U);
+  EXPECT_EQ(r.value().notes[1],
+            "the tuning taken at tick 601 (0.601 s) is not in the recording: from there on the "
+            "replay may render other surfaces than the session did");
+}
+
+// The same in real time, the author's thread posting as a slider does while the loops run: the
+// haptic thread takes each post at whichever tick comes next, and forwards a tuned stiffness to
+// the modelling loop's catheter contacts, which take it at the step that reads that tick (not
+// whenever it arrives): the replay sets the same values at the same ticks and steps. The clumsy
+// trainee's right tool presses an organ while its surface keeps changing.
+TEST(RealTimeReplay, AnAuthorTuningFromAnotherThreadInRealTimeReplaysToTheSameState) {
+  const test::TempDir dir;
+  RuntimeSettings rs;
+  rs.duration_s = 3.5;
+  rs.realtime_priority = false;
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  Session& session = *created.value();
+  std::atomic<bool> done{false};
+  std::thread author([&] {
+    for (int64_t i = 0; !done.load(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(7));
+      const auto o = static_cast<int32_t>(i % session.model().organ_count());
+      // The organ's scenario stiffness, scaled: the author thread's own copy (reading the
+      // haptic thread's parameters while it runs would race).
+      SurfaceParameters p;
+      p.stiffness_n_per_m =
+          default_scene().organs[static_cast<size_t>(o)].material.stiffness_n_per_m *
+          (0.5 + 0.1 * static_cast<double>(i % 7));
+      p.texture_scale = 1.0;
+      (void)session.tune_surface(o, p);  // a full mailbox: the next post carries on
+    }
+  });
+  const SessionMetrics live = run_recorded(session, rs, dir.path());
+  done.store(true);
+  author.join();
+  const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(rec.ok()) << rec.message();
+  EXPECT_TRUE(rec.value().problems.empty());
+  EXPECT_GT(rec.value().tunings.size(), 200U);  // one every 7 ms for 3.5 s: about 500
+  bool touched = false;  // the right tool on an organ, from 2.75 s on: where tunings are felt
+  for (const TickLog& t : rec.value().ticks) touched = touched || t.touch[1].organs > 0;
+  EXPECT_TRUE(touched);
+  const Result<ReplayedSession> r = replay_session(dir.path());
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.value().notes.size(), 1U) << (r.value().notes.empty() ? "" : r.value().notes.back());
+  EXPECT_EQ(r.value().metrics.state_hash, live.state_hash);
+  EXPECT_EQ(r.value().metrics.haptic.ticks(), live.haptic.ticks());
 }
 
 // A recording altered after its checksums were written (or a replay by a build that renders

@@ -7,10 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <map>
 
 #include "haptics/setup/mesh_generators.h"
 #include "sim/setup/mesh_loader.h"
+#include "sim/setup/scenario_loader.h"
 #include "tests/sim/demo_test_support.h"
 #include "tests/support/counting_allocator.h"
 
@@ -165,6 +168,74 @@ TEST(SurfaceTuning, EveryParameterReachesTheObjectsTheProxiesRead) {
   EXPECT_EQ(mailbox.taken(), 4U);
 }
 
+// A replay sets the values the recording kept: each organ's parameters() after the live tick's
+// tunings (sim/runtime/session_recorder.h). Setting them again changes nothing, even where the
+// author's own values were capped (μd above μs, shading without normals); an organ without a
+// tuning this tick is not marked as changed, so the recording holds one record per organ tuned.
+TEST(SurfaceTuning, SettingTheRenderedParametersAgainChangesNothing) {
+  haptics::HapticObject object;
+  object.law.stiffness_n_per_m = 300.0;
+  std::vector<haptics::HapticObject> objects = {object, object};
+  TunedSurfaces live;
+  live.init(objects);
+  SurfaceParameters author = live.parameters(0);
+  author.stiffness_n_per_m = 450.0;
+  author.friction_static = 0.3;
+  author.friction_dynamic = 0.9;  // capped to 0.3
+  author.shading = true;          // no normals: off
+  EXPECT_TRUE(live.set(0, author));
+  EXPECT_TRUE(live.changed(0));
+  EXPECT_FALSE(live.changed(1));
+  live.apply(objects);
+  const SurfaceParameters rendered = live.parameters(0);
+  EXPECT_EQ(rendered.friction_dynamic, 0.3);
+  EXPECT_FALSE(rendered.shading);
+
+  std::vector<haptics::HapticObject> replayed_objects = {object, object};
+  TunedSurfaces replay;
+  replay.init(replayed_objects);
+  EXPECT_TRUE(replay.set(0, rendered));
+  replay.apply(replayed_objects);
+  const haptics::HapticObject& a = objects[0];
+  const haptics::HapticObject& b = replayed_objects[0];
+  EXPECT_EQ(std::memcmp(&replay.parameters(0), &rendered, sizeof(SurfaceParameters)), 0);
+  EXPECT_EQ(a.law.stiffness_n_per_m, b.law.stiffness_n_per_m);
+  EXPECT_EQ(a.law.kind, b.law.kind);
+  ASSERT_NE(b.friction, nullptr);
+  EXPECT_EQ(a.friction->mu_dynamic, b.friction->mu_dynamic);
+  EXPECT_EQ(a.friction->slide_stiffness_n_per_m, b.friction->slide_stiffness_n_per_m);
+  EXPECT_EQ(a.friction->stick_stiffness_n_per_m, b.friction->stick_stiffness_n_per_m);
+
+  live.clear_changed();
+  EXPECT_FALSE(live.changed(0));
+  SurfaceParameters bad = author;
+  bad.damping_n_s_per_m = -1.0;
+  EXPECT_FALSE(live.set(0, bad));  // refused: nothing changed, nothing to record
+  EXPECT_FALSE(live.set(2, author));
+  EXPECT_FALSE(live.changed(0));
+}
+
+// The haptic loop forwards a tuned stiffness to the modelling loop with the tick that posted it;
+// the step that read tick t's snapshot takes those of ticks up to t only, and the rest wait, in
+// order, for a later step (which a replay then runs at the same point).
+TEST(SurfaceTuning, TheModellingStepTakesOnlyWhatTheTicksItReadPosted) {
+  SurfaceTuningMailbox mailbox;
+  SurfaceParameters p;
+  for (int64_t tick : {10, 10, 12, 15}) {
+    p.stiffness_n_per_m = static_cast<double>(tick);
+    ASSERT_TRUE(mailbox.post(static_cast<int32_t>(tick), p, tick));
+  }
+  std::vector<int32_t> taken;
+  const auto take = [&](int32_t organ, const SurfaceParameters&) { taken.push_back(organ); };
+  EXPECT_EQ(mailbox.take_until(9, take), 0);
+  EXPECT_EQ(mailbox.take_until(11, take), 2);
+  EXPECT_EQ(taken, (std::vector<int32_t>{10, 10}));
+  EXPECT_EQ(mailbox.take_until(14, take), 1);
+  EXPECT_EQ(mailbox.take_until(15, take), 1);
+  EXPECT_EQ(taken, (std::vector<int32_t>{10, 10, 12, 15}));
+  EXPECT_EQ(mailbox.taken(), 4U);
+}
+
 TEST(SurfaceTuning, AFullMailboxRefusesAndKeepsOrder) {
   SurfaceTuningMailbox mailbox;
   SurfaceParameters p;
@@ -211,6 +282,170 @@ TEST(SurfaceTuning, ATunedStiffnessReachesTheTissueModelSoTheDentKeepsItsShare) 
   EXPECT_NEAR(after, before, 0.01 * before);
   // What the probe feels: twice the force for the same dent.
   EXPECT_NEAR(felt.at(1900), 2.0 * felt.at(kChangeTick - 10), 0.02 * felt.at(kChangeTick - 10));
+}
+
+// The catheter meets a tuned organ with the tuned stiffness (TissueWorld's contact settings,
+// which its contacts with the organ use): the haptic tick that takes the tuning forwards it, and
+// the first modelling step that reads that tick's snapshot takes it up — a step later at most
+// (200 Hz against 1 kHz: five ticks), never before the tick that took it.
+TEST(SurfaceTuning, TheCatheterMeetsATunedOrganWithItsTunedStiffnessFromTheNextModellingStep) {
+  const test::TempDir dir;
+  const Scene scene = slab_scene(dir);
+  constexpr int64_t kChangeTick = 1300;
+  std::map<int64_t, double> catheter_k;  // by tick, at its start
+  Session* session = nullptr;
+  auto run = observed_session(scene, {parked(), press()}, 1.5,
+                              [&](int64_t tick, const HapticSnapshot&, const ModelSnapshot&) {
+                                catheter_k[tick] = session->catheter_contact_stiffness(0);
+                                if (tick == kChangeTick) double_the_stiffness(session);
+                              });
+  ASSERT_NE(run.session, nullptr);
+  session = run.session.get();
+  EXPECT_EQ(session->catheter_contact_stiffness(0), kK);
+  run.session->run();
+  const int64_t ticks_per_step = session->model().timing().ticks_per_model;
+  // Taken by tick kChangeTick + 1; the step that reads it runs after it.
+  EXPECT_EQ(catheter_k.at(kChangeTick + 1), kK);
+  int64_t first = -1;
+  for (const auto& [tick, k] : catheter_k) {
+    if (k != kK && first < 0) first = tick;
+  }
+  ASSERT_GT(first, kChangeTick + 1);
+  EXPECT_LE(first, kChangeTick + 2 + ticks_per_step);
+  EXPECT_EQ(catheter_k.rbegin()->second, 2.0 * kK);
+  EXPECT_EQ(session->catheter_contact_stiffness(0), 2.0 * kK);
+}
+
+// Friction tuned live (§6.2), before the probe reaches the slab: pressed 3 mm (Fn = k·3 mm) and
+// then slid across slowly, it sticks up to the tuned μs·Fn and slides at the tuned μd·Fn, not at
+// the scenario's 0.4 and 0.2 (probe_session_test.cpp's FrictionSticksToMuSFnThenSlidesAtMuDFn
+// with the values from the file).
+TEST(SurfaceTuning, FrictionTunedLiveSticksAndSlidesAtTheTunedCoefficients) {
+  const test::TempDir dir;
+  const Scene scene = slab_scene(dir);
+  const double fn = kK * 0.003;
+  double peak = 0.0, last = 0.0;
+  Session* session = nullptr;
+  auto run =
+      observed_session(scene,
+                       {parked(),
+                        {{0.0, V(0.0, 0.03, 0.0)},
+                         {1.0, V(0.0, -0.003, 0.0)},
+                         {1.2, V(0.0, -0.003, 0.0)},
+                         {3.0, V(0.006, -0.003, 0.0)}}},
+                       3.0, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
+                         if (tick == 100) {
+                           SurfaceParameters p = session->surface_parameters(0);
+                           p.friction_static = 0.6;
+                           p.friction_dynamic = 0.4;
+                           EXPECT_TRUE(session->tune_surface(0, p));
+                         }
+                         if (tick < 1200) return;
+                         const double resist = -tip_force(h.tools[1]).x();
+                         peak = std::max(peak, resist);
+                         last = resist;
+                       });
+  ASSERT_NE(run.session, nullptr);
+  session = run.session.get();
+  run.session->run();
+  EXPECT_NEAR(peak, 0.6 * fn, 0.02 * fn);
+  EXPECT_NEAR(last, 0.4 * fn, 0.01 * fn);
+}
+
+// Damping tuned live on an undamped slab: the probe pressed in at a steady 10 mm/s feels
+// k·depth + b·v (the damper on its speed into the surface, force_law.h), and once held still
+// k·depth alone.
+TEST(SurfaceTuning, DampingTunedLiveAddsBTimesTheSpeedIntoTheSurface) {
+  const test::TempDir dir;
+  const Scene scene = slab_scene(dir);
+  constexpr double kB = 5.0;       // [N s/m]
+  constexpr double kSpeed = 0.01;  // [m/s]: from 1 mm above at 1.0 s to 2 mm deep at 1.3 s
+  std::map<int64_t, double> felt;
+  Session* session = nullptr;
+  auto run =
+      observed_session(scene,
+                       {parked(),
+                        {{0.0, V(0.0, 0.03, 0.0)},
+                         {1.0, V(0.0, 0.001, 0.0)},
+                         {1.3, V(0.0, -0.002, 0.0)},
+                         {1.6, V(0.0, -0.002, 0.0)}}},
+                       1.6, [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
+                         felt[h.tick] = tip_force(h.tools[1]).y();
+                         if (tick == 100) {
+                           SurfaceParameters p = session->surface_parameters(0);
+                           p.damping_n_s_per_m = kB;
+                           EXPECT_TRUE(session->tune_surface(0, p));
+                         }
+                       });
+  ASSERT_NE(run.session, nullptr);
+  session = run.session.get();
+  run.session->run();
+  // At 1.2 s: 1 mm deep, still moving in.
+  EXPECT_NEAR(felt.at(1200), kK * 0.001 + kB * kSpeed, 0.03 * (kK * 0.001 + kB * kSpeed));
+  EXPECT_NEAR(felt.at(1550), kK * 0.002, 0.01 * kK * 0.002);
+}
+
+// Force shading (§6.1) switched off live on a faceted sphere whose scenario shades it: pressed
+// and held, the probe's force is along an interpolated normal — no face's — while shaded, and
+// exactly along the face's normal once shading is off; switched on again, as before.
+TEST(SurfaceTuning, ShadingSwitchedLiveTurnsTheForceBetweenTheSmoothAndTheFacesNormal) {
+  const test::TempDir dir;
+  const haptics::TriangleMesh sphere = haptics::make_uv_sphere(0.02, 4, 8);
+  ASSERT_TRUE(save_obj(sphere, dir.path() / "sphere.obj").ok());
+  const SceneLoadResult loaded = load_scene_file(dir.write("sphere.yaml", R"(version: 1
+name: faceted sphere
+organs:
+  - name: sphere
+    mesh: sphere.obj
+    material:
+      stiffness_n_per_m: 200
+      shading: {enabled: true, crease_angle_deg: 80}
+trocars:
+  - {name: pl, position_m: [-0.15, 0.12, 0.0]}
+  - {name: pr, position_m: [0.0, 0.15, 0.0]}
+tools:
+  - {name: l, side: left, trocar: pl, kind: probe}
+  - {name: r, side: right, trocar: pr, kind: probe}
+)"));
+  ASSERT_TRUE(loaded.ok()) << loaded.message();
+  // Down beside the pole, into a face of the first band (polar angle about 13°, azimuth 27°),
+  // about 1 mm below the faceted surface there.
+  std::map<int64_t, V> force;
+  Session* session = nullptr;
+  const std::vector<TipWaypoint> press = {
+      {0.0, V(0.004, 0.03, 0.002)}, {1.0, V(0.004, 0.017, 0.002)}, {2.0, V(0.004, 0.017, 0.002)}};
+  auto run = observed_session(loaded.value(), {parked(), press}, 1.9,
+                              [&](int64_t tick, const HapticSnapshot& h, const ModelSnapshot&) {
+                                force[h.tick] = tip_force(h.tools[1]);
+                                if (tick == 1300 || tick == 1600) {
+                                  SurfaceParameters p = session->surface_parameters(0);
+                                  p.shading = tick == 1600;
+                                  EXPECT_TRUE(session->tune_surface(0, p));
+                                }
+                              });
+  ASSERT_NE(run.session, nullptr);
+  session = run.session.get();
+  EXPECT_TRUE(session->surface_can_shade(0));
+  run.session->run();
+  // The smallest angle between a force and any face's normal.
+  const auto off_faces = [&](const V& f) {
+    double best = M_PI;
+    for (size_t t = 0; t < sphere.triangles.size(); ++t) {
+      const auto& tri = sphere.triangles[t];
+      const V n = (sphere.positions[static_cast<size_t>(tri[1])] -
+                   sphere.positions[static_cast<size_t>(tri[0])])
+                      .cross(sphere.positions[static_cast<size_t>(tri[2])] -
+                             sphere.positions[static_cast<size_t>(tri[0])]);
+      if (n.norm() > 0.0) best = std::min(best, test::angle_between(f, n));
+    }
+    return best;
+  };
+  const V shaded = force.at(1250), flat = force.at(1500), again = force.at(1850);
+  ASSERT_GT(shaded.norm(), 0.05);
+  ASSERT_GT(flat.norm(), 0.05);
+  EXPECT_GT(off_faces(shaded), 0.02);  // rad: no face's normal
+  EXPECT_LT(off_faces(flat), 1e-6);
+  EXPECT_LT(test::angle_between(shaded, again), 1e-3);
 }
 
 // The author keeps moving a slider: a tuning every 5 ticks, and the haptic tick still allocates
