@@ -2,6 +2,8 @@
 // No Qt or VTK here: it must run on machines without a display.
 
 #include <signal.h>
+#include <termios.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -17,6 +19,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -35,6 +38,7 @@
 #include "hardware/scripted_device.h"
 #include "sim/authoring/expert_benchmarks.h"
 #include "sim/authoring/expert_run.h"
+#include "sim/authoring/perception_run.h"
 #include "sim/report/session_pdf.h"
 #include "sim/report/session_replay.h"
 #include "sim/report/session_report.h"
@@ -114,6 +118,14 @@ const char* const kUsage =
     "      with --mistake, a clumsy run instead (the catheter dropped, pushed through the wall,\n"
     "      the duct torn, pushed on into the common bile duct, or held at the incision past the\n"
     "      time limit), written as DIR/clumsy_MISTAKE_left.csv and _right.csv\n"
+    "  perception --left DEV --right DEV --out DIR [--seed N] [--repetitions 1-1000]\n"
+    "             [--modes point,ray] [--size M] [--trial-limit S]\n"
+    "      the shape-perception experiment (thesis 5.5): per trial a sphere, cone, cylinder or\n"
+    "      cube at a seeded random orientation, felt with the right tool (a point or a ray\n"
+    "      probe), nothing drawn; the participant types the shape on standard input; writes\n"
+    "      DIR/answers.csv (each trial) and DIR/results.csv (the thesis' table); exit 2 when the\n"
+    "      answers end early; SIGINT or SIGTERM stop it (exit 130 or 143); the files hold\n"
+    "      the answers given, written after every trial\n"
     "  expert-benchmarks --scenario FILE [--runs N]\n"
     "      plan N expert runs with their approach varied, run each --fast, and print the mean\n"
     "      and SD of the training metrics over those that succeed as the scenario's\n"
@@ -790,6 +802,140 @@ int cmd_plan_expert(int argc, char** argv) {
 
 }  // namespace
 
+// The answers so far and their table into `dir` (after every trial: a crash or a signal keeps
+// what was answered).
+lap::Status write_perception_results(const fs::path& dir,
+                                     const std::vector<lap::sim::PerceptionAnswer>& answers) {
+  for (const auto& [name, text] :
+       {std::pair<const char*, std::string>{"answers.csv", lap::sim::to_csv(answers)},
+        {"results.csv", lap::sim::to_csv(lap::sim::tabulate(answers))}}) {
+    std::ofstream f(dir / name, std::ios::binary | std::ios::trunc);
+    f << text;
+    if (!f.flush()) return lap::diagnostic("cannot write " + (dir / name).string());
+  }
+  return {};
+}
+
+// The §5.5 experiment's settings from the command line (errors into args).
+lap::sim::PerceptionSettings perception_settings(Args* args) {
+  lap::sim::PerceptionSettings ps;
+  if (args->has("--seed")) {
+    const std::string text = args->get("--seed");
+    uint32_t seed = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+    if (ec != std::errc() || end != text.data() + text.size() || text.empty()) {
+      args->errors.push_back("--seed expects a whole number from 0 to 4294967295, got '" + text +
+                             "'");
+    }
+    ps.seed = seed;
+  }
+  if (args->has("--repetitions")) {
+    const std::string text = args->get("--repetitions");
+    int32_t n = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+    if (ec != std::errc() || end != text.data() + text.size() || n < 1 || n > 1000) {
+      args->errors.push_back("--repetitions expects a whole number from 1 to 1000, got '" + text +
+                             "'");
+    }
+    ps.repetitions = n;
+  }
+  if (args->has("--modes")) {
+    const std::string text = args->get("--modes");
+    ps.modes.clear();
+    bool bad = text.empty() || text.back() == ',';
+    std::stringstream list(text);
+    for (std::string m; !bad && std::getline(list, m, ',');) {
+      const std::optional<lap::sim::ProbeMode> mode = lap::sim::parse_probe_mode(m);
+      bad = !mode || std::find(ps.modes.begin(), ps.modes.end(), *mode) != ps.modes.end();
+      if (mode) ps.modes.push_back(*mode);
+    }
+    if (bad) {
+      args->errors.push_back("--modes expects point, ray or point,ray (each once), got '" + text +
+                             "'");
+    }
+  }
+  return ps;
+}
+
+// The §5.5 experiment with a participant at the devices (sim/authoring/perception_run.h).
+int cmd_perception(int argc, char** argv) {
+  Args args(argc, argv, {});
+  const bool ok = args.only({"--left", "--right", "--out", "--seed", "--repetitions", "--modes",
+                             "--size", "--trial-limit"});
+  for (const char* k : {"--left", "--right", "--out"}) {
+    if (!args.has(k)) args.errors.push_back(std::string("perception needs ") + k);
+  }
+  const lap::sim::PerceptionSettings ps = perception_settings(&args);
+  lap::sim::PerceptionRunSettings run;
+  run.runtime.duration_s = 600.0;
+  for (const auto& [key, field] : {std::pair<const char*, double*>{"--size", &run.shape_size_m},
+                                   {"--trial-limit", &run.runtime.duration_s}}) {
+    if (!args.has(key)) continue;
+    if (const std::optional<double> v = parse_positive(args.get(key))) {
+      *field = *v;
+    } else {
+      args.errors.push_back(std::string(key) + " expects a positive number, got '" + args.get(key) +
+                            "'");
+    }
+  }
+  for (int side = 0; side < 2; ++side) {
+    const char* key = side == 0 ? "--left" : "--right";
+    if (!args.has(key)) continue;
+    const auto spec = lap::hardware::parse_device_spec(args.get(key));
+    if (!spec.ok()) {
+      args.errors.push_back(std::string(key) + ": " + spec.message());
+    } else {
+      run.devices[static_cast<size_t>(side)] = spec.value();
+    }
+  }
+  if (!ok || !args.errors.empty()) return usage_error(args);
+  auto experiment = lap::sim::PerceptionExperiment::create(ps);
+  if (!experiment.ok()) {
+    std::cerr << "laptrainer-cli perception: " << experiment.message() << "\n";
+    return kExitProblems;
+  }
+  const fs::path dir = args.get("--out");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir, ec)) {
+    std::cerr << "laptrainer-cli perception: --out " << dir.string()
+              << " is not a folder that can be made\n";
+    return kExitProblems;
+  }
+  // SIGINT or SIGTERM interrupt the wait for an answer: the trial's forces are zeroed and the
+  // answers so far are kept (written after every trial).
+  install_stop_handlers();
+  lap::Status written;
+  run.before_trial = [] {
+    if (isatty(STDIN_FILENO) != 0) tcflush(STDIN_FILENO, TCIFLUSH);  // no typed-ahead answer
+  };
+  run.after_trial = [&](const lap::sim::PerceptionExperiment& e) {
+    if (written.ok()) written = write_perception_results(dir, e.answers());
+  };
+  const lap::Status ran =
+      lap::sim::run_perception_trials(&experiment.value(), run, std::cin, std::cerr);
+  const std::vector<lap::sim::PerceptionAnswer>& answers = experiment.value().answers();
+  if (written.ok()) written = write_perception_results(dir, answers);
+  if (!written.ok()) {
+    std::cerr << "laptrainer-cli perception: " << written.message() << "\n";
+    return kExitProblems;
+  }
+  const std::string kept = (dir / "answers.csv").string() + " and results.csv hold the " +
+                           std::to_string(answers.size()) + " answered";
+  if (const int sig = g_stop_signal.load(); sig != 0) {
+    std::cerr << "laptrainer-cli perception: stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+              << " (forces zeroed); " << kept << "\n";
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
+  }
+  if (!ran.ok()) {
+    std::cerr << "laptrainer-cli perception: " << ran.message() << "; " << kept << "\n";
+    return kExitProblems;
+  }
+  std::cerr << "laptrainer-cli perception: " << answers.size() << " trials answered; "
+            << (dir / "results.csv").string() << "\n";
+  return kExitOk;
+}
+
 int main(int argc, char** argv) {
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;
@@ -806,6 +952,7 @@ int main(int argc, char** argv) {
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "report") return cmd_report(argc, argv);
     if (cmd == "devices") return cmd_devices(argc, argv);
+    if (cmd == "perception") return cmd_perception(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "laptrainer-cli " << cmd << ": " << e.what() << "\n";
     return 1;

@@ -161,6 +161,23 @@ std::string to_csv(const PerceptionTable& table) {
   return out;
 }
 
+std::string to_csv(const std::vector<PerceptionAnswer>& answers) {
+  std::string out =
+      "trial,shape,mode,repetition,orientation_w,orientation_x,orientation_y,orientation_z,named,"
+      "correct,time_s\n";
+  char buf[320];
+  for (const PerceptionAnswer& a : answers) {
+    const PerceptionTrial& t = a.trial;
+    const Eigen::Quaterniond& q = t.orientation;
+    std::snprintf(buf, sizeof buf, "%d,%s,%s,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.4f\n", t.index + 1,
+                  std::string(to_string(t.shape)).c_str(), std::string(to_string(t.mode)).c_str(),
+                  t.repetition, q.w(), q.x(), q.y(), q.z(), std::string(to_string(a.named)).c_str(),
+                  a.correct() ? 1 : 0, a.time_s);
+    out += buf;
+  }
+  return out;
+}
+
 Result<std::vector<ScriptedAnswer>> parse_scripted_answers(const std::string& text,
                                                            const std::string& source) {
   std::vector<ScriptedAnswer> out;

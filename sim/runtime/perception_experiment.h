@@ -112,6 +112,9 @@ struct PerceptionTable {
 /// `shape,mode,trials,correct,percent_correct,mean_time_s,sd_time_s,ray_faster_percent`, one row
 /// per shape and mode (ray_faster_percent on the ray's row, empty where not known).
 [[nodiscard]] std::string to_csv(const PerceptionTable& table);
+/// Every answer, one row per trial in the order presented:
+/// `trial,shape,mode,repetition,orientation_w,orientation_x,orientation_y,orientation_z,named,correct,time_s`.
+[[nodiscard]] std::string to_csv(const std::vector<PerceptionAnswer>& answers);
 
 /// A scripted participant: for a shape in a mode, its repetition-th presentation is named
 /// `named` after `time_s`. CSV rows `shape,mode,repetition,named,time_s` (a header line

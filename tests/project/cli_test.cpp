@@ -8,7 +8,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "sim/report/recording_reader.h"
+#include "sim/runtime/perception_experiment.h"
 #include "sim/setup/content_digest.h"
 #include "tests/test_support.h"
 
@@ -544,6 +547,132 @@ TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
   EXPECT_NE(no_out.err.find("--format pdf needs --out FILE"), std::string::npos) << no_out.err;
 }
 
+// The §5.5 experiment with a participant typing the shapes (sim/authoring/perception_run.h): the
+// same seed gives the same sequence as the engine's; each typed answer is recorded against its
+// trial, a line naming no shape is asked again and not counted; the table counts them.
+TEST(CliPerception, TypedAnswersAreRecordedPerTrialAndTabulated) {
+  const TempDir dir;
+  sim::PerceptionSettings ps;
+  ps.seed = 7;
+  ps.repetitions = 1;
+  const Result<sim::PerceptionExperiment> e = sim::PerceptionExperiment::create(ps);
+  ASSERT_TRUE(e.ok()) << e.message();
+  const std::vector<sim::PerceptionTrial>& trials = e.value().trials();
+  ASSERT_EQ(trials.size(), 8U);  // 4 shapes x 2 modes
+  // Trial 1 named wrongly; the others right, by name or by number (1-4: sphere, cone, cylinder,
+  // cube), one in capitals with spaces; before the first, a line that names nothing.
+  std::string typed = "banana\n";
+  std::vector<sim::PerceivedShape> named;
+  for (size_t i = 0; i < trials.size(); ++i) {
+    const sim::PerceivedShape right = trials[i].shape;
+    const sim::PerceivedShape n =
+        i == 0 ? (right == sim::PerceivedShape::kCube ? sim::PerceivedShape::kSphere
+                                                      : sim::PerceivedShape::kCube)
+               : right;
+    named.push_back(n);
+    if (i % 3 == 1) {
+      typed += std::to_string(static_cast<int>(n) + 1) + "\n";
+    } else if (i % 3 == 2) {
+      std::string upper(sim::to_string(n));
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      typed += "  " + upper + " \n";
+    } else {
+      typed += std::string(sim::to_string(n)) + "\n";
+    }
+  }
+  const std::filesystem::path answers = dir.write("typed.txt", typed);
+  const std::filesystem::path out = dir.path() / "results";
+  const CommandResult r = run_command(
+      cli() + " perception --left simulated --right simulated --seed 7 " +
+      "--repetitions 1 --trial-limit 5 --out " + out.string() + " < " + answers.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("trial 1 of 8: explore with the "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("trial 8 of 8: explore with the "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'banana' names no shape"), std::string::npos) << r.err;
+  // Each trial's prompt names its probe, never its shape.
+  for (const std::string& line : lines_of(r.err)) {
+    if (line.rfind("trial ", 0) != 0) continue;
+    const size_t of = line.find(" of 8: explore with the ");
+    ASSERT_NE(of, std::string::npos) << line;
+    const std::string rest = line.substr(of + 24);
+    EXPECT_TRUE(rest ==
+                    "point probe, then type the shape (sphere, cone, cylinder, cube, or 1-4) "
+                    "and Enter" ||
+                rest ==
+                    "ray probe, then type the shape (sphere, cone, cylinder, cube, or 1-4) "
+                    "and Enter")
+        << line;
+  }
+  const std::vector<std::string> rows = lines_of(read_file(out / "answers.csv"));
+  ASSERT_EQ(rows.size(), 9U);
+  for (size_t i = 0; i < trials.size(); ++i) {
+    const std::vector<std::string> c = csv_cells(rows[i + 1]);
+    ASSERT_EQ(c.size(), 11U) << rows[i + 1];
+    EXPECT_EQ(c[0], std::to_string(i + 1));
+    EXPECT_EQ(c[1], sim::to_string(trials[i].shape));
+    EXPECT_EQ(c[2], sim::to_string(trials[i].mode));
+    EXPECT_NEAR(std::stod(c[4]), trials[i].orientation.w(), 1e-6);
+    EXPECT_EQ(c[8], sim::to_string(named[i]));
+    EXPECT_EQ(c[9], i == 0 ? "0" : "1");
+    const double t = std::stod(c[10]);  // the lines were all there at once: about 0
+    EXPECT_TRUE(std::isfinite(t) && t >= 0.0 && t < 30.0) << c[10];
+  }
+  // The table: one trial per shape and mode, all right but the first trial's.
+  const std::vector<std::string> table = lines_of(read_file(out / "results.csv"));
+  ASSERT_EQ(table.size(), 9U);
+  for (size_t k = 1; k < table.size(); ++k) {
+    const std::vector<std::string> c = csv_cells(table[k]);
+    ASSERT_GE(c.size(), 4U) << table[k];
+    const bool first =
+        c[0] == sim::to_string(trials[0].shape) && c[1] == sim::to_string(trials[0].mode);
+    EXPECT_EQ(c[2], "1") << table[k];
+    EXPECT_EQ(c[3], first ? "0" : "1") << table[k];
+  }
+}
+
+// A participant who takes 0.6 s over each shape: each trial's time is that long, from its
+// session's start to the answer's line.
+TEST(CliPerception, EachTrialIsTimedFromItsStartToTheAnswer) {
+  const TempDir dir;
+  const std::filesystem::path out = dir.path() / "results";
+  const CommandResult r =
+      run_command("{ for k in 1 2 3 4; do sleep 0.4; echo $k; done; } | " + cli() +
+                  " perception --left simulated --right simulated --modes point --repetitions 1 " +
+                  "--trial-limit 10 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> rows = lines_of(read_file(out / "answers.csv"));
+  ASSERT_EQ(rows.size(), 5U);
+  // From the second on (the first one's wait overlaps the program's start): the 0.6 s wait,
+  // less the next session's set-up.
+  for (size_t i = 2; i < rows.size(); ++i) {
+    const double t = std::stod(csv_cells(rows[i])[10]);
+    EXPECT_GE(t, 0.3) << rows[i];
+    EXPECT_LT(t, 5.0) << rows[i];
+  }
+}
+
+// Standard input ends before the last trial: exit 2, and the files hold the trials answered.
+TEST(CliPerception, AnswersThatEndEarlyKeepThoseGivenAndSaySo) {
+  const TempDir dir;
+  const std::filesystem::path answers = dir.write("typed.txt", "sphere\ncone\ncube\n");
+  const std::filesystem::path out = dir.path() / "results";
+  const CommandResult r =
+      run_command(cli() + " perception --left simulated --right simulated " +
+                  "--modes ray --trial-limit 5 --out " + out.string() + " < " + answers.string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("the answers ended after 3 of 8 trials"), std::string::npos) << r.err;
+  EXPECT_EQ(lines_of(read_file(out / "answers.csv")).size(), 4U);
+  const CommandResult bad = run_command(cli() + " perception --left simulated --right simulated " +
+                                        "--modes line --repetitions 0 --out " + out.string());
+  EXPECT_EQ(bad.exit_code, 64) << bad.err;
+  EXPECT_NE(bad.err.find("--modes expects point, ray or point,ray (each once), got 'line'"),
+            std::string::npos)
+      << bad.err;
+  EXPECT_NE(bad.err.find("--repetitions expects a whole number from 1 to 1000, got '0'"),
+            std::string::npos)
+      << bad.err;
+}
+
 TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {
   TempDir dir;
   const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
@@ -615,7 +744,7 @@ TEST(CliRun, DeviceProblemsAreClearErrors) {
 
 // Starts `laptrainer-cli args...` with stdout and stderr into files; the child's pid.
 pid_t spawn_cli(const std::vector<std::string>& args, const std::filesystem::path& out,
-                const std::filesystem::path& err) {
+                const std::filesystem::path& err, const std::filesystem::path& in = {}) {
   std::vector<std::string> argv_text = {cli()};
   argv_text.insert(argv_text.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -625,6 +754,7 @@ pid_t spawn_cli(const std::vector<std::string>& args, const std::filesystem::pat
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (!in.empty()) posix_spawn_file_actions_addopen(&actions, 0, in.c_str(), O_RDONLY, 0);
   pid_t pid = -1;
   const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -705,6 +835,42 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
     EXPECT_EQ(replayed["metrics"], j["metrics"]);
     EXPECT_EQ(replayed["task"], j["task"]);
   }
+}
+
+// SIGINT while the participant explores the second trial: the wait for the answer ends, the
+// trial's forces are zeroed, exit 130, and the first trial's answer is on disk.
+TEST(CliPerception, SigintStopsTheWaitForAnAnswerAndKeepsThoseGiven) {
+  const TempDir dir;
+  const std::filesystem::path fifo = dir.path() / "answers";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // Opened here first (read-write: no wait for a reader), so that the program's open for reading
+  // does not wait for a writer (posix_spawn's child runs before the parent goes on).
+  const int answers = open(fifo.c_str(), O_RDWR);
+  ASSERT_GE(answers, 0);
+  const std::filesystem::path out = dir.path() / "results";
+  const pid_t pid = spawn_cli({"perception", "--left", "simulated", "--right", "simulated",
+                               "--modes", "point", "--repetitions", "1", "--out", out.string()},
+                              dir.path() / "out.txt", dir.path() / "err.txt", fifo);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(write(answers, "cube\n", 5), 5);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (lines_of(read_file(out / "answers.csv")).size() < 2 &&
+         std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the second trial runs
+  ASSERT_EQ(kill(pid, SIGINT), 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  close(answers);
+  const std::string err = read_file(dir.path() / "err.txt");
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << err;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << err;
+  EXPECT_NE(err.find("stopped by SIGINT (forces zeroed)"), std::string::npos) << err;
+  EXPECT_NE(err.find("trial 2 of 4"), std::string::npos) << err;
+  const std::vector<std::string> rows = lines_of(read_file(out / "answers.csv"));
+  ASSERT_EQ(rows.size(), 2U);
+  EXPECT_EQ(csv_cells(rows[1])[8], "cube");
 }
 
 // kill -9 in the middle of a recorded real-time session: the recording keeps everything up to
