@@ -3,7 +3,8 @@
 # (cpack), checks it with lintian (no errors), installs it with dpkg into a temporary root, runs
 # the installed binaries there (validate the installed default scenario, play the expert's
 # scripts from the installed scripts, the window's screenshot under Xvfb, the window finding its
-# scenario beside itself), removes it with dpkg and checks nothing of it is left.
+# scenario beside itself, the window started as the desktop menu starts it), removes it with
+# dpkg and checks nothing of it is left.
 # Usage: packaging/test-package.sh BUILD_DIR
 set -euo pipefail
 build="$(cd "${1:?usage: test-package.sh BUILD_DIR}" && pwd)"
@@ -37,8 +38,22 @@ grep -qF "$share/scenarios/default.yaml" <<< "$headless" ||
 xvfb-run -a -s "-screen 0 1280x1024x24" "$root/usr/bin/laptrainer" \
   --screenshot "$root/shot.png" --frames 5
 test -s "$root/shot.png"
-test -f "$root/usr/share/applications/laptrainer.desktop"
 test -f "$root/usr/share/icons/hicolor/scalable/apps/laptrainer.svg"
+# As the desktop menu starts it: the entry's Exec line, found on the PATH, with no arguments; the
+# window must open and stay open (timeout's 124 after 8 s), with a home of its own.
+entry="$root/usr/share/applications/laptrainer.desktop"
+test -f "$entry"
+exec_line="$(sed -n 's/^Exec=//p' "$entry")"
+[ -n "$exec_line" ] || { echo "$entry has no Exec line"; exit 1; }
+mkdir -p "$root/home"
+status=0
+HOME="$root/home" PATH="$root/usr/bin:$PATH" xvfb-run -a -s "-screen 0 1280x1024x24" \
+  timeout 8 sh -c "$exec_line" > "$root/menu.log" 2>&1 || status=$?
+if [ "$status" -ne 124 ]; then
+  echo "the desktop entry's '$exec_line' ended (exit $status) instead of showing the window:"
+  cat "$root/menu.log"
+  exit 1
+fi
 
 dpkg --root="$root" --force-not-root --force-bad-path --log=/dev/null -r laptrainer
 if [ -d "$root/usr" ] && [ -n "$(find "$root/usr" -type f)" ]; then

@@ -2,8 +2,9 @@
 // Qt Test's events under xvfb-run: a scenario with an error lists it as file:line and a click
 // shows that line; fixed on disk, it reloads by itself and the problem is gone; a stiffness
 // typed into the panel reaches the running session's haptic loop; "Save to scenario" changes
-// that one line of the file. With LAP_SCREENSHOT_DIR set, the panel is saved there as
-// authoring.png (and authoring-problems.png).
+// that one line of the file; shading switched off and a texture's height changed reach the
+// session and the file too. With LAP_SCREENSHOT_DIR set, the panel is saved there as
+// authoring.png (and authoring-problems.png, authoring-shading.png, authoring-texture.png).
 
 #include <gtest/gtest.h>
 
@@ -134,6 +135,109 @@ TEST(AuthoringPanel, ProblemsReloadLiveTuningAndSave) {
   EXPECT_TRUE(QTest::qWaitFor([&] { return reloaded_ok; }, 5000));
   EXPECT_EQ(panel->problems()->count(), 0);
   EXPECT_EQ(panel->stiffness()->value(), 400.0);
+  window.close();
+}
+
+// A shaded ball and a textured slab: the panel switches the ball's force shading off and halves
+// the slab's texture, each reaching the running session's haptic loop, and the save writes them
+// into the file (the one-line flow map edited in place, the block's amplitude line with its
+// comment), nothing else changed.
+TEST(AuthoringPanel, ShadingAndTextureChangedInThePanelReachTheSessionAndTheFile) {
+  const test::TempDir dir;
+  ASSERT_TRUE(sim::save_obj(haptics::make_uv_sphere(0.02, 8, 12), dir.path() / "ball.obj").ok());
+  ASSERT_TRUE(
+      sim::save_obj(haptics::make_box({0.06, 0.01, 0.06}, 6), dir.path() / "slab.obj").ok());
+  const fs::path file = dir.path() / "surfaces.yaml";
+  write(file, R"(# A shaded ball and a textured slab.
+version: 1
+name: authoring surfaces
+organs:
+  - name: ball
+    mesh: ball.obj
+    transform: {translation_m: [-0.04, 0.02, 0]}
+    material:
+      stiffness_n_per_m: 200
+      shading: {enabled: true, crease_angle_deg: 40}
+  - name: slab
+    mesh: slab.obj
+    transform: {translation_m: [0.04, -0.005, 0]}
+    material:
+      stiffness_n_per_m: 300
+      texture:
+        kind: procedural
+        function: fourier
+        amplitude_m: 0.0005   # estimate, for the test
+        wavelength_m: 0.005
+trocars:
+  - {name: pl, position_m: [-0.15, 0.12, 0.0]}
+  - {name: pr, position_m: [0.0, 0.15, 0.0]}
+tools:
+  - {name: l, side: left, trocar: pl, kind: probe}
+  - {name: r, side: right, trocar: pr, kind: probe}
+)");
+  MainWindow window;
+  window.resize(1400, 900);
+  window.show();
+  AuthoringPanel* panel = window.authoring_panel();
+  ASSERT_NE(panel, nullptr);
+  panel->show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+  panel->open(QString::fromStdString(file.string()));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return panel->organs()->count() == 2; }, 5000));
+  EXPECT_EQ(panel->problems()->count(), 0);
+  sim::Session* session = window.operative_view()->session().session();
+  ASSERT_NE(session, nullptr);
+  const auto taken = [&] {
+    return QTest::qWaitFor(
+        [&] { return session->surface_tunings_taken() == session->surface_tunings_posted(); },
+        2000);
+  };
+  const auto pick = [&](int row) {
+    panel->follow_touch()->setChecked(false);
+    const QRect r = panel->organs()->visualItemRect(panel->organs()->item(row));
+    QTest::mouseClick(panel->organs()->viewport(), Qt::LeftButton, {}, r.center());
+  };
+
+  // The ball: shaded, its shading can be switched; the texture's height cannot (it has none).
+  pick(0);
+  EXPECT_TRUE(panel->shading()->isEnabled());
+  EXPECT_TRUE(panel->shading()->isChecked());
+  EXPECT_FALSE(panel->texture_mm()->isEnabled());
+  EXPECT_TRUE(session->surface_parameters(0).shading);
+  panel->shading()->setFocus();
+  QTest::keyClick(panel->shading(), Qt::Key_Space);
+  EXPECT_FALSE(panel->shading()->isChecked());
+  EXPECT_TRUE(taken());
+  EXPECT_FALSE(session->surface_parameters(0).shading);
+  save_shot(panel, "authoring-shading.png");
+
+  // The slab: its texture 0.5 mm high, typed down to 0.25 mm: rendered at half its height.
+  pick(1);
+  ASSERT_TRUE(panel->texture_mm()->isEnabled());
+  EXPECT_DOUBLE_EQ(panel->texture_mm()->value(), 0.5);
+  panel->texture_mm()->setFocus();
+  panel->texture_mm()->selectAll();
+  QTest::keyClicks(panel->texture_mm(), "0.25");
+  QTest::keyClick(panel->texture_mm(), Qt::Key_Enter);
+  EXPECT_TRUE(taken());
+  EXPECT_DOUBLE_EQ(session->surface_parameters(1).texture_scale, 0.5);
+  EXPECT_TRUE(session->surface_parameters(0).stiffness_n_per_m == 200.0);
+  save_shot(panel, "authoring-texture.png");
+
+  const std::vector<std::string> before = lines_of(read_file(file));
+  QTest::mouseClick(panel->save_button(), Qt::LeftButton);
+  const std::vector<std::string> after = lines_of(read_file(file));
+  ASSERT_EQ(before.size(), after.size());
+  for (size_t i = 0; i < before.size(); ++i) {
+    if (i == 9) {
+      EXPECT_EQ(after[i], "      shading: {enabled: false, crease_angle_deg: 40}");
+    } else if (i == 18) {
+      // One character longer: the comment keeps its column.
+      EXPECT_EQ(after[i], "        amplitude_m: 0.00025  # estimate, for the test");
+    } else {
+      EXPECT_EQ(before[i], after[i]) << "line " << i + 1;
+    }
+  }
   window.close();
 }
 
