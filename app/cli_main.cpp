@@ -438,6 +438,22 @@ std::optional<double> scripts_length_s(
   return longest + tick_s;
 }
 
+// --left and --right as device specifications (errors into args; the default where absent).
+std::array<lap::hardware::DeviceSpec, 2> device_specs(Args* args) {
+  std::array<lap::hardware::DeviceSpec, 2> specs;
+  for (int side = 0; side < 2; ++side) {
+    const char* key = side == 0 ? "--left" : "--right";
+    if (!args->has(key)) continue;
+    const auto spec = lap::hardware::parse_device_spec(args->get(key));
+    if (!spec.ok()) {
+      args->errors.push_back(std::string(key) + ": " + spec.message());
+    } else {
+      specs[static_cast<size_t>(side)] = spec.value();
+    }
+  }
+  return specs;
+}
+
 int cmd_run(int argc, char** argv) {
   Args args(argc, argv, {"--fast"});
   const bool ok = args.only({"--scenario", "--left", "--right", "--duration", "--fast", "--record",
@@ -465,17 +481,7 @@ int cmd_run(int argc, char** argv) {
     }
     rs.dominant_tool = hand == "left" ? 0 : 1;
   }
-  std::array<lap::hardware::DeviceSpec, 2> specs;
-  for (int side = 0; side < 2; ++side) {
-    const char* key = side == 0 ? "--left" : "--right";
-    if (!args.has(key)) continue;
-    const auto spec = lap::hardware::parse_device_spec(args.get(key));
-    if (!spec.ok()) {
-      args.errors.push_back(std::string(key) + ": " + spec.message());
-    } else {
-      specs[static_cast<size_t>(side)] = spec.value();
-    }
-  }
+  const std::array<lap::hardware::DeviceSpec, 2> specs = device_specs(&args);
   if (!ok || !args.errors.empty()) return usage_error(args);
 
   install_stop_handlers();
@@ -878,16 +884,7 @@ int cmd_perception(int argc, char** argv) {
                             "'");
     }
   }
-  for (int side = 0; side < 2; ++side) {
-    const char* key = side == 0 ? "--left" : "--right";
-    if (!args.has(key)) continue;
-    const auto spec = lap::hardware::parse_device_spec(args.get(key));
-    if (!spec.ok()) {
-      args.errors.push_back(std::string(key) + ": " + spec.message());
-    } else {
-      run.devices[static_cast<size_t>(side)] = spec.value();
-    }
-  }
+  run.devices = device_specs(&args);
   if (!ok || !args.errors.empty()) return usage_error(args);
   auto experiment = lap::sim::PerceptionExperiment::create(ps);
   if (!experiment.ok()) {

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <thread>
 
@@ -245,6 +246,28 @@ std::string without_tunings(const std::string& bytes) {
   return out;
 }
 
+// Record `index` of the recording's chunks of `kind` (each record `record_bytes` long; a chunk's
+// head names its first record) changed by `alter`, and its chunk's checksum made good again: a
+// file altered by hand after it was written. False when no chunk holds the record.
+bool alter_record(std::string* bytes, uint32_t kind, int64_t index, size_t record_bytes,
+                  const std::function<void(char* record)>& alter) {
+  std::string mark("LRCK");
+  mark.append(reinterpret_cast<const char*>(&kind), 4);
+  for (size_t at = bytes->find(mark); at != std::string::npos; at = bytes->find(mark, at + 1)) {
+    uint32_t payload_bytes = 0, count = 0;
+    int64_t first = 0;
+    std::memcpy(&payload_bytes, bytes->data() + at + 8, 4);
+    std::memcpy(&count, bytes->data() + at + 12, 4);
+    std::memcpy(&first, bytes->data() + at + 16, 8);
+    if (first > index || first + count <= index) continue;
+    alter(bytes->data() + at + kChunkHeadBytes + static_cast<size_t>(index - first) * record_bytes);
+    const uint32_t crc = crc32(bytes->data() + at + 4, kChunkHeadBytes - 4 + payload_bytes);
+    std::memcpy(bytes->data() + at + kChunkHeadBytes + payload_bytes, &crc, 4);
+    return true;
+  }
+  return false;
+}
+
 // Every organ's surface tuned, at tick `tick`, to values that depend on the tick (as a slider
 // dragged across them).
 void tune_every_organ(Session& session, int64_t tick) {
@@ -334,27 +357,12 @@ TEST(RealTimeReplay, AnImpossibleTuningRecordIsReportedAndTheReplaySaysWhereItDe
       100);
   run_recorded(session, rs, dir.path());
   std::string bytes = file_text(dir.path() / "session.lrec");
-  const uint32_t tunings_kind = kChunkTunings;
-  std::string mark("LRCK");
-  mark.append(reinterpret_cast<const char*>(&tunings_kind), 4);
-  bool altered = false;
-  for (size_t at = bytes.find(mark); at != std::string::npos && !altered;
-       at = bytes.find(mark, at + 1)) {
-    uint32_t payload_bytes = 0, count = 0;
-    int64_t first = 0;
-    std::memcpy(&payload_bytes, bytes.data() + at + 8, 4);
-    std::memcpy(&count, bytes.data() + at + 12, 4);
-    std::memcpy(&first, bytes.data() + at + 16, 8);
-    const auto index = static_cast<int64_t>(organs);  // the second tuning's first record
-    if (first > index || first + count <= index) continue;
-    const size_t record =
-        at + kChunkHeadBytes + static_cast<size_t>(index - first) * kTuningRecordBytes;
-    const double negative = -1.0;
-    std::memcpy(bytes.data() + record + 16, &negative, 8);  // its stiffness
-    const uint32_t crc = crc32(bytes.data() + at + 4, kChunkHeadBytes - 4 + payload_bytes);
-    std::memcpy(bytes.data() + at + kChunkHeadBytes + payload_bytes, &crc, 4);
-    altered = true;
-  }
+  // The second tuning's first record: its stiffness made negative.
+  const bool altered = alter_record(&bytes, kChunkTunings, static_cast<int64_t>(organs),
+                                    kTuningRecordBytes, [](char* record) {
+                                      const double negative = -1.0;
+                                      std::memcpy(record + 16, &negative, 8);
+                                    });
   ASSERT_TRUE(altered);
   fs::remove(dir.path() / "session.lrec");
   dir.write("session.lrec", bytes);
@@ -433,26 +441,10 @@ TEST(RealTimeReplay, AReplayThatDepartsFromTheRecordedTouchesSaysWhere) {
 
   // Tick 100's left tool marked as holding the catheter, its chunk's checksum made good again.
   std::string bytes = file_text(dir.path() / "session.lrec");
-  const uint32_t ticks_kind = kChunkTicks;
-  std::string mark("LRCK");
-  mark.append(reinterpret_cast<const char*>(&ticks_kind), 4);
-  bool altered = false;
-  for (size_t at = bytes.find(mark); at != std::string::npos && !altered;
-       at = bytes.find(mark, at + 1)) {
-    uint32_t payload_bytes = 0, count = 0;
-    int64_t first = 0;
-    std::memcpy(&payload_bytes, bytes.data() + at + 8, 4);
-    std::memcpy(&count, bytes.data() + at + 12, 4);
-    std::memcpy(&first, bytes.data() + at + 16, 8);
-    if (first > 100 || first + count <= 100) continue;
-    const size_t record =
-        at + kChunkHeadBytes + static_cast<size_t>(100 - first) * kTickRecordBytes;
-    ASSERT_EQ(bytes[record + kTickRecordBytesV2], 0);  // the left tool's flags: holds nothing
-    bytes[record + kTickRecordBytesV2] = 1;
-    const uint32_t crc = crc32(bytes.data() + at + 4, kChunkHeadBytes - 4 + payload_bytes);
-    std::memcpy(bytes.data() + at + kChunkHeadBytes + payload_bytes, &crc, 4);
-    altered = true;
-  }
+  const bool altered = alter_record(&bytes, kChunkTicks, 100, kTickRecordBytes, [](char* record) {
+    EXPECT_EQ(record[kTickRecordBytesV2], 0);  // the left tool's flags: holds nothing
+    record[kTickRecordBytesV2] = 1;
+  });
   ASSERT_TRUE(altered);
   fs::remove(dir.path() / "session.lrec");
   dir.write("session.lrec", bytes);
