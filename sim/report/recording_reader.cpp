@@ -287,6 +287,28 @@ class Reader {
     }
   }
 
+  // What a numbered record kind is called in the problems, and what a gap in it means.
+  struct RecordNames {
+    const char* short_name;
+    const char* long_name;
+    const char* gap_means;
+  };
+
+  // Whether a chunk whose records are numbered from `first` continues the `have` kept so far. A
+  // repeated chunk is skipped, a gap ends what is kept (`*gap`); each reported once.
+  bool continues(size_t at, int64_t first, int64_t have, bool* gap, const RecordNames& names) {
+    if (first == have) return !*gap;
+    if (!*gap) {
+      problem(at, first < have
+                      ? std::string(names.short_name) + " " + std::to_string(first) +
+                            " on again (a repeated or out-of-order chunk): skipped"
+                      : std::string(names.long_name) + " " + std::to_string(have) + " to " +
+                            std::to_string(first - 1) + " are missing; " + names.gap_means);
+    }
+    *gap = *gap || first > have;
+    return false;
+  }
+
   // The modelling steps' reads from step 0 on; a step after a gap (a damaged chunk) is not kept,
   // so a replay stops at the first tick that needs it.
   void steps(size_t at, size_t payload, uint32_t bytes, uint32_t count, int64_t first) {
@@ -294,20 +316,11 @@ class Reader {
       problem(at, "a steps chunk whose length is not its count's, skipped");
       return;
     }
-    const auto have = static_cast<int64_t>(s_.steps.size());
-    if (first != have) {
-      if (!steps_gap_) {
-        problem(at, first < have ? "steps " + std::to_string(first) + " on again (a repeated or " +
-                                       "out-of-order chunk): skipped"
-                                 : "modelling steps " + std::to_string(have) + " to " +
-                                       std::to_string(first - 1) +
-                                       " are missing; the replay stops at the first tick that "
-                                       "read one");
-      }
-      steps_gap_ = steps_gap_ || first > have;
+    if (!continues(
+            at, first, static_cast<int64_t>(s_.steps.size()), &steps_gap_,
+            {"steps", "modelling steps", "the replay stops at the first tick that read one"})) {
       return;
     }
-    if (steps_gap_) return;
     for (uint32_t k = 0; k < count; ++k) {
       const size_t p = payload + static_cast<size_t>(k) * kStepRecordBytes;
       StepLog step{get<int64_t>(b_, p), get<int64_t>(b_, p + 8)};
@@ -333,19 +346,10 @@ class Reader {
       problem(at, "a tunings chunk whose length is not its count's, skipped");
       return;
     }
-    const auto have = static_cast<int64_t>(s_.tunings.size());
-    if (first != have) {
-      if (!tunings_gap_) {
-        problem(at, first < have ? "tunings " + std::to_string(first) + " on again (a repeated " +
-                                       "or out-of-order chunk): skipped"
-                                 : "surface tunings " + std::to_string(have) + " to " +
-                                       std::to_string(first - 1) +
-                                       " are missing; the replay renders without them");
-      }
-      tunings_gap_ = tunings_gap_ || first > have;
+    if (!continues(at, first, static_cast<int64_t>(s_.tunings.size()), &tunings_gap_,
+                   {"tunings", "surface tunings", "the replay renders without them"})) {
       return;
     }
-    if (tunings_gap_) return;
     for (uint32_t k = 0; k < count; ++k) {
       TuningLog t;
       const std::string why =

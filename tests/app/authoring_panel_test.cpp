@@ -62,6 +62,17 @@ void save_shot(QWidget* w, const char* name) {
   EXPECT_TRUE(w->grab().save(QString(dir) + "/" + name));
 }
 
+// The window shown with its authoring dock, `file` opened there; null if the window did not show.
+AuthoringPanel* open_in_window(MainWindow* window, const fs::path& file) {
+  window->resize(1400, 900);
+  window->show();
+  AuthoringPanel* panel = window->authoring_panel();
+  if (panel == nullptr || !QTest::qWaitForWindowExposed(window)) return nullptr;
+  panel->show();
+  panel->open(QString::fromStdString(file.string()));
+  return panel;
+}
+
 TEST(AuthoringPanel, ProblemsReloadLiveTuningAndSave) {
   const test::TempDir dir;
   ASSERT_TRUE(
@@ -70,13 +81,8 @@ TEST(AuthoringPanel, ProblemsReloadLiveTuningAndSave) {
   write(file, scenario("-5"));
 
   MainWindow window;
-  window.resize(1400, 900);
-  window.show();
-  AuthoringPanel* panel = window.authoring_panel();
+  AuthoringPanel* panel = open_in_window(&window, file);
   ASSERT_NE(panel, nullptr);
-  panel->show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
-  panel->open(QString::fromStdString(file.string()));
 
   // The loader's problem, as file:line: field: message.
   ASSERT_GE(panel->problems()->count(), 1);
@@ -176,13 +182,8 @@ tools:
   - {name: r, side: right, trocar: pr, kind: probe}
 )");
   MainWindow window;
-  window.resize(1400, 900);
-  window.show();
-  AuthoringPanel* panel = window.authoring_panel();
+  AuthoringPanel* panel = open_in_window(&window, file);
   ASSERT_NE(panel, nullptr);
-  panel->show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
-  panel->open(QString::fromStdString(file.string()));
   ASSERT_TRUE(QTest::qWaitFor([&] { return panel->organs()->count() == 2; }, 5000));
   EXPECT_EQ(panel->problems()->count(), 0);
   sim::Session* session = window.operative_view()->session().session();
