@@ -592,6 +592,7 @@ void ReviewWindow::start_replay(const SessionRow& row) {
   const uint64_t generation = ++generation_;
   timeline_.reset();
   replay_done_ = false;
+  frames_shown_ = false;
   player_->set_timeline(nullptr);
   charts_->clear(tr("replaying the recording…"));
   if (row.recording_dir.isEmpty()) {
@@ -606,6 +607,16 @@ void ReviewWindow::start_replay(const SessionRow& row) {
   status(replay_status_);
   const std::filesystem::path dir = row.recording_dir.toStdString();
   worker_ = std::thread([this, dir, generation] {
+    // The frames the recording kept (LAPREC05) first: the 3D replay can be scrubbed at once,
+    // while the replay below recomputes the metrics and plots (a 10-minute session's takes
+    // tens of seconds). Without frames the replay's own are shown when it ends.
+    Result<sim::ReplayTimeline> recorded = sim::ReplayTimeline::from_recorded_frames(dir);
+    if (recorded.ok() && !cancel_.load()) {
+      auto frames = std::make_shared<const sim::ReplayTimeline>(std::move(recorded).value());
+      QMetaObject::invokeMethod(
+          this, [this, generation, frames] { frames_ready(generation, frames); },
+          Qt::QueuedConnection);
+    }
     int last_percent = -1;
     auto result = std::make_shared<Result<sim::ReplayTimeline>>(sim::ReplayTimeline::replay(
         dir, sim::ReplayTimeline::kDefaultFramePeriodS, [&](double fraction) {
@@ -616,7 +627,10 @@ void ReviewWindow::start_replay(const SessionRow& row) {
                 this,
                 [this, percent, generation] {
                   if (generation == generation_) {
-                    status(tr("replaying the recording: %1 %").arg(percent));
+                    status(frames_shown_ ? tr("showing the recorded frames; replaying the "
+                                              "recording for the metrics and plots: %1 %")
+                                               .arg(percent)
+                                         : tr("replaying the recording: %1 %").arg(percent));
                   }
                 },
                 Qt::QueuedConnection);
@@ -627,6 +641,17 @@ void ReviewWindow::start_replay(const SessionRow& row) {
         this, [this, generation, result] { replay_done(generation, result); },
         Qt::QueuedConnection);
   });
+}
+
+void ReviewWindow::frames_ready(uint64_t generation,
+                                std::shared_ptr<const sim::ReplayTimeline> frames) {
+  if (generation != generation_ || replay_done_) return;
+  player_->set_timeline(frames);
+  frames_shown_ = true;
+  status(tr("showing the recorded frames (%1 s); replaying the recording for the metrics and "
+            "plots…")
+             .arg(frames->duration_s(), 0, 'f', 1));
+  emit recorded_frames_shown(frames->duration_s());
 }
 
 void ReviewWindow::replay_done(uint64_t generation,
@@ -649,7 +674,13 @@ void ReviewWindow::replay_done(uint64_t generation,
     depth = r.task->insertion_depth_m;
   }
   charts_->set_session(r.metrics.series, r.metrics.task, injury, depth);
+  // Where the reviewer was in the recorded frames, in the replay's (20 a second).
+  const double at_s = frames_shown_ ? player_->time_s() : 0.0;
+  const bool playing = frames_shown_ && player_->playing();
+  frames_shown_ = false;
   player_->set_timeline(timeline_);
+  if (at_s > 0.0) player_->seek(at_s);
+  if (playing) player_->play();
   show_replay_metrics();
   QStringList notes;
   for (const std::string& n : r.notes) notes << q(n);

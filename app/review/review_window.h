@@ -114,6 +114,9 @@ class ReviewWindow : public QMainWindow {
  signals:
   /// The selected session's replay ended (ok: its plots and 3D replay are shown).
   void replay_finished(bool ok);
+  /// The selected session's recorded frames are shown in the 3D replay, before its replay ends
+  /// (a recording with frames: LAPREC05); `duration_s` the last frame's time.
+  void recorded_frames_shown(double duration_s);
 
  private:
   void build_menus();
@@ -128,6 +131,7 @@ class ReviewWindow : public QMainWindow {
   void start_replay(const SessionRow& row);
   void stop_replay();
   void replay_done(uint64_t generation, std::shared_ptr<Result<sim::ReplayTimeline>> result);
+  void frames_ready(uint64_t generation, std::shared_ptr<const sim::ReplayTimeline> frames);
   void refresh_curves();
   void refresh_cohort();
   void fill_curve_choices();
@@ -177,6 +181,7 @@ class ReviewWindow : public QMainWindow {
   std::atomic<bool> cancel_{false};
   uint64_t generation_ = 0;
   bool replay_done_ = false;
+  bool frames_shown_ = false;  ///< the recorded frames are in the player, the replay still runs
   QString replay_status_;
   std::shared_ptr<const sim::ReplayTimeline> timeline_;
 };

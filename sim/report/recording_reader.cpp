@@ -171,10 +171,12 @@ class Reader {
       record_bytes_ = kTickRecordBytesV2;
     } else if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV3) == 0) {
       s_.version = 3;
+    } else if (b_.size() >= 16 && b_.compare(0, 8, kRecordingMagicV4) == 0) {
+      s_.version = 4;
     } else if (b_.size() < 16 || b_.compare(0, 8, kRecordingMagic) != 0) {
       header_problem_ =
-          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC04, "
-          "LAPREC03, LAPREC02 or LAPREC01)";
+          "at byte 0: not a laptrainer session recording (expected it to start with LAPREC05, "
+          "LAPREC04, LAPREC03, LAPREC02 or LAPREC01)";
       return 0;
     }
     const auto n = get<uint32_t>(b_, 8);
@@ -219,6 +221,7 @@ class Reader {
                                        std::to_string(count) +
                                        (kind == kChunkSteps     ? " modelling steps from step "
                                         : kind == kChunkTunings ? " surface tunings from tuning "
+                                        : kind == kChunkFrames  ? " frames from tick "
                                                                 : " ticks from tick ") +
                                        std::to_string(first) + " if its head is right)");
     }
@@ -232,6 +235,8 @@ class Reader {
       steps(at, payload, bytes, count, first);
     } else if (kind == kChunkTunings && s_.version >= 4) {
       tunings(at, payload, bytes, count, first);
+    } else if (kind == kChunkFrames && s_.version >= 5) {
+      s_.frames_read += count;  // for seeking only (recorded_frames.h): the replay needs none
     } else if (kind == kChunkEnd) {
       s_.end_json = b_.substr(payload, bytes);
       s_.interrupted = false;

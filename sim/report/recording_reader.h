@@ -28,8 +28,9 @@ struct RecordedSession {
   /// An author's surface tunings from the first on without a gap, in tick order (LAPREC04).
   std::vector<TuningLog> tunings;
   /// 1: LAPREC01 (no reads recorded), 2: LAPREC02 (no touches: TickLog::touch empty), 3:
-  /// LAPREC03 (no tunings: a tuned tick is only marked), 4.
-  int version = 4;
+  /// LAPREC03 (no tunings: a tuned tick is only marked), 4: LAPREC04 (no frames), 5.
+  int version = 5;
+  int64_t frames_read = 0;  ///< frames for seeking in whole chunks (recorded_frames.h)
   int64_t ticks_read = 0;   ///< every tick read, after a gap too
   bool interrupted = true;  ///< no end chunk
   std::string events_json;

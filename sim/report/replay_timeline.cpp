@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/report/recorded_frames.h"
+#include "sim/setup/device_factory.h"
+
 namespace lap::sim {
 
 SurfaceDeformation compact(const SurfaceDeformation& d) {
@@ -12,6 +15,68 @@ SurfaceDeformation compact(const SurfaceDeformation& d) {
   c.vertex.assign(d.vertex.begin(), d.vertex.begin() + static_cast<std::ptrdiff_t>(n));
   c.position.assign(d.position.begin(), d.position.begin() + static_cast<std::ptrdiff_t>(n));
   return c;
+}
+
+// What the 3D view needs once, from the session set up over the scene (replay_timeline.h).
+ReplayScene replay_scene(const Session& session, const Scene& scene) {
+  ReplayScene s;
+  for (int32_t o = 0; o < session.organ_count(); ++o) {
+    s.organ_surfaces.push_back(session.organ_surface(o));
+  }
+  for (const Organ& o : scene.organs) {
+    s.organ_colours.push_back(o.color);
+    s.organ_albedos.push_back(o.albedo);
+  }
+  s.tools = {session.tool_geometry(0), session.tool_geometry(1)};
+  for (size_t side = 0; side < 2; ++side) {
+    const ToolSpec* tool =
+        scene.scenario.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
+    if (tool != nullptr) {
+      s.tool_kinds[side] = tool->kind;
+      s.tool_shaft_radius_m[side] = tool->shaft_radius_m;
+    }
+    s.tool_port_W[side] = session.model().tool(side).trocar.port_W;
+  }
+  s.catheter_radius_m = session.model().tissue().catheter_model().radius_m();
+  // Drawn where the scenario has a catheter or a task (app/session_actors.cpp): -1, none.
+  if (!scene.scenario.catheter && !scene.scenario.task) s.catheter_points = -1;
+  s.camera = scene.scenario.camera;
+  return s;
+}
+
+Result<ReplayTimeline> ReplayTimeline::from_recorded_frames(const std::filesystem::path& dir) {
+  Result<RecordedFrames> opened = RecordedFrames::open(dir / "session.lrec");
+  if (!opened.ok()) return opened.diagnostics();
+  Result<ReplayScenario> loaded = load_replay_scenario(dir);
+  if (!loaded.ok()) return loaded.diagnostics();
+  // The organs, tools and ports as the session set them up; simulated devices stand in for the
+  // recorded ones (the geometry does not depend on them), and the session is never run.
+  const Scene& scene = loaded.value().scene;
+  std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
+  for (int side = 0; side < 2; ++side) {
+    hardware::DeviceSpec spec;
+    spec.kind = hardware::DeviceKind::kSimulated;
+    auto device = make_device(spec, scene, side);
+    if (!device.ok()) return device.diagnostics();
+    devices[static_cast<size_t>(side)] = std::move(device).value();
+  }
+  RuntimeSettings rs = loaded.value().session.record.settings;
+  rs.fast = true;
+  rs.duration_s = 1.0;  // never run: no room for a long recording
+  auto session = Session::create(scene, std::move(devices), rs);
+  if (!session.ok()) return session.diagnostics();
+  ReplayTimeline timeline;
+  timeline.scene_ = replay_scene(*session.value(), scene);
+  timeline.frames_ = opened.value().all();
+  if (timeline.frames_.empty()) {
+    return file_diagnostic((dir / "session.lrec").string(), 0, "", "no frame reads");
+  }
+  if (timeline.scene_.catheter_points == 0) {
+    timeline.scene_.catheter_points = static_cast<int>(timeline.frames_.front().catheter.size());
+  }
+  timeline.session_ = std::move(loaded.value().session);
+  timeline.session_.recording_problems = opened.value().problems();
+  return timeline;
 }
 
 Result<ReplayTimeline> ReplayTimeline::replay(const std::filesystem::path& dir,
@@ -24,28 +89,7 @@ Result<ReplayTimeline> ReplayTimeline::replay(const std::filesystem::path& dir,
   bool stopped = false;
   Result<ReplayedSession> replayed =
       replay_session(dir, {}, [&](Session& session, const Scene& scene) {
-        ReplayScene& s = timeline.scene_;
-        for (int32_t o = 0; o < session.organ_count(); ++o) {
-          s.organ_surfaces.push_back(session.organ_surface(o));
-        }
-        for (const Organ& o : scene.organs) {
-          s.organ_colours.push_back(o.color);
-          s.organ_albedos.push_back(o.albedo);
-        }
-        s.tools = {session.tool_geometry(0), session.tool_geometry(1)};
-        for (size_t side = 0; side < 2; ++side) {
-          const ToolSpec* tool =
-              scene.scenario.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
-          if (tool != nullptr) {
-            s.tool_kinds[side] = tool->kind;
-            s.tool_shaft_radius_m[side] = tool->shaft_radius_m;
-          }
-          s.tool_port_W[side] = session.model().tool(side).trocar.port_W;
-        }
-        s.catheter_radius_m = session.model().tissue().catheter_model().radius_m();
-        // Drawn where the scenario has a catheter or a task (app/session_actors.cpp): -1, none.
-        if (!scene.scenario.catheter && !scene.scenario.task) s.catheter_points = -1;
-        s.camera = scene.scenario.camera;
+        timeline.scene_ = replay_scene(session, scene);
         const SessionTiming& timing = session.model().timing();
         const double dt_s = timing.dt_s;
         const double max_ticks = std::max<double>(1.0, static_cast<double>(timing.max_ticks));

@@ -72,6 +72,13 @@ class ReplayTimeline {
   [[nodiscard]] static Result<ReplayTimeline> replay(
       const std::filesystem::path& dir, double frame_period_s = kDefaultFramePeriodS,
       const std::function<bool(double fraction)>& progress = {});
+  /// The frames the session kept in its recording (DIR/session.lrec, LAPREC05: one every 0.1 s,
+  /// recorded_frames.h) over its scenario, without a replay: what the review shows at once,
+  /// while the replay that recomputes the figures runs. `session()` holds the record, the
+  /// scenario's name and task and the notes, no metrics; damaged frames are in its
+  /// recording_problems. Diagnostics for a recording without frames (before LAPREC05).
+  [[nodiscard]] static Result<ReplayTimeline> from_recorded_frames(
+      const std::filesystem::path& dir);
   /// A timeline from frames already made (tests, benchmarks): `frames` in time order.
   [[nodiscard]] static ReplayTimeline from_frames(ReplayScene scene,
                                                   std::vector<ReplayFrame> frames);
@@ -97,6 +104,10 @@ class ReplayTimeline {
   std::vector<ReplayFrame> frames_;
   ReplayedSession session_;
 };
+
+/// What the 3D view needs once, from a session set up over `scene` (its organs as the session
+/// has them: the duct its shell).
+[[nodiscard]] ReplayScene replay_scene(const Session& session, const Scene& scene);
 
 /// `d` with its `count` entries only.
 [[nodiscard]] SurfaceDeformation compact(const SurfaceDeformation& d);

@@ -259,12 +259,12 @@ Result<ReplayedSession> replay_session(const std::filesystem::path& dir,
   return replay_session(dir, settings, {});
 }
 
-Result<ReplayedSession> replay_session(
-    const std::filesystem::path& dir, const ReplaySettings& settings,
-    const std::function<void(Session& session, const Scene& scene)>& prepare) {
+Result<ReplayScenario> load_replay_scenario(const std::filesystem::path& dir,
+                                            const ReplaySettings& settings) {
   Result<SessionRecord> record = read_session_record(dir);
   if (!record.ok()) return record.diagnostics();
-  ReplayedSession out;
+  ReplayScenario loaded;
+  ReplayedSession& out = loaded.session;
   out.record = std::move(record).value();
   ScenarioLoadSettings load;
   load.allowed_paths = settings.allowed_paths;
@@ -301,7 +301,7 @@ Result<ReplayedSession> replay_session(
                                  "--allow-path DIR");
     }
   }
-  const SceneLoadResult scene = load_scene_file(out.record.scenario, load);
+  SceneLoadResult scene = load_scene_file(out.record.scenario, load);
   if (!scene.ok()) return scene.diagnostics();
   // Compared on the very bytes loaded.
   if (scene.value().scenario.digest != out.record.scenario_digest) {
@@ -312,6 +312,17 @@ Result<ReplayedSession> replay_session(
   }
   out.scenario_name = scene.value().scenario.name;
   out.task = scene.value().scenario.task;
+  loaded.scene = std::move(scene).value();
+  return loaded;
+}
+
+Result<ReplayedSession> replay_session(
+    const std::filesystem::path& dir, const ReplaySettings& settings,
+    const std::function<void(Session& session, const Scene& scene)>& prepare) {
+  Result<ReplayScenario> loaded = load_replay_scenario(dir, settings);
+  if (!loaded.ok()) return loaded.diagnostics();
+  ReplayedSession out = std::move(loaded.value().session);
+  const Scene& scene_loaded = loaded.value().scene;
   std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
   std::error_code ec;
   const std::filesystem::path lrec = dir / "session.lrec";
@@ -348,7 +359,7 @@ Result<ReplayedSession> replay_session(
         const std::vector<TickLog>& ticks = rec.value().ticks;
         for (std::string& note :
              recorded_tuning_notes(ticks, rec.value().tunings, rec.value().version,
-                                   static_cast<int32_t>(scene.value().organs.size()),
+                                   static_cast<int32_t>(scene_loaded.organs.size()),
                                    out.record.settings.haptic_rate_hz)) {
           out.notes.push_back(std::move(note));
         }
@@ -372,7 +383,7 @@ Result<ReplayedSession> replay_session(
       hardware::DeviceSpec spec;
       spec.kind = hardware::DeviceKind::kReplay;
       spec.argument = (dir / (side == 0 ? "left.lapdev" : "right.lapdev")).string();
-      auto device = make_device(spec, scene.value(), side);
+      auto device = make_device(spec, scene_loaded, side);
       if (!device.ok()) return device.diagnostics();
       devices[static_cast<size_t>(side)] = std::move(device).value();
     }
@@ -390,13 +401,13 @@ Result<ReplayedSession> replay_session(
   if (recorded > 0) {
     rs.duration_s = std::min(rs.duration_s, static_cast<double>(recorded + 2) / rs.haptic_rate_hz);
   }
-  auto session = Session::create(scene.value(), std::move(devices), rs);
+  auto session = Session::create(scene_loaded, std::move(devices), rs);
   if (!session.ok()) return session.diagnostics();
   if (reads) {
     session.value()->replay_in_lockstep(std::move(reads->first), std::move(reads->second),
                                         std::move(tunings));
   }
-  if (prepare) prepare(*session.value(), scene.value());
+  if (prepare) prepare(*session.value(), scene_loaded);
   out.metrics = session.value()->run();
   const std::optional<std::string> departure = touch_departure(
       touches, session.value()->tick_log(), out.metrics.organ_names, rs.haptic_rate_hz);

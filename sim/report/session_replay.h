@@ -92,6 +92,16 @@ struct ReplaySettings {
 [[nodiscard]] std::vector<std::filesystem::path> replay_scenario_folders(
     const std::filesystem::path& dir);
 
+/// A recorded session's scenario, loaded as its replay loads it (confined as above), and what the
+/// replay's report says from it alone: the record, the scenario's name and task, the notes (a
+/// scenario changed since, or named on the command line).
+struct ReplayScenario {
+  ReplayedSession session;  ///< no metrics yet
+  Scene scene;
+};
+[[nodiscard]] Result<ReplayScenario> load_replay_scenario(const std::filesystem::path& dir,
+                                                          const ReplaySettings& settings = {});
+
 /// Replays DIR's recorded inputs (session.lrec, else left.lapdev and right.lapdev) through the
 /// recorded scenario (confined as above), in lockstep (RuntimeSettings::fast), with the recorded
 /// rates, duration and dominant hand.

@@ -805,6 +805,30 @@ void Session::model_tick(int64_t tick) noexcept {
     }
     buf->publish();
   }
+  record_frame(tick, h);
+}
+
+// Every FrameRing::kFramePeriodS of session time, what the 3D view draws, for seeking in the
+// recording (frame_ring.h): the tools this step read, the catheter and the organs it left.
+void Session::record_frame(int64_t tick, const HapticSnapshot& h) noexcept {
+  if (!frames_.reserved() || tick < next_frame_tick_) return;
+  next_frame_tick_ = (tick / frame_every_ticks_ + 1) * frame_every_ticks_;
+  // Real time: never wait on the recorder (a frame it is too far behind for is dropped and
+  // counted; the ticks are kept regardless). --fast: wait for it, so that every frame is kept.
+  RecordedFrame* f = frames_.begin_write(model_->settings().fast);
+  if (f == nullptr) return;
+  f->tick = tick;
+  f->model_steps = model_steps_;
+  for (size_t i = 0; i < 2; ++i) {
+    const ToolSnapshot& t = h.tools[i];
+    f->tools[i] = t.pose;
+    f->proxy_a_W[i] = t.proxy_a_W;
+    f->proxy_b_W[i] = t.proxy_b_W;
+    f->proxy_normal_W[i] = t.proxy_normal_W;
+  }
+  f->catheter = world_->catheter().positions;  // same size: no allocation
+  world_->write_deformations(&f->organs);      // sized at set-up: no allocation
+  frames_.publish();
 }
 
 // The task engine on what this step has: the catheter and its grasps, each tool's tip and
@@ -1170,6 +1194,9 @@ Status Session::record_to(const std::filesystem::path& file, const std::string& 
   recorder_ = std::move(opened).value();
   // An author's tunings have room only in a session that records them (4 MB).
   tuning_log_.reserve(kMaxRecordedTunings);
+  frames_.reserve(world_->catheter().positions.size(), world_->make_deformations());
+  frame_every_ticks_ =
+      std::max<int64_t>(1, std::llround(FrameRing::kFramePeriodS / model_->timing().dt_s));
   return {};
 }
 
@@ -1184,6 +1211,7 @@ SessionMetrics Session::run() {
     from.published_steps = &published_steps_;
     from.tunings = tuning_log_.data();
     from.published_tunings = &published_tunings_;
+    from.frames = &frames_;
     recorder_->start(from);
   }
   if (scheduled_) {
@@ -1247,6 +1275,8 @@ void Session::finish_recording(SessionMetrics* m) {
                                       {"session_ticks", m->haptic.ticks()},
                                       {"tunings", published_tunings_.load()},
                                       {"tunings_unrecorded", tunings_unrecorded_},
+                                      {"frames", frames_.published()},
+                                      {"frames_dropped", frames_.dropped()},
                                       {"result", std::string(to_string(m->task.result))},
                                       {"state_hash", hash}};
   const Status done = recorder_->finish(body.dump(), end.dump());

@@ -375,6 +375,7 @@ class Session {
                 bool paused) noexcept;
   void finish_recording(SessionMetrics* m);
   void model_tick(int64_t tick) noexcept;
+  void record_frame(int64_t tick, const HapticSnapshot& h) noexcept;
   void step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept;
   void trip(int64_t tick, int32_t tool, WatchdogReason reason, ModelFault fault = {}) noexcept;
   void run_fast();
@@ -536,6 +537,11 @@ class Session {
   std::vector<TuningLog> tuning_log_;
   std::atomic<int64_t> published_tunings_{0};
   int64_t tunings_unrecorded_ = 0;
+  // What the 3D view draws, every FrameRing::kFramePeriodS, for the recording's seeking
+  // (modelling thread writes; reserved by record_to(), none otherwise).
+  FrameRing frames_;
+  int64_t frame_every_ticks_ = 100;
+  int64_t next_frame_tick_ = 0;  ///< modelling thread
   TickLog tick_reads_;  ///< this tick's lateness, resume and reads, for its log (haptic thread)
   bool after_hold_ = false;  ///< the tick about to run is the first after a hold (its log says)
   std::unique_ptr<SessionRecorder> recorder_;  ///< streams them to disk (record_to)

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -109,6 +110,33 @@ void append_tuning_record(const TuningLog& tuning, std::string* out) {
   put(out, p.texture_scale);
 }
 
+void append_frame_record(const RecordedFrame& frame, std::string* out) {
+  put(out, frame.tick);
+  put(out, frame.model_steps);
+  for (size_t i = 0; i < 2; ++i) {
+    const haptics::GripperPose& pose = frame.tools[i];
+    put_vec(out, pose.hinge_W);
+    put_vec(out, pose.shaft_dir_W);
+    put_vec(out, pose.open_dir_W);
+    put(out, pose.opening_rad);
+    for (const auto* segment :
+         {&frame.proxy_a_W[i], &frame.proxy_b_W[i], &frame.proxy_normal_W[i]}) {
+      for (const Eigen::Vector3d& v : *segment) put_vec(out, v);
+    }
+  }
+  put(out, static_cast<uint32_t>(frame.catheter.size()));
+  put(out, static_cast<uint32_t>(frame.organs.size()));
+  for (const Eigen::Vector3d& p : frame.catheter) put_vec(out, p);
+  for (const SurfaceDeformation& d : frame.organs) {
+    const auto n = static_cast<uint32_t>(std::max<int32_t>(0, d.count));
+    put(out, n);
+    for (uint32_t k = 0; k < n; ++k) {
+      put(out, d.vertex[k]);
+      for (int c = 0; c < 3; ++c) put(out, static_cast<float>(d.position[k][c]));
+    }
+  }
+}
+
 Result<std::unique_ptr<SessionRecorder>> SessionRecorder::open(const std::filesystem::path& file,
                                                                const std::string& header_json) {
   std::unique_ptr<SessionRecorder> r(new SessionRecorder());
@@ -143,11 +171,18 @@ void SessionRecorder::start(const RecordingSources& from) {
   thread_ = std::thread([this] { run(); });
 }
 
+// Every kFlushPeriodS, and sooner when the frames' ring fills (a --fast session's modelling
+// step waits for room there).
 void SessionRecorder::run() {
-  const auto period = std::chrono::duration<double>(kFlushPeriodS);
+  using Clock = std::chrono::steady_clock;
+  const auto period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kFlushPeriodS));
+  auto next = Clock::now() + period;
   while (!stop_.load(std::memory_order_relaxed)) {
-    std::this_thread::sleep_for(period);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (Clock::now() < next && (from_.frames == nullptr || !from_.frames->filling())) continue;
     write_published();
+    next = Clock::now() + period;
   }
 }
 
@@ -163,6 +198,7 @@ void SessionRecorder::write_published() {
   write_steps_up_to(published(from_.published_steps));
   write_tunings_up_to(published(from_.published_tunings));
   write_ticks_up_to(ticks);
+  write_frames();
 }
 
 void SessionRecorder::write_steps_up_to(int64_t published) {
@@ -186,6 +222,25 @@ void SessionRecorder::write_tunings_up_to(int64_t published) {
   }
   if (write_chunk(kChunkTunings, static_cast<uint32_t>(published - from), from, payload_)) {
     written_tunings_ = published;
+  }
+}
+
+// Every frame the modelling thread has published, in one chunk; their slots are then free.
+void SessionRecorder::write_frames() {
+  FrameRing* ring = from_.frames;
+  if (ring == nullptr) return;
+  if (!problem_.empty()) {
+    ring->close();  // nothing more is written: a --fast step must not wait for room
+    return;
+  }
+  const int64_t from = ring->released();
+  const int64_t published = ring->published();
+  if (published <= from) return;
+  payload_.clear();
+  for (int64_t n = from; n < published; ++n) append_frame_record(ring->frame(n), &payload_);
+  if (write_chunk(kChunkFrames, static_cast<uint32_t>(published - from), ring->frame(from).tick,
+                  payload_)) {
+    ring->release(published);
   }
 }
 
@@ -228,6 +283,7 @@ Status SessionRecorder::finish(const std::string& events_json, const std::string
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
   if (from_.published_ticks != nullptr) write_published();
+  if (from_.frames != nullptr) from_.frames->close();
   write_chunk(kChunkEvents, 0, 0, events_json);
   write_chunk(kChunkEnd, 0, 0, end_json);
   // On the disk, not only in the kernel's cache, before it is called done.

@@ -7,12 +7,13 @@
 /// writes the events and an end chunk; a file without one is an interrupted session.
 ///
 /// File (session.lrec), little-endian:
-///   "LAPREC04" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
+///   "LAPREC05" | uint32 header bytes | header JSON (session.json's fields) | uint32 CRC-32
 ///   chunks:    uint32 magic "LRCK" | uint32 kind | uint32 payload bytes | uint32 count |
 ///              int64 first tick (or step) | payload | uint32 CRC-32 of kind … payload
 ///   kinds:     1 ticks (count records of kTickRecordBytes), 2 events (JSON), 3 end (JSON),
 ///              4 modelling steps (count records of kStepRecordBytes), 5 an author's surface
-///              tunings (count records of kTuningRecordBytes; first: the first record's index)
+///              tunings (count records of kTuningRecordBytes; first: the first record's index),
+///              6 frames for seeking (count frame records, first: the first one's tick)
 /// A tick record: int64 tick, int64 wall clock [ns since the epoch], per tool (left, right) the
 /// device's sample (double time_s, position[3], orientation w x y z, velocity[3], gripper angle;
 /// uint32 buttons, uint32 status) and what was sent (double force[3], squeeze), then double
@@ -27,9 +28,16 @@
 /// A tuning record: int64 the haptic tick that took it, int32 the organ, uint8 force shading,
 /// 3 bytes zero, double stiffness [N/m], damping [N s/m], μs, μd, texture scale: the organ's
 /// surface as the haptic loop rendered it from that tick on (surface_tuning.h).
+/// A frame record (frame_ring.h), every FrameRing::kFramePeriodS of session time: int64 tick,
+/// int64 modelling steps; per tool (left, right) double hinge[3], shaft direction[3], opening
+/// direction[3], opening [rad], then proxy a[3][3], proxy b[3][3], normal[3][3]; uint32
+/// catheter particles, uint32 organs; the particles as double[3]; per organ uint32 count, then
+/// count times int32 vertex and float32 position[3] (world frame [m]: drawing needs no more than
+/// float's 0.03 µm at 0.3 m, and halves what a deformed duct costs on disk).
 /// The reads make a real-time session replayable in lockstep to the same state (issue 24): they
 /// say which snapshot each loop took from the other, which thread timing decided live.
-/// Older files are still read: "LAPREC03" (no tunings: a tuned tick is only marked), "LAPREC02"
+/// Older files are still read: "LAPREC04" (no frames: a review replays to seek),
+/// "LAPREC03" (no tunings: a tuned tick is only marked), "LAPREC02"
 /// (tick records of 328 bytes, without the touches) and "LAPREC01" (304 bytes, ending after
 /// `paused` and 6 bytes zero; no steps, so they replay in plain lockstep).
 
@@ -43,6 +51,7 @@
 
 #include "core/result.h"
 #include "hardware/device_recording.h"
+#include "sim/runtime/frame_ring.h"
 #include "sim/runtime/surface_tuning.h"
 #include "sim/runtime/tool_touch.h"
 
@@ -95,9 +104,11 @@ struct RecordingSources {
   const std::atomic<int64_t>* published_steps = nullptr;
   const TuningLog* tunings = nullptr;  ///< haptic thread
   const std::atomic<int64_t>* published_tunings = nullptr;
+  FrameRing* frames = nullptr;  ///< modelling thread: what the 3D view draws (may be null)
 };
 
-inline constexpr char kRecordingMagic[9] = "LAPREC04";
+inline constexpr char kRecordingMagic[9] = "LAPREC05";
+inline constexpr char kRecordingMagicV4[9] = "LAPREC04";
 inline constexpr char kRecordingMagicV3[9] = "LAPREC03";
 inline constexpr char kRecordingMagicV2[9] = "LAPREC02";
 inline constexpr char kRecordingMagicV1[9] = "LAPREC01";
@@ -107,6 +118,7 @@ inline constexpr uint32_t kChunkEvents = 2;
 inline constexpr uint32_t kChunkEnd = 3;
 inline constexpr uint32_t kChunkSteps = 4;
 inline constexpr uint32_t kChunkTunings = 5;
+inline constexpr uint32_t kChunkFrames = 6;
 inline constexpr size_t kChunkHeadBytes = 24;
 inline constexpr size_t kToolTouchBytes = 4 + ToolTouch::kListedOrgans * 8;  // 36
 inline constexpr size_t kTickRecordBytes =
@@ -133,6 +145,8 @@ void append_tick_record(const hardware::RecordedSample& left, const hardware::Re
 void append_step_record(const StepLog& step, std::string* out);
 /// One tuning as its record's bytes (appended to `out`).
 void append_tuning_record(const TuningLog& tuning, std::string* out);
+/// One frame as its record's bytes (appended to `out`).
+void append_frame_record(const RecordedFrame& frame, std::string* out);
 
 class SessionRecorder {
  public:
@@ -162,6 +176,7 @@ class SessionRecorder {
   void write_ticks_up_to(int64_t published);
   void write_steps_up_to(int64_t published);
   void write_tunings_up_to(int64_t published);
+  void write_frames();
   bool write_chunk(uint32_t kind, uint32_t count, int64_t first_tick, const std::string& payload);
 
   std::filesystem::path file_;

@@ -14,6 +14,7 @@
 #include "hardware/device_recording.h"
 #include "hardware/gripper_protocol.h"
 #include "hardware/scripted_trajectory.h"
+#include "sim/report/recorded_frames.h"
 #include "sim/report/recorded_tunings.h"
 #include "sim/report/recording_reader.h"
 #include "sim/report/session_replay.h"
@@ -195,6 +196,23 @@ bool fuzz_session_recording(std::span<const uint8_t> data) {
   }
   (void)sim::recorded_tuning_notes(r.value().ticks, r.value().tunings, r.value().version, 8,
                                    1000.0);
+  // Seeking by its frames (LAPREC05, recorded_frames.h): every frame a seek gives is whole and
+  // finite, whatever the chunks hold.
+  Result<sim::RecordedFrames> frames = sim::RecordedFrames::open(as_file(data, "lrec"));
+  if (frames.ok()) {
+    sim::ReplayFrame f;
+    const double end_s = frames.value().duration_s();
+    require(std::isfinite(end_s) && end_s >= 0.0);
+    for (int k = -1; k <= 11; ++k) {
+      if (!frames.value().seek(end_s * k / 10.0, &f).ok()) continue;
+      require(f.tick >= 0 && std::isfinite(f.t_s) && f.tools[0].hinge_W.allFinite());
+      for (const Eigen::Vector3d& x : f.catheter) require(x.allFinite());
+      for (const sim::SurfaceDeformation& d : f.organs) {
+        require(d.count >= 0 && static_cast<size_t>(d.count) == d.vertex.size() &&
+                d.vertex.size() == d.position.size());
+      }
+    }
+  }
   return r.value().problems.empty();
 }
 

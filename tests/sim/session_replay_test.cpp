@@ -71,7 +71,7 @@ TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnState
   // a model snapshot older than the newest there was (the slow step's ticks), all there.
   const Result<RecordedSession> rec = read_session_recording(dir.path() / "session.lrec");
   ASSERT_TRUE(rec.ok()) << rec.message();
-  ASSERT_EQ(rec.value().version, 4);
+  ASSERT_EQ(rec.value().version, 5);
   ASSERT_TRUE(rec.value().problems.empty());
   const std::vector<TickLog>& ticks = rec.value().ticks;
   ASSERT_GT(ticks.size(), 3600U);

@@ -16,6 +16,7 @@
 #include "hardware/replay_device.h"
 #include "hardware/scripted_device.h"
 #include "hardware/usb_gripper.h"
+#include "sim/report/recorded_frames.h"
 #include "sim/report/recording_reader.h"
 #include "sim/report/session_report.h"
 #include "sim/runtime/trocar_tool.h"
@@ -278,6 +279,46 @@ TEST(Session, ARealTimeSessionIsStreamedToItsRecordingAsItRuns) {
     const double since_first_s = static_cast<double>(t[k].wall_ns - t.front().wall_ns) * 1e-9;
     ASSERT_GE(since_first_s, static_cast<double>(k) * 1e-3 - first_late_bound_s) << "tick " << k;
   }
+}
+
+// The frames for seeking (frame_ring.h) pass from the modelling thread to the recorder's in
+// real time (the ThreadSanitizer stage runs this): one every 0.1 s of session time, whole, in
+// order, each at a tick the session ran.
+TEST(Session, ARealTimeSessionKeepsAFrameEveryTenthOfASecondForSeeking) {
+  const test::TempDir dir;
+  auto s = scripted_session(device_fault_run(1.0));
+  ASSERT_TRUE(s->record_to(dir.path() / "session.lrec", R"({"haptic_rate_hz": 1000})").ok());
+  const SessionMetrics m = s->run();
+  Result<RecordedFrames> opened = RecordedFrames::open(dir.path() / "session.lrec");
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  RecordedFrames& frames = opened.value();
+  EXPECT_TRUE(frames.problems().empty()) << frames.problems().front();
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok());
+  const auto end = nlohmann::json::parse(r.value().end_json);
+  // A frame at the first modelling step of every 100 ticks, kept or (the recorder 1.6 s behind)
+  // dropped and counted. In real time a step can be skipped: its 100 ticks may have none; and
+  // the modelling loop's last step may be labelled with a tick the haptic loop, stopped first,
+  // did not run.
+  const int64_t buckets = m.haptic.ticks() / 100 + 1;
+  const int64_t kept = end["frames"].get<int64_t>();
+  EXPECT_LE(kept + end["frames_dropped"].get<int64_t>(), buckets);
+  EXPECT_EQ(frames.frame_count(), kept);
+  EXPECT_GE(kept, buckets / 2);
+  ReplayFrame f;
+  int64_t previous = -1;
+  int64_t seen = 0;
+  for (int64_t k = 0; k < buckets; ++k) {
+    ASSERT_TRUE(frames.seek(static_cast<double>(k) * 0.1 + 0.0999, &f).ok());
+    EXPECT_LE(f.tick, k * 100 + 99);
+    EXPECT_LT(f.tick, m.haptic.ticks() + 100);
+    EXPECT_GE(f.tick, previous);
+    if (f.tick != previous) ++seen;
+    previous = f.tick;
+    EXPECT_EQ(static_cast<int32_t>(f.catheter.size()),
+              s->model().tissue().catheter_model().particle_count());
+  }
+  EXPECT_EQ(seen, kept);
 }
 
 TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {

@@ -7,10 +7,12 @@
 
 namespace lap::test {
 
-/// Counts calls to operator new in this thread's program while alive.
+/// Counts calls to operator new in this thread's program while alive; with kThisThread, only
+/// those of the thread that made the counter (a loop's, while a writer thread allocates).
 class AllocationCounter {
  public:
-  AllocationCounter();
+  enum class Scope { kAllThreads, kThisThread };
+  explicit AllocationCounter(Scope scope = Scope::kAllThreads);
   ~AllocationCounter();
   AllocationCounter(const AllocationCounter&) = delete;
   AllocationCounter& operator=(const AllocationCounter&) = delete;

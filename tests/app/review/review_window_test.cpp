@@ -37,6 +37,8 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "app/review/replay_player.h"
 #include "app/review/session_charts.h"
@@ -234,12 +236,28 @@ TEST_F(ReviewWindowTest, AnInstructorReviewsASessionAndExportsIt) {
 
   click_item(window.trainee_list(), QStringLiteral("ana"));
   ASSERT_EQ(window.visible_sessions(), 3);
-  // Newest first: the recorded session is the first row.
+  // Newest first: the recorded session is the first row. Its recording kept frames (LAPREC05):
+  // they are shown in the 3D replay before the replay for the metrics ends.
+  std::vector<std::string> order;
+  double frames_duration_s = 0.0;
+  bool scrubbable = false;
+  QObject::connect(&window, &ReviewWindow::recorded_frames_shown, [&](double duration_s) {
+    order.emplace_back("frames");
+    frames_duration_s = duration_s;
+    scrubbable = window.player()->has_timeline() && window.player()->scrub_bar()->isEnabled() &&
+                 window.player()->scrub_bar()->maximum() == std::lround(duration_s * 1e3);
+  });
+  QObject::connect(&window, &ReviewWindow::replay_finished,
+                   [&](bool) { order.emplace_back("replay"); });
   click_row(window.session_table(), 0);
   ASSERT_TRUE(wait_until([&] { return window.replay_ready(); }, 180000));
   ASSERT_TRUE(window.timeline() != nullptr) << window.replay_status().toStdString();
   const sim::ReplayTimeline& timeline = *window.timeline();
   EXPECT_GT(timeline.size(), 100U);  // 20 frames a second over about 16 s
+  EXPECT_EQ(order, (std::vector<std::string>{"frames", "replay"}));
+  EXPECT_TRUE(scrubbable);
+  // Ten frames a second, to the session's end (the replay's last frame within 0.1 s of it).
+  EXPECT_NEAR(frames_duration_s, timeline.duration_s(), 0.1);
 
   // The metrics, stored and replayed (a --fast session replays exactly), with verdicts.
   QTableWidget* metrics = window.metrics_table();
