@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "sim/report/recorded_frames.h"
 #include "sim/report/recording_reader.h"
 #include "sim/runtime/perception_experiment.h"
 #include "sim/setup/content_digest.h"
@@ -904,6 +905,13 @@ TEST(CliRun, KilledMidSessionTheRecordingLosesAtMost100Ms) {
   const double lost_s = static_cast<double>(killed_ns - r.ticks.back().wall_ns) * 1e-9;
   EXPECT_LE(lost_s, 0.100) << r.ticks.size() << " ticks recorded";
   EXPECT_GE(lost_s, 0.0);
+  // Its frames for seeking reach as far (one every 0.1 s, flushed with the ticks).
+  auto frames = lap::sim::RecordedFrames::open(rec + "/session.lrec");
+  ASSERT_TRUE(frames.ok()) << frames.message();
+  EXPECT_GE(frames.value().duration_s(), static_cast<double>(r.ticks.back().tick) * 1e-3 - 0.3);
+  lap::sim::ReplayFrame last;
+  ASSERT_TRUE(frames.value().seek(1e9, &last).ok());
+  EXPECT_TRUE(last.tools[1].hinge_W.allFinite());
 
   const CommandResult report = run_command(cli() + " report --session " + rec);
   ASSERT_EQ(report.exit_code, 0) << report.err;
