@@ -27,6 +27,7 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <set>
 
 #include "app/review/progress_charts.h"
@@ -610,7 +611,12 @@ void ReviewWindow::start_replay(const SessionRow& row) {
     // The frames the recording kept (LAPREC05) first: the 3D replay can be scrubbed at once,
     // while the replay below recomputes the metrics and plots (a 10-minute session's takes
     // tens of seconds). Without frames the replay's own are shown when it ends.
-    Result<sim::ReplayTimeline> recorded = sim::ReplayTimeline::from_recorded_frames(dir);
+    Result<sim::ReplayTimeline> recorded = diagnostic("no frames");
+    try {
+      recorded = sim::ReplayTimeline::from_recorded_frames(dir);
+    } catch (const std::bad_alloc&) {
+      recorded = diagnostic("the recording's frames do not fit in memory");  // the replay follows
+    }
     if (recorded.ok() && !cancel_.load()) {
       auto frames = std::make_shared<const sim::ReplayTimeline>(std::move(recorded).value());
       QMetaObject::invokeMethod(
@@ -660,6 +666,7 @@ void ReviewWindow::replay_done(uint64_t generation,
   if (worker_.joinable()) worker_.join();
   replay_done_ = true;
   if (!result->ok()) {
+    frames_shown_ = false;  // the recorded frames, if any, stay in the 3D replay
     replay_status_ = tr("cannot replay the recording: %1").arg(q(result->message()));
     charts_->clear(tr("no replay"));
     status(replay_status_);

@@ -23,6 +23,8 @@ constexpr uint32_t kMaxCatheterPoints = 1U << 16;
 constexpr uint32_t kMaxOrgans = 1U << 12;
 constexpr size_t kToolBytes = size_t{8} * (10 + 27);
 constexpr size_t kDeformedVertexBytes = size_t{4} + size_t{3} * 4;
+// The least a frame takes: ticks, tools, the catheter's and organs' counts.
+constexpr size_t kMinFrameBytes = 16 + 2 * kToolBytes + 8;
 
 template <typename T>
 T get(const std::string& bytes, size_t at) {
@@ -80,6 +82,11 @@ bool tool_finite(const ReplayFrame& f, size_t i) {
 
 std::string RecordedFrames::decode(const std::string& b, uint32_t count, double dt_s,
                                    std::vector<ReplayFrame>* frames) {
+  // An untrusted count: no more frames than the payload's bytes can hold, before any storage.
+  if (count > b.size() / kMinFrameBytes) {
+    return std::to_string(count) + " frames in " + std::to_string(b.size()) +
+           " bytes (a frame takes at least " + std::to_string(kMinFrameBytes) + ")";
+  }
   frames->resize(count);
   size_t p = 0;
   for (uint32_t k = 0; k < count; ++k) {
@@ -225,7 +232,18 @@ bool RecordedFrames::index(uint64_t at, std::string* why) {
     const auto count = get<uint32_t>(head, 12);
     const auto first = get<int64_t>(head, 16);
     if (kind == kChunkFrames && count > 0) {
-      if (!chunks_.empty() && first <= chunks_.back().first_tick) {
+      // Its head is trusted only with its checksum (a damaged first tick would misplace every
+      // chunk after it, a damaged count inflate the frames): the whole chunk is read here.
+      const size_t n = kChunkHeadBytes + bytes + 4;
+      if (!read_at(fd, at, n, &buffer_) ||
+          crc32(buffer_.data() + 4, kChunkHeadBytes - 4 + bytes) != get<uint32_t>(buffer_, n - 4)) {
+        problem(at, "a frames chunk whose checksum does not match (" + std::to_string(count) +
+                        " frames from tick " + std::to_string(first) +
+                        " if its head is right): skipped");
+      } else if (count > bytes / kMinFrameBytes) {
+        problem(at, "a frames chunk of " + std::to_string(count) + " frames in " +
+                        std::to_string(bytes) + " bytes: skipped");
+      } else if (!chunks_.empty() && first <= chunks_.back().first_tick) {
         problem(at, "a frames chunk from tick " + std::to_string(first) +
                         " not after the one before: skipped");
       } else {
@@ -305,7 +323,6 @@ Status RecordedFrames::seek(double t_s, ReplayFrame* out) {
 
 std::vector<ReplayFrame> RecordedFrames::all() {
   std::vector<ReplayFrame> out;
-  out.reserve(static_cast<size_t>(frames_));
   std::vector<ReplayFrame> chunk;
   for (size_t k = 0; k < chunks_.size(); ++k) {
     if (!read_chunk(k, &chunk)) continue;

@@ -6,9 +6,10 @@
 /// and checks the one chunk that holds the frame at or before the time asked for (issue 24:
 /// seeking anywhere in a 10-minute recording within 200 ms, without replaying up to there).
 ///
-/// Untrusted input, as recording_reader.h: every length is checked against the file's; a chunk
-/// whose checksum fails, or whose frames are impossible, is reported (its byte offset) and a seek
-/// into it takes the frame before it; a file cut off mid-chunk keeps every whole chunk.
+/// Untrusted input, as recording_reader.h: every length and count is checked against the file's
+/// before storage is taken; a frames chunk whose checksum fails is left out of the index (its
+/// head is not trusted), one whose frames are impossible is reported when a seek reads it (its
+/// byte offset) and the frame before it taken; a file cut off mid-chunk keeps every whole chunk.
 
 #include <cstdint>
 #include <filesystem>
@@ -23,8 +24,9 @@ namespace lap::sim {
 
 class RecordedFrames {
  public:
-  /// Indexes `file`'s frames. Diagnostics (the file named) for a file that cannot be read or is
-  /// not a recording with frames (one written before LAPREC05 has none: it must be replayed).
+  /// Indexes `file`'s frames, reading each frames chunk once to check it (9 MB for a 10-minute
+  /// session). Diagnostics (the file named) for a file that cannot be read or is not a
+  /// recording with frames (one written before LAPREC05 has none: it must be replayed).
   [[nodiscard]] static Result<RecordedFrames> open(const std::filesystem::path& file);
 
   /// The frame at or before `t_s` (the first one for a time before it, the last after the end),

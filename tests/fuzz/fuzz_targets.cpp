@@ -212,6 +212,9 @@ bool fuzz_session_recording(std::span<const uint8_t> data) {
                 d.vertex.size() == d.position.size());
       }
     }
+    // What the review loads at once (ReplayTimeline::from_recorded_frames): in time order.
+    const std::vector<sim::ReplayFrame> all = frames.value().all();
+    for (size_t k = 1; k < all.size(); ++k) require(all[k].tick > all[k - 1].tick);
   }
   return r.value().problems.empty();
 }

@@ -180,6 +180,37 @@ TEST(RecordedFrames, ADamagedChunkIsReportedAndASeekIntoItTakesTheFrameBefore) {
   EXPECT_EQ(f.tick, last);
 }
 
+// A damaged head is not trusted: a first tick pushed far ahead would hide every chunk after it,
+// a count of millions would take gigabytes of frames. Both chunks are left out, the rest reads.
+TEST(RecordedFrames, ADamagedChunkHeadHidesNoOtherChunk) {
+  const RecordedPress run(2.0);
+  std::string b = bytes_of(run.file);
+  const auto chunks = frames_chunks(b);
+  ASSERT_GE(chunks.size(), 4U);
+  const int64_t far = int64_t{1} << 40;
+  std::memcpy(b.data() + chunks[1].first + 16, &far, 8);
+  const uint32_t millions = 50'000'000;
+  std::memcpy(b.data() + chunks[2].first + 12, &millions, 4);
+  write_bytes(run.file, b);
+  Result<RecordedFrames> opened = RecordedFrames::open(run.file);
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  EXPECT_EQ(opened.value().problems().size(), 2U);
+  EXPECT_EQ(opened.value().chunk_count(), chunks.size() - 2);
+  const int64_t last = (run.metrics.haptic.ticks() - 1) / 100 * 100;
+  EXPECT_DOUBLE_EQ(opened.value().duration_s(), static_cast<double>(last) * 1e-3);
+  ReplayFrame f;
+  ASSERT_TRUE(opened.value().seek(1e9, &f).ok());
+  EXPECT_EQ(f.tick, last);
+  const std::vector<ReplayFrame> all = opened.value().all();
+  EXPECT_EQ(static_cast<int64_t>(all.size()), opened.value().frame_count());
+  // A payload whose count claims more frames than its bytes hold is refused before storage.
+  std::vector<ReplayFrame> frames;
+  EXPECT_NE(RecordedFrames::decode(std::string(1000, '\0'), millions, 1e-3, &frames)
+                .find("a frame takes at least"),
+            std::string::npos);
+  EXPECT_TRUE(frames.empty());
+}
+
 TEST(RecordedFrames, ACutRecordingSeeksUpToItsLastWholeFramesChunk) {
   const RecordedPress run(3.0);
   const std::string b = bytes_of(run.file);
