@@ -283,12 +283,12 @@ TEST(Session, ARealTimeSessionIsStreamedToItsRecordingAsItRuns) {
 
 // The frames for seeking (frame_ring.h) pass from the modelling thread to the recorder's in
 // real time (the ThreadSanitizer stage runs this): one every 0.1 s of session time, whole, in
-// order, each at a tick the session ran.
+// order.
 TEST(Session, ARealTimeSessionKeepsAFrameEveryTenthOfASecondForSeeking) {
   const test::TempDir dir;
   auto s = scripted_session(device_fault_run(1.0));
   ASSERT_TRUE(s->record_to(dir.path() / "session.lrec", R"({"haptic_rate_hz": 1000})").ok());
-  const SessionMetrics m = s->run();
+  (void)s->run();
   Result<RecordedFrames> opened = RecordedFrames::open(dir.path() / "session.lrec");
   ASSERT_TRUE(opened.ok()) << opened.message();
   RecordedFrames& frames = opened.value();
@@ -296,29 +296,29 @@ TEST(Session, ARealTimeSessionKeepsAFrameEveryTenthOfASecondForSeeking) {
   const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
   ASSERT_TRUE(r.ok());
   const auto end = nlohmann::json::parse(r.value().end_json);
-  // A frame at the first modelling step of every 100 ticks, kept or (the recorder 1.6 s behind)
-  // dropped and counted. In real time a step can be skipped: its 100 ticks may have none; and
-  // the modelling loop's last step may be labelled with a tick the haptic loop, stopped first,
-  // did not run.
-  const int64_t buckets = m.haptic.ticks() / 100 + 1;
+  // A frame at the first modelling step of every 100 ticks of the modelling loop's schedule
+  // (wall-clock time: on a loaded machine it may run ahead of the haptic loop's ticks, and a
+  // skipped step leaves its 100 ticks without one), kept or, the recorder 1.6 s behind,
+  // dropped and counted.
   const int64_t kept = end["frames"].get<int64_t>();
-  EXPECT_LE(kept + end["frames_dropped"].get<int64_t>(), buckets);
   EXPECT_EQ(frames.frame_count(), kept);
-  EXPECT_GE(kept, buckets / 2);
-  ReplayFrame f;
-  int64_t previous = -1;
-  int64_t seen = 0;
-  for (int64_t k = 0; k < buckets; ++k) {
-    ASSERT_TRUE(frames.seek(static_cast<double>(k) * 0.1 + 0.0999, &f).ok());
-    EXPECT_LE(f.tick, k * 100 + 99);
-    EXPECT_LT(f.tick, m.haptic.ticks() + 100);
-    EXPECT_GE(f.tick, previous);
-    if (f.tick != previous) ++seen;
-    previous = f.tick;
-    EXPECT_EQ(static_cast<int32_t>(f.catheter.size()),
+  EXPECT_GE(kept, 5);
+  const std::vector<ReplayFrame> all = frames.all();
+  ASSERT_EQ(static_cast<int64_t>(all.size()), kept);
+  EXPECT_EQ(all.front().tick, 0);
+  for (size_t k = 0; k < all.size(); ++k) {
+    if (k > 0) {
+      EXPECT_GT(all[k].tick / 100, all[k - 1].tick / 100) << "one per 100 ticks";
+    }
+    EXPECT_EQ(static_cast<int32_t>(all[k].catheter.size()),
               s->model().tissue().catheter_model().particle_count());
+    EXPECT_TRUE(all[k].tools[0].hinge_W.allFinite());
   }
-  EXPECT_EQ(seen, kept);
+  // A seek between two frames takes the earlier.
+  ReplayFrame f;
+  const ReplayFrame& mid = all[all.size() / 2];
+  ASSERT_TRUE(frames.seek(mid.t_s + 0.0005, &f).ok());
+  EXPECT_EQ(f.tick, mid.tick);
 }
 
 TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {
