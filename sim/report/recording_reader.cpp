@@ -15,9 +15,10 @@ namespace {
 /// A recording's header JSON is a few hundred bytes, a chunk of ticks 40 ms of them.
 constexpr uint32_t kMaxHeaderBytes = 1U << 20;
 constexpr uint32_t kMaxPayloadBytes = 64U << 20;
-/// Three hours of ticks at 1 kHz (400 bytes each: 4.3 GB) and steps at 200 Hz (16 bytes each):
-/// what a session may leave.
-constexpr std::uintmax_t kMaxRecordingBytes = std::uintmax_t{5} << 30;
+/// Three hours of ticks at 1 kHz (400 bytes each: 4.3 GB), steps at 200 Hz (16 bytes each) and
+/// frames at 10 Hz (LAPREC05: up to 1.7 GB with a duct of 1 000 vertices deformed throughout,
+/// 16 bytes each): what a session may leave.
+constexpr std::uintmax_t kMaxRecordingBytes = std::uintmax_t{7} << 30;
 
 template <typename T>
 T get(const std::string& bytes, size_t at) {
