@@ -16,8 +16,6 @@ namespace lap::sim {
 
 namespace {
 
-constexpr uint32_t kMaxHeaderBytes = 1U << 20;
-constexpr uint32_t kMaxPayloadBytes = 64U << 20;  // as recording_reader.cpp
 // A frame's bounds: more particles or organs than any scenario loads is damage.
 constexpr uint32_t kMaxCatheterPoints = 1U << 16;
 constexpr uint32_t kMaxOrgans = 1U << 12;
@@ -171,7 +169,7 @@ Result<RecordedFrames> RecordedFrames::open(const std::filesystem::path& file) {
   }
   const auto n = get<uint32_t>(head, 8);
   std::string header;
-  if (n > kMaxHeaderBytes || !read_at(fd, 12, static_cast<size_t>(n) + 4, &header) ||
+  if (n > kMaxRecordingHeaderBytes || !read_at(fd, 12, static_cast<size_t>(n) + 4, &header) ||
       crc32(header.data(), n) != get<uint32_t>(header, n)) {
     return file_diagnostic(name, 0, "", "its header is damaged or runs past the file");
   }
@@ -217,7 +215,7 @@ bool RecordedFrames::index(uint64_t at, std::string* why) {
     }
     const auto bytes = get<uint32_t>(head, 8);
     const uint64_t end = at + kChunkHeadBytes + bytes + 4;
-    if (get<uint32_t>(head, 0) != kChunkMagic || bytes > kMaxPayloadBytes || end > size_) {
+    if (get<uint32_t>(head, 0) != kChunkMagic || bytes > kMaxChunkPayloadBytes || end > size_) {
       const uint64_t next = next_mark(at + 1);
       if (next < size_ || get<uint32_t>(head, 0) != kChunkMagic) {
         problem(at, "not a whole chunk: bytes " + std::to_string(at) + " to " +
@@ -235,8 +233,7 @@ bool RecordedFrames::index(uint64_t at, std::string* why) {
       // Its head is trusted only with its checksum (a damaged first tick would misplace every
       // chunk after it, a damaged count inflate the frames): the whole chunk is read here.
       const size_t n = kChunkHeadBytes + bytes + 4;
-      if (!read_at(fd, at, n, &buffer_) ||
-          crc32(buffer_.data() + 4, kChunkHeadBytes - 4 + bytes) != get<uint32_t>(buffer_, n - 4)) {
+      if (!read_at(fd, at, n, &buffer_) || !chunk_intact(buffer_.data(), bytes)) {
         problem(at, "a frames chunk whose checksum does not match (" + std::to_string(count) +
                         " frames from tick " + std::to_string(first) +
                         " if its head is right): skipped");
@@ -276,8 +273,7 @@ bool RecordedFrames::read_chunk(size_t k, std::vector<ReplayFrame>* frames) {
   std::string what;
   if (!read_at(*fd_, c.offset, n, &buffer_)) {
     what = "cannot be read";
-  } else if (crc32(buffer_.data() + 4, kChunkHeadBytes - 4 + c.bytes) !=
-             get<uint32_t>(buffer_, n - 4)) {
+  } else if (!chunk_intact(buffer_.data(), c.bytes)) {
     what = "its checksum does not match";
   } else {
     what = decode(buffer_.substr(kChunkHeadBytes, c.bytes), c.count, dt_s_, frames);

@@ -12,9 +12,6 @@ namespace lap::sim {
 
 namespace {
 
-/// A recording's header JSON is a few hundred bytes, a chunk of ticks 40 ms of them.
-constexpr uint32_t kMaxHeaderBytes = 1U << 20;
-constexpr uint32_t kMaxPayloadBytes = 64U << 20;
 /// Three hours of ticks at 1 kHz (400 bytes each: 4.3 GB), steps at 200 Hz (16 bytes each) and
 /// frames at 10 Hz (LAPREC05: up to 1.7 GB with a duct of 1 000 vertices deformed throughout,
 /// 16 bytes each): what a session may leave.
@@ -181,7 +178,7 @@ class Reader {
       return 0;
     }
     const auto n = get<uint32_t>(b_, 8);
-    if (n > kMaxHeaderBytes || 12 + static_cast<size_t>(n) + 4 > b_.size()) {
+    if (n > kMaxRecordingHeaderBytes || 12 + static_cast<size_t>(n) + 4 > b_.size()) {
       header_problem_ =
           "at byte 8: its header's length (" + std::to_string(n) + " bytes) runs past the file";
       return 0;
@@ -208,7 +205,7 @@ class Reader {
     const auto count = get<uint32_t>(b_, at + 12);
     const auto first = get<int64_t>(b_, at + 16);
     const size_t end = at + kChunkHeadBytes + static_cast<size_t>(bytes) + 4;
-    if (bytes > kMaxPayloadBytes) return skip_to_next_mark(at, "a chunk of impossible length");
+    if (bytes > kMaxChunkPayloadBytes) return skip_to_next_mark(at, "a chunk of impossible length");
     if (end > b_.size()) {
       if (next_mark(at + 4) == std::string::npos) {
         problem(at, "the last chunk is incomplete (the session was cut off)");
@@ -216,8 +213,7 @@ class Reader {
       }
       return skip_to_next_mark(at, "a chunk whose length runs past the file");
     }
-    const uint32_t crc = crc32(b_.data() + at + 4, kChunkHeadBytes - 4 + bytes);
-    if (crc != get<uint32_t>(b_, end - 4)) {
+    if (!chunk_intact(b_.data() + at, bytes)) {
       return skip_to_next_mark(at, "a chunk whose checksum does not match (" +
                                        std::to_string(count) +
                                        (kind == kChunkSteps     ? " modelling steps from step "

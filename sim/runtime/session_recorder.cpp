@@ -44,6 +44,13 @@ uint32_t crc32(const void* data, size_t n, uint32_t crc) {
   return ~crc;
 }
 
+bool chunk_intact(const char* chunk, uint32_t payload_bytes) {
+  const size_t covered = kChunkHeadBytes - 4 + payload_bytes;  // kind … payload
+  uint32_t stored = 0;
+  std::memcpy(&stored, chunk + 4 + covered, 4);
+  return crc32(chunk + 4, covered) == stored;
+}
+
 void append_tick_record(const hardware::RecordedSample& left, const hardware::RecordedSample& right,
                         const TickLog& log, std::string* out) {
   put(out, log.tick);

@@ -135,8 +135,16 @@ inline constexpr size_t kMaxRecordedTunings = size_t{1} << 16;
 /// its rate, live): the room the session reserves, and what a reader accepts.
 inline constexpr size_t kStepsBeyondTicks = 64;
 
+/// What a reader accepts: a header JSON is a few hundred bytes, a chunk 40 ms of ticks (or a
+/// --fast session's burst of frames).
+inline constexpr uint32_t kMaxRecordingHeaderBytes = 1U << 20;
+inline constexpr uint32_t kMaxChunkPayloadBytes = 64U << 20;
+
 /// CRC-32 (IEEE 802.3, reflected, as zlib's crc32) of `n` bytes, continuing from `crc`.
 [[nodiscard]] uint32_t crc32(const void* data, size_t n, uint32_t crc = 0);
+/// Whether the whole chunk at `chunk` (its mark, head, `payload_bytes` of payload and CRC) has
+/// the checksum it carries.
+[[nodiscard]] bool chunk_intact(const char* chunk, uint32_t payload_bytes);
 
 /// One tick as its record's bytes (appended to `out`).
 void append_tick_record(const hardware::RecordedSample& left, const hardware::RecordedSample& right,

@@ -104,7 +104,7 @@ void BM_SeekInRecording(benchmark::State& state) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     if (!sought.ok() || frame.t_s > t + 1e-6 || frame.t_s < t - 0.2) {
       state.SkipWithError("a seek gave no frame, or one not at or just before the time asked");
-      return;
+      break;
     }
   }
   if (fd >= 0) ::close(fd);
