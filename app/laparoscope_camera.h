@@ -22,6 +22,10 @@ class LaparoscopeCamera {
   void attach(vtkRenderer* renderer, double reference_distance_m);
   /// The camera and the light at the view.
   void apply(const sim::LaparoscopeView& view);
+  /// The tip light as a positional spot whose brightness falls with distance, and the fill
+  /// (true, the default), or one light at the camera with the fill's share (the renderer's
+  /// fast profile: render_quality.h).
+  void set_spot_light(bool on);
 
   [[nodiscard]] vtkLight* tip_light() const { return tip_light_; }
 

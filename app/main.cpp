@@ -21,11 +21,13 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/main_window.h"
 #include "app/pages/page_style.h"
+#include "app/render_quality.h"
 #include "app/review/review_window.h"
 #include "app/run_stats.h"
 #include "hardware/device_spec.h"
@@ -43,7 +45,7 @@ constexpr int kExitUsage = 64;
 const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
     "                  [--quit-after S] [--screenshot PNG --frames N] [--size WxH]\n"
-    "                  [--stats FILE]\n"
+    "                  [--stats FILE] [--render-quality auto|full|fast]\n"
     "       laptrainer --review [--trainee NAME]\n"
     "  Without options that name a session, the window opens at sign-in. --scenario, --left,\n"
     "  --right, --record and --screenshot name one: it runs at once, without signing in.\n"
@@ -60,7 +62,13 @@ const char* const kUsage =
     "  --size WxH        the operative field's size in pixels (screenshots, benchmarks)\n"
     "  --stats FILE      at exit, write how fast the loops ran as JSON: graphics frame rate\n"
     "                    (mean, 5th percentile), start to first frame, haptic rate and its\n"
-    "                    p99.9 lateness, modelling rate\n";
+    "                    p99.9 lateness, modelling rate\n"
+    "  --render-quality Q  how the operative field is drawn, for this run: full (mipmapped\n"
+    "                    textures, the scope's spot light and a fill, full resolution), fast\n"
+    "                    (for a station without a GPU: no mipmaps, one light at the camera,\n"
+    "                    the 3D picture at 0.5 to 1 of the field's size, as large as 30\n"
+    "                    frames/s allow), auto (fast on a software renderer; the default,\n"
+    "                    or what View > Picture Quality saved)\n";
 
 struct Options {
   bool names_session = false;  ///< an option that names a session was given: run it at once
@@ -74,6 +82,7 @@ struct Options {
   int field_width = 0;  ///< --size: the operative field's size [px]; 0: the window's
   int field_height = 0;
   double quit_after_s = 0.0;
+  std::optional<lap::app::RenderQualityChoice> render_quality;
   int frames = 10;
 };
 
@@ -149,6 +158,13 @@ bool parse(int argc, char** argv, Options& o) {
       }
       o.field_width = w;
       o.field_height = h;
+    } else if (a == "--render-quality") {
+      if (!value(v)) return false;
+      o.render_quality = lap::app::parse_render_quality(QString::fromStdString(v));
+      if (!o.render_quality) {
+        std::cerr << "laptrainer: --render-quality expects auto, full or fast, got '" << v << "'\n";
+        return false;
+      }
     } else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       std::exit(0);
@@ -238,6 +254,7 @@ int main(int argc, char** argv) {
   lap::app::MainWindow window;
   window.set_record_dir(QString::fromStdString(opt.record));
   window.set_devices(opt.devices);
+  if (opt.render_quality) window.set_render_quality(*opt.render_quality, /*remember=*/false);
   if (opt.field_width > 0) {
     window.operative_view()->setFixedSize(opt.field_width, opt.field_height);
   }
@@ -285,7 +302,14 @@ int main(int argc, char** argv) {
     const std::vector<double>& frames = window.view()->frame_times_s();
     const double first_frame_s = frames.empty() ? -1.0 : frames.front() - started_s;
     std::ofstream f(opt.stats);
-    f << lap::app::run_stats_json(frames, first_frame_s, window.last_metrics()).dump(2) << "\n";
+    nlohmann::ordered_json stats =
+        lap::app::run_stats_json(frames, first_frame_s, window.last_metrics());
+    // What the frames were drawn with: the renderer and the picture's profile.
+    const lap::app::RenderProfile& profile = window.operative_view()->render_profile_in_use();
+    stats["graphics"]["renderer"] = window.view()->gl_renderer();
+    stats["graphics"]["render_quality"] = profile.fast ? "fast" : "full";
+    stats["graphics"]["scene_scale"] = window.view()->scene_scale();
+    f << stats.dump(2) << "\n";
     f.flush();
     if (!f) {
       std::cerr << "laptrainer: " << opt.stats << ": cannot write the statistics\n";

@@ -1,6 +1,7 @@
 #include "app/main_window.h"
 
 #include <QAction>
+#include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
 #include <QFileDialog>
@@ -112,6 +113,8 @@ MainWindow::MainWindow() {
   // What the station remembers.
   device_texts_ = settings_.devices();
   dominant_hand_ = settings_.dominant_hand();
+  set_render_quality(
+      parse_render_quality(settings_.render_quality()).value_or(RenderQualityChoice::kAuto), false);
   if (const QByteArray g = settings_.window_geometry(); !g.isEmpty()) restoreGeometry(g);
   if (settings_.full_screen()) {
     full_screen_action_->setChecked(true);
@@ -192,6 +195,23 @@ void MainWindow::build_menus() {
     run_->operative()->set_wireframe(wireframe_);
   });
   wire->setCheckable(true);
+  // On a station without a GPU the full picture is slow (render_quality.h).
+  QMenu* quality = view_menu->addMenu("Picture &Quality");
+  auto* quality_group = new QActionGroup(this);
+  const std::array<std::pair<const char*, RenderQualityChoice>, 3> qualities = {{
+      {"&Automatic (fast on a software renderer)", RenderQualityChoice::kAuto},
+      {"&Full", RenderQualityChoice::kFull},
+      {"F&ast (no GPU)", RenderQualityChoice::kFast},
+  }};
+  for (size_t k = 0; k < qualities.size(); ++k) {
+    const RenderQualityChoice choice = qualities[k].second;
+    QAction* a = quality->addAction(qualities[k].first, this,
+                                    [this, choice] { set_render_quality(choice, true); });
+    a->setCheckable(true);
+    a->setData(static_cast<int>(choice));
+    quality_group->addAction(a);
+    quality_actions_[k] = a;
+  }
 
   QMenu* session = menuBar()->addMenu("&Session");
   pause_action_ = session->addAction("&Pause / Resume", this, [this] { run_->toggle_pause(); });
@@ -283,6 +303,14 @@ void MainWindow::sign_in(const QString& trainee) {
     }
   }
   show_scenarios();
+}
+
+void MainWindow::set_render_quality(RenderQualityChoice choice, bool remember) {
+  run_->operative()->set_render_quality(choice);
+  for (QAction* a : quality_actions_) {
+    if (a != nullptr && a->data().toInt() == static_cast<int>(choice)) a->setChecked(true);
+  }
+  if (remember) settings_.set_render_quality(render_quality_name(choice));
 }
 
 void MainWindow::sign_out() {

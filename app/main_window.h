@@ -31,6 +31,7 @@
 #include "app/pages/run_page.h"
 #include "app/pages/scenario_page.h"
 #include "app/pages/sign_in_page.h"
+#include "app/render_quality.h"
 #include "app/scenario_catalog.h"
 #include "app/session_archive.h"
 #include "app/station_settings.h"
@@ -61,6 +62,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] Status open_scenario(const QString& file);
   VtkView* view() { return run_->operative()->view(); }
   OperativeView* operative_view() { return run_->operative(); }
+  /// How the operative field is drawn (render_quality.h); `remember`: kept for later runs.
+  void set_render_quality(RenderQualityChoice choice, bool remember);
   /// The scenario author's dock (Authoring > Authoring Mode shows it).
   AuthoringPanel* authoring_panel() { return authoring_; }
   /// The last session's metrics, once end_session() or the window's closing has stopped it.
@@ -150,6 +153,7 @@ class MainWindow : public QMainWindow {
   QAction* home_action_ = nullptr;
   QAction* reset_camera_action_ = nullptr;
   QAction* full_screen_action_ = nullptr;
+  std::array<QAction*, 3> quality_actions_{};  // auto, full, fast
   QAction* sign_out_action_ = nullptr;
   QAction* choose_action_ = nullptr;
   QAction* devices_action_ = nullptr;

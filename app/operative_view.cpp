@@ -13,6 +13,7 @@
 #include <cmath>
 #include <vector>
 
+#include "app/dynamic_resolution.h"
 #include "app/mesh_actor.h"
 
 namespace lap::app {
@@ -98,6 +99,7 @@ Status OperativeView::start(const sim::Scene& scene,
   overlay_.attach(ren);
   overlay_.set_visible(hud_ != nullptr);
   set_wireframe(wireframe_);
+  profile_applied_ = false;  // the new actors' textures and lights take the profile
   last_haptic_tick_ = -1;
   last_model_steps_ = 0;
   last_draw_s_ = -1.0;
@@ -149,6 +151,21 @@ void OperativeView::set_active_tool(int tool) {
   update_figures();
 }
 
+void OperativeView::set_render_quality(RenderQualityChoice choice) {
+  quality_ = choice;
+  profile_applied_ = false;
+}
+
+void OperativeView::apply_render_profile() {
+  const RenderProfile wanted = render_profile(quality_, view_->gl_renderer());
+  if (profile_applied_ && wanted == profile_) return;
+  profile_ = wanted;
+  profile_applied_ = true;
+  actors_.set_texture_mipmaps(profile_.mipmaps);
+  camera_.set_spot_light(profile_.spot_light);
+  view_->set_scene_scale(profile_.scene_scale);
+}
+
 void OperativeView::set_wireframe(bool on) {
   wireframe_ = on;
   vtkActorCollection* actors = view_->renderer()->GetActors();
@@ -180,6 +197,7 @@ void OperativeView::graphics_frame() {
 // Before each frame: the newest snapshots into the actors, the scope (the assistant following
 // the instruments' tips), its camera and light, and the heads-up display.
 void OperativeView::draw_scene() {
+  apply_render_profile();
   const double now_s = seconds_since_start();
   const double dt = last_draw_s_ < 0.0 ? 0.0 : std::clamp(now_s - last_draw_s_, 0.0, 0.1);
   last_draw_s_ = now_s;
@@ -218,6 +236,11 @@ void OperativeView::update_figures() {
   const long f = view_->frames();
   if (s > 0.0) frame_rate_ = static_cast<double>(f - last_frames_) / std::max(s, 1e-3);
   last_frames_ = f;
+  // The fast profile's picture as large as 30 frames/s allow (dynamic resolution).
+  // (Only on the once-a-second tick: a call between them, a key's, measures too short a span.)
+  if (profile_applied_ && profile_.fast && s >= 0.9) {
+    view_->set_scene_scale(next_scene_scale(view_->scene_scale(), frame_rate_));
+  }
   if (!session_.running()) {
     loops_text_ = "no session";
     loops_tooltip_.clear();

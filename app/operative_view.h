@@ -24,6 +24,7 @@
 #include "app/hud_state.h"
 #include "app/laparoscope_camera.h"
 #include "app/live_session.h"
+#include "app/render_quality.h"
 #include "app/session_actors.h"
 #include "app/vtk_view.h"
 #include "core/result.h"
@@ -69,6 +70,11 @@ class OperativeView : public QWidget {
   [[nodiscard]] bool has_space_mouse() const { return space_mouse_ != nullptr; }
   /// Draws the organs as wireframes (true) or surfaces.
   void set_wireframe(bool on);
+  /// How the picture is drawn (render_quality.h), from the next frame; auto decides on the first
+  /// frame's renderer.
+  void set_render_quality(RenderQualityChoice choice);
+  /// The profile the last frame was drawn with.
+  [[nodiscard]] const RenderProfile& render_profile_in_use() const { return profile_; }
 
   /// The laparoscope (null before a scene is shown, or when the scenario's camera cannot be a
   /// scope through its port: the view then stays at the scenario's camera).
@@ -97,6 +103,7 @@ class OperativeView : public QWidget {
   void graphics_frame();
   void draw_scene();
   void update_figures();
+  void apply_render_profile();
 
   VtkView* view_ = nullptr;
   LiveSession session_;
@@ -118,6 +125,9 @@ class OperativeView : public QWidget {
   QString loops_text_;
   QString loops_tooltip_;
   bool wireframe_ = false;
+  RenderQualityChoice quality_ = RenderQualityChoice::kAuto;
+  RenderProfile profile_;
+  bool profile_applied_ = false;
   double last_frame_s_ = 0.0;
   // A 3D mouse, when spacenavd and libspnav are there: it steers the active tool like the keys.
   std::unique_ptr<hardware::SpaceMouse> space_mouse_;

@@ -160,6 +160,19 @@ void OrganActors::add(vtkRenderer* renderer,
   }
 }
 
+void OrganActors::set_texture_mipmaps(bool on) {
+  for (Organ& o : organs_) {
+    vtkTexture* t = o.actor->GetTexture();
+    if (t == nullptr || (t->GetMipmap() != 0) == on) continue;
+    auto fresh = vtkSmartPointer<vtkTexture>::New();
+    fresh->SetInputData(t->GetInput());
+    fresh->SetInterpolate(t->GetInterpolate());
+    fresh->SetRepeat(t->GetRepeat());
+    fresh->SetMipmap(on);
+    o.actor->SetTexture(fresh);
+  }
+}
+
 void OrganActors::update(const sim::ModelSnapshot& model) {
   if (model.steps == steps_) return;
   steps_ = model.steps;

@@ -38,6 +38,11 @@ class OrganActors {
            const std::vector<OrganLook>& looks);
   /// To the snapshot's deformations (nothing when its step was already drawn).
   void update(const sim::ModelSnapshot& model);
+  /// Each organ's texture filtered with mipmaps (trilinear) or bilinearly (the renderer's fast
+  /// profile: render_quality.h). The texture is replaced by a new one on the same image: an
+  /// uploaded texture told to drop its mipmaps was measured re-uploading on every frame
+  /// (VTK 9.1, llvmpipe: 10 frames/s instead of 24).
+  void set_texture_mipmaps(bool on);
 
   [[nodiscard]] size_t size() const { return organs_.size(); }
   /// The polygons drawn for organ o (points and normals as last updated).

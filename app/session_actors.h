@@ -50,6 +50,8 @@ class SessionActors {
   void update(const sim::HapticSnapshot& haptic, const sim::ModelSnapshot& model);
 
   [[nodiscard]] const OrganActors& organs() const { return organs_; }
+  /// The organs' textures filtered with mipmaps or not (OrganActors::set_texture_mipmaps).
+  void set_texture_mipmaps(bool on) { organs_.set_texture_mipmaps(on); }
   /// The polygons drawn for organ o (points and normals as last updated).
   [[nodiscard]] vtkPolyData* organ_poly(size_t o) const { return organs_.poly(o); }
   [[nodiscard]] const InstrumentActors& instrument(int tool) const {

@@ -81,6 +81,15 @@ void StationSettings::set_window_geometry(const QByteArray& geometry) {
   settings_.setValue("window/geometry", geometry);
 }
 
+QString StationSettings::render_quality() const {
+  const QString q = settings_.value("view/render_quality", "auto").toString().trimmed().toLower();
+  return q == "full" || q == "fast" ? q : QString("auto");
+}
+
+void StationSettings::set_render_quality(const QString& quality) {
+  settings_.setValue("view/render_quality", quality);
+}
+
 bool StationSettings::full_screen() const {
   return settings_.value("window/full_screen", false).toBool();
 }

@@ -42,6 +42,11 @@ class StationSettings {
   [[nodiscard]] int dominant_hand() const;
   void set_dominant_hand(int hand);
 
+  /// How the operative field is drawn: "auto", "full" or "fast" (render_quality.h); "auto"
+  /// when none was saved or the saved one is not one of these.
+  [[nodiscard]] QString render_quality() const;
+  void set_render_quality(const QString& quality);
+
   [[nodiscard]] QByteArray window_geometry() const;
   void set_window_geometry(const QByteArray& geometry);
   [[nodiscard]] bool full_screen() const;

@@ -3,10 +3,12 @@
 #include <vtkCamera.h>
 #include <vtkPNGWriter.h>
 #include <vtkWindowToImageFilter.h>
+#include <vtk_glew.h>
 
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QWheelEvent>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -54,10 +56,31 @@ void VtkView::render() {
   }
   emit about_to_render();
   render_window_->Render();
+  if (gl_renderer_.empty()) {
+    // The context exists once the first frame was drawn. Asked again next frame if it says
+    // nothing.
+    render_window_->MakeCurrent();
+    const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    if (name != nullptr) gl_renderer_ = name;
+  }
   ++frames_;
   frame_times_s_.push_back(
       std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
   emit frame_rendered();
+}
+
+void VtkView::set_scene_scale(double scale) {
+  scale = std::clamp(scale, 0.25, 1.0);
+  if (scale == scene_scale_) return;
+  scene_scale_ = scale;
+  if (scale >= 1.0) {
+    renderer_->SetPass(nullptr);
+    if (scaled_pass_) scaled_pass_->ReleaseGraphicsResources(render_window_);
+    return;
+  }
+  if (!scaled_pass_) scaled_pass_ = vtkSmartPointer<ScaledScenePass>::New();
+  scaled_pass_->set_scale(scale);
+  renderer_->SetPass(scaled_pass_);
 }
 
 void VtkView::set_home_camera(const CameraPose& pose) {

@@ -11,8 +11,10 @@
 
 #include <QPoint>
 #include <QWidget>
+#include <string>
 #include <vector>
 
+#include "app/scaled_scene_pass.h"
 #include "core/result.h"
 
 namespace lap::app {
@@ -72,6 +74,12 @@ class VtkView : public QWidget {
   [[nodiscard]] lap::Status save_png(const QString& file);
   /// Frames rendered so far.
   [[nodiscard]] long frames() const { return frames_; }
+  /// The 3D scene drawn at `scale` of the window's size and stretched onto it, the 2D overlays
+  /// at full size (ScaledScenePass); 1 draws it at the window's size with VTK's own passes.
+  void set_scene_scale(double scale);
+  [[nodiscard]] double scene_scale() const { return scene_scale_; }
+  /// The OpenGL renderer's name (GL_RENDERER), known once the first frame was drawn ("" before).
+  [[nodiscard]] const std::string& gl_renderer() const { return gl_renderer_; }
   /// When each frame was done [s, steady clock] (for `laptrainer --stats`).
   [[nodiscard]] const std::vector<double>& frame_times_s() const { return frame_times_s_; }
 
@@ -110,6 +118,9 @@ class VtkView : public QWidget {
   Qt::MouseButtons buttons_ = Qt::NoButton;
   long frames_ = 0;
   std::vector<double> frame_times_s_;
+  double scene_scale_ = 1.0;
+  vtkSmartPointer<ScaledScenePass> scaled_pass_;
+  std::string gl_renderer_;
 };
 
 }  // namespace lap::app

@@ -8,6 +8,9 @@
 #
 #   packaging/measure-fps.sh [SECONDS] [SCENARIO]
 #
+# The picture is drawn as the application decides (app/render_quality.h: on a software renderer
+# the fast profile, its resolution held to 30 frames/s); RENDER_QUALITY=full|fast overrides.
+#
 # Run it alone on the machine (on a shared build machine: flock /tmp/lap-cpu.lock
 # packaging/measure-fps.sh): a build or a test running beside it takes the processors the
 # renderer and the loops need. BUILD (default build/release) names the build tree.
@@ -36,7 +39,8 @@ if "$app" --help 2>/dev/null | grep -q -- '--size'; then size_args=(--size 1280x
 LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1600x1000x24" \
   "$app" --scenario "$scenario" \
   --left "scripted:$scripts/expert_left.csv" --right "scripted:$scripts/expert_right.csv" \
-  "${size_args[@]}" --quit-after "$seconds" --stats "$out/stats.json" > "$out/log" 2>&1 || {
+  "${size_args[@]}" ${RENDER_QUALITY:+--render-quality "$RENDER_QUALITY"} \
+  --quit-after "$seconds" --stats "$out/stats.json" > "$out/log" 2>&1 || {
   echo "measure-fps: laptrainer failed:" >&2
   cat "$out/log" >&2
   exit 1
@@ -54,6 +58,9 @@ s = json.load(open(sys.argv[1]))
 g, h, m = s["graphics"], s["haptic"], s["model"]
 print(f"graphics {g['fps_mean']:.1f} frames/s mean, {g['fps_p5']:.1f} at the 5th percentile, "
       f"{g['frames']} frames, first frame {g['first_frame_s']:.2f} s after start")
+if "render_quality" in g:
+    print(f"picture: {g['render_quality']} profile, 3D picture at {g['scene_scale']:.2f} of each "
+          f"side at the end, renderer {g['renderer']}")
 print(f"haptic {h['rate_hz']:.2f} Hz, p99.9 lateness {h['lateness_p999_us']:.0f} us, "
       f"{h['missed_deadlines']} missed deadlines, {h.get('late_ticks', 0)} late ticks; "
       f"model {m['rate_hz']:.2f} Hz")

@@ -75,7 +75,18 @@ void set_cpu_of_other_threads(int cpu, bool allowed) {
 
 }  // namespace
 
-Result<int> isolate_calling_thread() {
+bool keep_others_off_haptic_processor(int processors, bool realtime_priority) {
+  return processors >= 3 || !realtime_priority;
+}
+
+int allowed_processors() {
+  cpu_set_t mine;
+  CPU_ZERO(&mine);
+  if (pthread_getaffinity_np(pthread_self(), sizeof mine, &mine) != 0) return 1;
+  return CPU_COUNT(&mine);
+}
+
+Result<int> isolate_calling_thread(bool keep_others_off) {
   cpu_set_t mine;
   CPU_ZERO(&mine);
   if (pthread_getaffinity_np(pthread_self(), sizeof mine, &mine) != 0 || CPU_COUNT(&mine) < 2) {
@@ -91,7 +102,7 @@ Result<int> isolate_calling_thread() {
   if (const int rc = pthread_setaffinity_np(pthread_self(), sizeof only, &only); rc != 0) {
     return diagnostic(std::string("could not pin the haptic thread (") + std::strerror(rc) + ")");
   }
-  set_cpu_of_other_threads(cpu, false);
+  if (keep_others_off) set_cpu_of_other_threads(cpu, false);
   return cpu;
 }
 

@@ -25,12 +25,21 @@ void sleep_until_ns(int64_t deadline_ns, int64_t spin_ns) noexcept;
 /// empty string or the reason it was refused.
 [[nodiscard]] std::string lock_memory();
 
-/// Gives the calling thread a processor of its own within this process: pins it to the last
-/// processor it may run on and takes that processor from every other thread of the process
-/// (threads started later inherit their starter's set, so a renderer's worker threads stay off
-/// it too). Nothing is done with fewer than two processors. Returns the processor, or why not.
-/// Setup: reads /proc/self/task and allocates.
-[[nodiscard]] Result<int> isolate_calling_thread();
+/// Pins the calling thread to the last processor it may run on. With `keep_others_off` that
+/// processor becomes its own within this process: it is taken from every other thread of the
+/// process (threads started later inherit their starter's set, so a renderer's worker threads
+/// stay off it too). Nothing is done with fewer than two processors. Returns the processor, or
+/// why not. Setup: reads /proc/self/task and allocates.
+[[nodiscard]] Result<int> isolate_calling_thread(bool keep_others_off = true);
+/// Whether the haptic thread should keep its processor from the other threads
+/// (isolate_calling_thread's `keep_others_off`): yes when the process has three processors or
+/// more (the rest keep two), or when the haptic thread has no SCHED_FIFO (a best-effort thread
+/// would wait for the others' time slices). With two processors and SCHED_FIFO no: the haptic
+/// thread preempts whatever runs there the moment it wakes, and the renderer keeps both
+/// processors (a software-rendered frame took 1.5 times as long on one: docs/benchmarks.md).
+[[nodiscard]] bool keep_others_off_haptic_processor(int processors, bool realtime_priority);
+/// The processors the calling thread may run on.
+[[nodiscard]] int allowed_processors();
 /// Gives processor `cpu` (isolate_calling_thread()'s) back to every thread of the process, the
 /// calling one included: the end of a session that isolated its haptic thread.
 void release_isolated_processor(int cpu);

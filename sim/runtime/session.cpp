@@ -1069,7 +1069,9 @@ void Session::run_realtime() {
   std::thread haptic([&] {
     if (settings.realtime_priority) haptic_warning = request_realtime_priority(80);
     if (settings.isolate_haptic_processor) {
-      const Result<int> cpu = isolate_calling_thread();
+      const bool fifo = settings.realtime_priority && haptic_warning.empty();
+      const Result<int> cpu =
+          isolate_calling_thread(keep_others_off_haptic_processor(allowed_processors(), fifo));
       isolated_cpu = cpu.ok() ? cpu.value() : -1;
     }
     if (!haptic_warning.empty()) {  // before the first tick: the string may allocate

@@ -38,10 +38,12 @@ struct RuntimeSettings {
   /// spin absorbs (at the cost of a fifth of a core while the loop runs at 1 kHz).
   int64_t spin_ns = 200000;
   bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
-  /// Give the haptic thread a processor of its own within the process (the last one; every
-  /// other thread, the renderer's too, is kept off it while the loops run). With two or more.
-  /// Off by default: on the 2-core VM measured (docs/benchmarks.md) it helped while software
-  /// rendering ran and hurt without it; the app turns it on.
+  /// Pin the haptic thread to a processor (the last one) and, where that helps
+  /// (keep_others_off_haptic_processor: three processors or more, or no SCHED_FIFO), keep every
+  /// other thread of the process, the renderer's too, off it while the loops run. Off by
+  /// default: on the 2-core VM measured, keeping the processor helped while software rendering
+  /// ran (28 Nov, since then only with three processors or more) and hurt headless
+  /// (docs/benchmarks.md); the app turns it on.
   bool isolate_haptic_processor = false;
   /// The passivity observer and controller at each tool's handle (hardware/passivity_controller.h).
   /// Off only to show, in tests, what it guards against.

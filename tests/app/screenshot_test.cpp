@@ -50,11 +50,12 @@ sim::LaparoscopeView scope_view(const sim::Scene& scene) {
   return sim::laparoscope_view(model.value(), model.value().home);
 }
 
-// Grey (steel, a text's white) rather than tissue: bright and unsaturated.
-bool steel_grey(const QColor& c) {
+// Grey (steel, a text's white) rather than tissue: lit (brighter than `floor`) and
+// unsaturated.
+bool steel_grey(const QColor& c, int floor) {
   const int hi = std::max({c.red(), c.green(), c.blue()});
   const int lo = std::min({c.red(), c.green(), c.blue()});
-  return hi > 70 && hi - lo < 0.25 * hi;
+  return hi > floor && hi - lo < 0.25 * hi;
 }
 
 bool white(const QColor& c) { return c.red() > 200 && c.green() > 200 && c.blue() > 200; }
@@ -89,15 +90,36 @@ int classify(const QColor& c, const std::vector<Eigen::Vector3d>& organ_colours)
   return best;
 }
 
-TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
+// The picture drawn with `quality` (app/render_quality.h): whatever the profile, everything is
+// where it belongs, and the heads-up display is there. `instruction_white`: how many white
+// pixels the instruction's text at the top left has.
+void expect_default_scenario_picture(const std::string& quality, int* instruction_white) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   TempDir dir;
   const auto png = dir.path() / "shot.png";
+  const auto stats_file = dir.path() / "stats.json";
   const auto scenario = source_dir() / "scenarios/default.yaml";
   const CommandResult r =
       run_command((bin_dir() / "laptrainer").string() + " --scenario " + scenario.string() +
-                  " --screenshot " + png.string() + " --frames 20");
+                  " --screenshot " + png.string() + " --frames 20 --render-quality " + quality +
+                  " --stats " + stats_file.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // What the frames were drawn with: the full profile at the field's own resolution, the fast
+  // one at about 0.7 of each side (where it starts; then what holds 30 frames/s), never below the
+  // floor.
+  std::ifstream in(stats_file);
+  const nlohmann::json stats = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(stats.is_discarded()) << "the statistics are not JSON";
+  EXPECT_EQ(stats["graphics"]["render_quality"], quality);
+  EXPECT_FALSE(stats["graphics"]["renderer"].get<std::string>().empty());
+  const double scale = stats["graphics"]["scene_scale"].get<double>();
+  if (quality == "full") {
+    EXPECT_EQ(scale, 1.0);
+  } else {
+    // (20 frames: at most one second's adjustment, 5 % up at most, from 0.7.)
+    EXPECT_LT(scale, 0.75);
+    EXPECT_GE(scale, 0.5 - 1e-9);
+  }
 
   QImage image(QString::fromStdString(png.string()));
   ASSERT_FALSE(image.isNull()) << "the PNG could not be read";
@@ -176,7 +198,12 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
     const int x = static_cast<int>(px.col);
     const int y = static_cast<int>(px.row);
     ASSERT_TRUE(image.valid(x, y)) << "tool " << side << " projects outside the image";
-    EXPECT_GE(count(image, x - 4, y - 4, x + 5, y + 5, steel_grey), 8)
+    // The fast profile's one light at the camera leaves the steel near the scope at about 65 of
+    // 255, where the full picture's spot, brighter near its tip, gives about 110.
+    const int floor = quality == "full" ? 70 : 50;
+    EXPECT_GE(count(image, x - 4, y - 4, x + 5, y + 5,
+                    [floor](const QColor& c) { return steel_grey(c, floor); }),
+              8)
         << "no steel at tool " << side << "'s clevis, pixel (" << x << ", " << y << ")";
   }
 
@@ -185,12 +212,31 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
   // the picture free of it (no white text there: the organs' highlights are small).
   const int w = image.width();
   const int h = image.height();
-  EXPECT_GE(count(image, 0, 0, w / 2, h / 8, white), 100) << "no instruction at the top left";
+  *instruction_white = count(image, 0, 0, w / 2, h / 8, white);
+  EXPECT_GE(*instruction_white, 100) << "no instruction at the top left";
   EXPECT_GE(count(image, 3 * w / 4, 0, w, h / 8, white), 60) << "no timer at the top right";
   EXPECT_GE(count(image, 0, 7 * h / 8, w / 3, h, white), 40) << "no gauge at the bottom left";
   EXPECT_GE(count(image, 2 * w / 3, 7 * h / 8, w, h, white), 40) << "no gauge at the bottom right";
   EXPECT_LT(count(image, w / 4, h / 3, 3 * w / 4, 2 * h / 3, white), w * h / 400)
       << "white over the middle of the field";
+}
+
+TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
+  int white_text = 0;
+  expect_default_scenario_picture("full", &white_text);
+}
+
+// The fast profile (a station without a GPU) draws the 3D picture smaller and stretches it: the
+// organs, the instruments and the display are where they were, and the display's text is as
+// sharp as in the full picture (drawn after the stretch, at full size: stretched, its strokes'
+// white would spread into grey).
+TEST(Screenshot, TheFastPictureShowsTheSameFieldWithASharpDisplay) {
+  int full_white = 0;
+  int fast_white = 0;
+  expect_default_scenario_picture("full", &full_white);
+  expect_default_scenario_picture("fast", &fast_white);
+  EXPECT_GE(fast_white, full_white * 9 / 10) << "the instruction's text is blurred";
+  EXPECT_LE(fast_white, full_white * 11 / 10);
 }
 
 // The resident's session is saved when it ends (--record DIR): the inputs of both tools, which

@@ -30,6 +30,8 @@ TEST(StationSettings, RemembersTheTraineesTheScenarioAndTheDevices) {
     s.set_devices({"phantom:Left+gripper:A1", "scripted:/x/expert_right.csv"});
     s.set_dominant_hand(0);
     s.set_full_screen(true);
+    EXPECT_EQ(s.render_quality(), "auto");
+    s.set_render_quality("fast");
     s.sync();
   }
   app::StationSettings s(file_in(dir));
@@ -40,6 +42,7 @@ TEST(StationSettings, RemembersTheTraineesTheScenarioAndTheDevices) {
   EXPECT_EQ(s.devices()[1], "scripted:/x/expert_right.csv");
   EXPECT_EQ(s.dominant_hand(), 0);
   EXPECT_TRUE(s.full_screen());
+  EXPECT_EQ(s.render_quality(), "fast");
 }
 
 TEST(StationSettings, ValuesThatDoNotParseAreIgnored) {
@@ -51,6 +54,7 @@ TEST(StationSettings, ValuesThatDoNotParseAreIgnored) {
     raw.setValue("trainee/dominant_hand", 7);
     raw.setValue("trainee/last", QString(200, 'x'));
     raw.setValue("trainee/recent", QStringList({"bob", "", "bob", QString("a\u0007b")}));
+    raw.setValue("view/render_quality", "ultra");
   }
   app::StationSettings s(file_in(dir));
   EXPECT_EQ(s.devices()[0], "simulated");
@@ -58,6 +62,7 @@ TEST(StationSettings, ValuesThatDoNotParseAreIgnored) {
   EXPECT_EQ(s.dominant_hand(), 1);
   EXPECT_EQ(s.last_trainee(), "");
   EXPECT_EQ(s.recent_trainees(), QStringList({"bob"}));
+  EXPECT_EQ(s.render_quality(), "auto");
 }
 
 TEST(StationSettings, KeepsTheTwentyMostRecentTrainees) {
