@@ -11,7 +11,8 @@
 /// (ScaledScenePass: 0.7 of each side to start with, then adjusted once a second towards 30
 /// frames/s within 0.5 to 1 of each side, dynamic_resolution.h; the heads-up display stays
 /// sharp). On the 2-core machine measured, the hardest patient needs the floor and is drawn at
-/// about 31 frames/s there. `auto` picks fast on a software renderer and full otherwise.
+/// 23-31 frames/s there (docs/benchmarks.md). `auto` picks fast on a software renderer and full
+/// otherwise.
 
 #include <QString>
 #include <optional>
