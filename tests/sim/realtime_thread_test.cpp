@@ -21,63 +21,62 @@ bool may_run_on(int cpu) {
   return pthread_getaffinity_np(pthread_self(), sizeof set, &set) == 0 && CPU_ISSET(cpu, &set);
 }
 
-TEST(RealtimeThread, TheIsolatedProcessorIsKeptFromEveryOtherThreadUntilReleased) {
-  cpu_set_t all;
-  CPU_ZERO(&all);
-  ASSERT_EQ(pthread_getaffinity_np(pthread_self(), sizeof all, &all), 0);
-  if (CPU_COUNT(&all) < 2) GTEST_SKIP() << "one processor: nothing to isolate";
-  std::atomic<int> cpu{-2};
+// A "haptic" thread calls isolate_calling_thread(keep_others_off) and waits while `check` runs
+// in this thread with the processor it was given. Returns whether the haptic thread was pinned
+// to that processor alone; `cpu` is the processor (-1 if none).
+template <class Check>
+bool with_pinned_thread(bool keep_others_off, int* cpu, Check check) {
+  std::atomic<int> given{-2};
   std::atomic<bool> checked{false};
-  bool haptic_pinned = false;
+  bool pinned = false;
   std::thread haptic([&] {
-    const Result<int> isolated = isolate_calling_thread();
-    const int c = isolated.ok() ? isolated.value() : -1;
+    const Result<int> r = isolate_calling_thread(keep_others_off);
+    const int c = r.ok() ? r.value() : -1;
     cpu_set_t mine;
     CPU_ZERO(&mine);
     (void)pthread_getaffinity_np(pthread_self(), sizeof mine, &mine);
-    haptic_pinned = c >= 0 && CPU_COUNT(&mine) == 1 && CPU_ISSET(c, &mine);
-    cpu.store(c);
+    pinned = c >= 0 && CPU_COUNT(&mine) == 1 && CPU_ISSET(c, &mine);
+    given.store(c);
     while (!checked.load()) std::this_thread::yield();
   });
-  while (cpu.load() == -2) std::this_thread::yield();
-  const int c = cpu.load();
-  ASSERT_GE(c, 0);
-  EXPECT_FALSE(may_run_on(c)) << "this thread still may run on processor " << c;
-  bool later_thread_may = true;
-  std::thread([&] { later_thread_may = may_run_on(c); }).join();
-  EXPECT_FALSE(later_thread_may) << "a thread started afterwards may run there";
+  while (given.load() == -2) std::this_thread::yield();
+  *cpu = given.load();
+  if (*cpu >= 0) check(*cpu);
   checked.store(true);
   haptic.join();
-  EXPECT_TRUE(haptic_pinned);
+  return pinned;
+}
+
+int processors() {
+  cpu_set_t all;
+  CPU_ZERO(&all);
+  return pthread_getaffinity_np(pthread_self(), sizeof all, &all) == 0 ? CPU_COUNT(&all) : 0;
+}
+
+TEST(RealtimeThread, TheIsolatedProcessorIsKeptFromEveryOtherThreadUntilReleased) {
+  if (processors() < 2) GTEST_SKIP() << "one processor: nothing to isolate";
+  int c = -1;
+  const bool pinned = with_pinned_thread(/*keep_others_off=*/true, &c, [](int cpu) {
+    EXPECT_FALSE(may_run_on(cpu)) << "this thread still may run on processor " << cpu;
+    bool later_thread_may = true;
+    std::thread([&] { later_thread_may = may_run_on(cpu); }).join();
+    EXPECT_FALSE(later_thread_may) << "a thread started afterwards may run there";
+  });
+  ASSERT_GE(c, 0);
+  EXPECT_TRUE(pinned);
   release_isolated_processor(c);
   EXPECT_TRUE(may_run_on(c));
 }
 
 TEST(RealtimeThread, APinnedThreadThatSharesLeavesItsProcessorToTheOthers) {
-  cpu_set_t all;
-  CPU_ZERO(&all);
-  ASSERT_EQ(pthread_getaffinity_np(pthread_self(), sizeof all, &all), 0);
-  if (CPU_COUNT(&all) < 2) GTEST_SKIP() << "one processor: nothing to pin";
-  std::atomic<int> cpu{-2};
-  std::atomic<bool> checked{false};
-  bool haptic_pinned = false;
-  std::thread haptic([&] {
-    const Result<int> pinned = isolate_calling_thread(/*keep_others_off=*/false);
-    const int c = pinned.ok() ? pinned.value() : -1;
-    cpu_set_t mine;
-    CPU_ZERO(&mine);
-    (void)pthread_getaffinity_np(pthread_self(), sizeof mine, &mine);
-    haptic_pinned = c >= 0 && CPU_COUNT(&mine) == 1 && CPU_ISSET(c, &mine);
-    cpu.store(c);
-    while (!checked.load()) std::this_thread::yield();
+  if (processors() < 2) GTEST_SKIP() << "one processor: nothing to pin";
+  int c = -1;
+  const bool pinned = with_pinned_thread(/*keep_others_off=*/false, &c, [](int cpu) {
+    EXPECT_TRUE(may_run_on(cpu)) << "this thread was kept off processor " << cpu;
   });
-  while (cpu.load() == -2) std::this_thread::yield();
-  const int c = cpu.load();
   ASSERT_GE(c, 0);
-  EXPECT_TRUE(may_run_on(c)) << "this thread was kept off processor " << c;
-  checked.store(true);
-  haptic.join();
-  EXPECT_TRUE(haptic_pinned);
+  EXPECT_TRUE(pinned);
+  release_isolated_processor(c);
 }
 
 TEST(RealtimeThread, TheProcessorIsKeptOnlyWhereTheRestKeepTwoOrTheThreadIsBestEffort) {
@@ -85,10 +84,7 @@ TEST(RealtimeThread, TheProcessorIsKeptOnlyWhereTheRestKeepTwoOrTheThreadIsBestE
   EXPECT_TRUE(keep_others_off_haptic_processor(2, /*realtime_priority=*/false));
   EXPECT_TRUE(keep_others_off_haptic_processor(3, /*realtime_priority=*/true));
   EXPECT_TRUE(keep_others_off_haptic_processor(8, /*realtime_priority=*/true));
-  cpu_set_t mine;
-  CPU_ZERO(&mine);
-  ASSERT_EQ(pthread_getaffinity_np(pthread_self(), sizeof mine, &mine), 0);
-  EXPECT_EQ(allowed_processors(), CPU_COUNT(&mine));
+  EXPECT_EQ(allowed_processors(), processors());
   std::thread([] {
     cpu_set_t one;
     CPU_ZERO(&one);
