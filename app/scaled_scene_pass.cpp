@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 namespace lap::app {
 
@@ -71,6 +72,41 @@ void ScaledScenePass::ReleaseGraphicsResources(vtkWindow* w) {
   buffer_size_ = {0, 0};
 }
 
+bool ScaledScenePass::draw_scene_off_screen(vtkRenderer* ren, vtkOpenGLRenderWindow* window, int w,
+                                            int h) {
+  if (unavailable_) return false;
+  vtkOpenGLState* gl = window->GetState();
+  if (buffer_ == nullptr) {
+    buffer_ = vtkOpenGLFramebufferObject::New();
+    buffer_->SetContext(window);
+  }
+  gl->PushFramebufferBindings();
+  buffer_->Bind();
+  if (buffer_size_[0] == 0) {
+    if (!buffer_->PopulateFramebuffer(w, h, /*useTextures=*/true, /*numberOfColorAttachments=*/1,
+                                      VTK_UNSIGNED_CHAR, /*wantDepthAttachment=*/true,
+                                      /*depthBitplanes=*/24, /*multisamples=*/0)) {
+      gl->PopFramebufferBindings();
+      ReleaseGraphicsResources(window);
+      unavailable_ = true;  // not tried again on every frame
+      std::cerr << "laptrainer: the OpenGL driver gave no off-screen buffer for the smaller "
+                   "picture; the scene is drawn at the window's size\n";
+      return false;
+    }
+  } else if (buffer_size_[0] != w || buffer_size_[1] != h) {
+    buffer_->Resize(w, h);
+  }
+  buffer_size_ = {w, h};
+  buffer_->ActivateDrawBuffer(0);
+  vtkRenderState scene(ren);
+  scene.SetPropArrayAndCount(props_3d_.data(), static_cast<int>(props_3d_.size()));
+  scene.SetFrameBuffer(buffer_);
+  scene_->Render(&scene);
+  this->NumberOfRenderedProps += scene_->GetNumberOfRenderedProps();
+  gl->PopFramebufferBindings();
+  return true;
+}
+
 void ScaledScenePass::Render(const vtkRenderState* s) {
   this->NumberOfRenderedProps = 0;
   vtkRenderer* ren = s->GetRenderer();
@@ -92,43 +128,25 @@ void ScaledScenePass::Render(const vtkRenderState* s) {
   const int w = std::max(1, static_cast<int>(std::lround(width * scale_)));
   const int h = std::max(1, static_cast<int>(std::lround(height * scale_)));
   vtkOpenGLState* gl = window->GetState();
-  if (buffer_ == nullptr) {
-    buffer_ = vtkOpenGLFramebufferObject::New();
-    buffer_->SetContext(window);
-  }
-  gl->PushFramebufferBindings();
-  buffer_->Bind();
-  if (buffer_size_[0] == 0) {
-    if (!buffer_->PopulateFramebuffer(w, h, /*useTextures=*/true, /*numberOfColorAttachments=*/1,
-                                      VTK_UNSIGNED_CHAR, /*wantDepthAttachment=*/true,
-                                      /*depthBitplanes=*/24, /*multisamples=*/0)) {
-      // No off-screen buffer to be had: nothing is drawn rather than a broken frame.
-      gl->PopFramebufferBindings();
-      return;
+  if (draw_scene_off_screen(ren, window, w, h)) {
+    // Stretched onto the window's viewport.
+    gl->PushReadFramebufferBinding();
+    buffer_->Bind(vtkOpenGLFramebufferObject::GetReadMode());
+    buffer_->ActivateReadBuffer(0);
+    {
+      vtkOpenGLState::ScopedglEnableDisable scissor(gl, GL_SCISSOR_TEST);
+      gl->vtkglDisable(GL_SCISSOR_TEST);
+      gl->vtkglBlitFramebuffer(0, 0, w, h, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
+                               GL_LINEAR);
     }
-  } else if (buffer_size_[0] != w || buffer_size_[1] != h) {
-    buffer_->Resize(w, h);
+    gl->PopReadFramebufferBinding();
+  } else {
+    // No off-screen buffer to be had: the scene at the window's size, as without this pass.
+    vtkRenderState scene(ren);
+    scene.SetPropArrayAndCount(props_3d_.data(), static_cast<int>(props_3d_.size()));
+    scene_->Render(&scene);
+    this->NumberOfRenderedProps += scene_->GetNumberOfRenderedProps();
   }
-  buffer_size_ = {w, h};
-  buffer_->ActivateDrawBuffer(0);
-  vtkRenderState scene(ren);
-  scene.SetPropArrayAndCount(props_3d_.data(), static_cast<int>(props_3d_.size()));
-  scene.SetFrameBuffer(buffer_);
-  scene_->Render(&scene);
-  this->NumberOfRenderedProps += scene_->GetNumberOfRenderedProps();
-  gl->PopFramebufferBindings();
-
-  // Stretched onto the window's viewport.
-  gl->PushReadFramebufferBinding();
-  buffer_->Bind(vtkOpenGLFramebufferObject::GetReadMode());
-  buffer_->ActivateReadBuffer(0);
-  {
-    vtkOpenGLState::ScopedglEnableDisable scissor(gl, GL_SCISSOR_TEST);
-    gl->vtkglDisable(GL_SCISSOR_TEST);
-    gl->vtkglBlitFramebuffer(0, 0, w, h, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
-                             GL_LINEAR);
-  }
-  gl->PopReadFramebufferBinding();
 
   // The overlays at full resolution, over the whole viewport (the camera pass put the viewport
   // and the scissor back as they were before it, which need not be this renderer's).

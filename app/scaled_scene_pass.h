@@ -15,6 +15,8 @@
 #include <vector>
 
 class vtkOpenGLFramebufferObject;
+class vtkOpenGLRenderWindow;
+class vtkRenderer;
 class vtkProp;
 
 namespace lap::app {
@@ -40,7 +42,12 @@ class ScaledScenePass : public vtkRenderPass {
   ScaledScenePass(const ScaledScenePass&) = delete;
   void operator=(const ScaledScenePass&) = delete;
 
+  // The 3D props drawn into the off-screen buffer of w x h pixels; false (and never tried again)
+  // when the driver cannot make one.
+  bool draw_scene_off_screen(vtkRenderer* ren, vtkOpenGLRenderWindow* window, int w, int h);
+
   double scale_ = 1.0;
+  bool unavailable_ = false;
   std::array<int, 2> buffer_size_{0, 0};
   vtkSmartPointer<vtkRenderPass> scene_;    // camera, lights, opaque and translucent geometry
   vtkSmartPointer<vtkRenderPass> overlay_;  // the 2D actors
