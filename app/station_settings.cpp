@@ -1,5 +1,6 @@
 #include "app/station_settings.h"
 
+#include "app/render_quality.h"
 #include "hardware/device_spec.h"
 
 namespace lap::app {
@@ -82,8 +83,10 @@ void StationSettings::set_window_geometry(const QByteArray& geometry) {
 }
 
 QString StationSettings::render_quality() const {
-  const QString q = settings_.value("view/render_quality", "auto").toString().trimmed().toLower();
-  return q == "full" || q == "fast" ? q : QString("auto");
+  // Read as the command line reads it; what does not parse is auto.
+  return render_quality_name(
+      parse_render_quality(settings_.value("view/render_quality", "auto").toString())
+          .value_or(RenderQualityChoice::kAuto));
 }
 
 void StationSettings::set_render_quality(const QString& quality) {
