@@ -4,6 +4,8 @@
 #include <cctype>
 #include <string>
 
+#include "app/dynamic_resolution.h"
+
 namespace lap::app {
 
 std::optional<RenderQualityChoice> parse_render_quality(const QString& text) {
@@ -40,11 +42,11 @@ RenderProfile render_profile(RenderQualityChoice choice, std::string_view gl_ren
   const bool fast = choice == RenderQualityChoice::kFast ||
                     (choice == RenderQualityChoice::kAuto && is_software_renderer(gl_renderer));
   if (!fast) return {};
-  // Started at 0.7 of each side, then adjusted (dynamic_resolution.h). With the other savings
-  // on, the hardest patient measured 27.1 frames/s at 1280x720 and 34.6 at 1024x576 (0.8 of
-  // each side; llvmpipe, the 2-core VM: docs/benchmarks.md); the default scenario settled at
-  // 0.65.
-  return {.fast = true, .mipmaps = false, .spot_light = false, .scene_scale = 0.7};
+  // Started at the floor, then grown while the frames allow (dynamic_resolution.h): started at
+  // 0.7, the hardest patient's first five seconds were below 30 frames/s while the scale came
+  // down to 0.5, where it settled (llvmpipe, the 2-core VM); the default scenario settled at
+  // 0.65 (docs/benchmarks.md). A softer first second beats a stuttering first five.
+  return {.fast = true, .mipmaps = false, .spot_light = false, .scene_scale = kMinSceneScale};
 }
 
 }  // namespace lap::app

@@ -13,7 +13,8 @@
 #
 # Run it alone on the machine (on a shared build machine: flock /tmp/lap-cpu.lock
 # packaging/measure-fps.sh): a build or a test running beside it takes the processors the
-# renderer and the loops need. BUILD (default build/release) names the build tree.
+# renderer and the loops need. BUILD (default build/release) names the build tree; FIELD
+# (default 1280x720) the operative field's size.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -33,7 +34,7 @@ trap 'rm -rf "$out"' EXIT
 # The operative field at exactly 1280x720 where the application can be told so (--size);
 # otherwise its window's default size (said below). The screen is larger than the window.
 size_args=()
-if "$app" --help 2>/dev/null | grep -q -- '--size'; then size_args=(--size 1280x720); fi
+if "$app" --help 2>/dev/null | grep -q -- '--size'; then size_args=(--size ${FIELD:-1280x720}); fi
 
 # Mesa under Xvfb renders in software (llvmpipe); LIBGL_ALWAYS_SOFTWARE makes sure of it.
 LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1600x1000x24" \

@@ -7,6 +7,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -77,6 +78,11 @@ void set_cpu_of_other_threads(int cpu, bool allowed) {
 
 bool keep_others_off_haptic_processor(int processors, bool realtime_priority) {
   return processors >= 3 || !realtime_priority;
+}
+
+int64_t haptic_spin_ns(const RuntimeSettings& settings, bool shares_processor) {
+  if (!shares_processor) return settings.spin_ns;
+  return std::min(settings.spin_ns, settings.shared_processor_spin_ns);
 }
 
 int allowed_processors() {

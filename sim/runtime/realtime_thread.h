@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/result.h"
+#include "sim/setup/runtime_settings.h"
 
 namespace lap::sim {
 
@@ -38,6 +39,10 @@ void sleep_until_ns(int64_t deadline_ns, int64_t spin_ns) noexcept;
 /// thread preempts whatever runs there the moment it wakes, and the renderer keeps both
 /// processors (a software-rendered frame took 1.5 times as long on one: docs/benchmarks.md).
 [[nodiscard]] bool keep_others_off_haptic_processor(int processors, bool realtime_priority);
+/// The haptic loop's spin before each deadline (sleep_until_ns): settings.spin_ns, or the
+/// shorter settings.shared_processor_spin_ns when the thread shares its processor with the
+/// others (isolated without keep_others_off), where the spin's time is the renderer's loss.
+[[nodiscard]] int64_t haptic_spin_ns(const RuntimeSettings& settings, bool shares_processor);
 /// The processors the calling thread may run on.
 [[nodiscard]] int allowed_processors();
 /// Gives processor `cpu` (isolate_calling_thread()'s) back to every thread of the process, the

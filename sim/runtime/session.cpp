@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -1068,11 +1069,13 @@ void Session::run_realtime() {
   int isolated_cpu = -1;
   std::thread haptic([&] {
     if (settings.realtime_priority) haptic_warning = request_realtime_priority(80);
+    int64_t spin_ns = settings.spin_ns;
     if (settings.isolate_haptic_processor) {
       const bool fifo = settings.realtime_priority && haptic_warning.empty();
-      const Result<int> cpu =
-          isolate_calling_thread(keep_others_off_haptic_processor(allowed_processors(), fifo));
+      const bool keep_others_off = keep_others_off_haptic_processor(allowed_processors(), fifo);
+      const Result<int> cpu = isolate_calling_thread(keep_others_off);
       isolated_cpu = cpu.ok() ? cpu.value() : -1;
+      spin_ns = haptic_spin_ns(settings, /*shares_processor=*/!keep_others_off);
     }
     if (!haptic_warning.empty()) {  // before the first tick: the string may allocate
       priority_warning_ = haptic_warning;
@@ -1090,7 +1093,7 @@ void Session::run_realtime() {
         if (stop_.load(std::memory_order_relaxed)) break;
       }
       // A test's late tick (inject_lateness): the thread wakes that much after its deadline.
-      sleep_until_ns(deadline + std::llround(injected_lateness(tick) * 1e9), settings.spin_ns);
+      sleep_until_ns(deadline + std::llround(injected_lateness(tick) * 1e9), spin_ns);
       const int64_t begin = monotonic_ns();
       const double late = static_cast<double>(begin - deadline) * 1e-9;
       haptic_tick(tick, late);

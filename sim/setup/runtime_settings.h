@@ -37,6 +37,13 @@ struct RuntimeSettings {
   /// from a kernel sleep on these machines is now and then 100-300 µs late, which a 200 µs
   /// spin absorbs (at the cost of a fifth of a core while the loop runs at 1 kHz).
   int64_t spin_ns = 200000;
+  /// The spin instead where the haptic thread shares its processor with the rest of the process
+  /// (isolate_haptic_processor on, but keep_others_off_haptic_processor false: two processors
+  /// and SCHED_FIFO). There the renderer needs the spin's fifth of a core: with Mesa's software
+  /// renderer on the 2-core VM, the hardest patient drew 3-3.5 frames/s more with 50 µs than
+  /// with 200 µs, and the haptic loop's p99.9 lateness was 0.6-1.2 ms with either, that is the
+  /// VM's, not the kernel sleep's (29 Nov 2026, docs/benchmarks.md).
+  int64_t shared_processor_spin_ns = 50000;
   bool realtime_priority = true;  ///< ask for SCHED_FIFO and mlockall
   /// Pin the haptic thread to a processor (the last one) and, where that helps
   /// (keep_others_off_haptic_processor: three processors or more, or no SCHED_FIFO), keep every

@@ -79,6 +79,18 @@ TEST(RealtimeThread, APinnedThreadThatSharesLeavesItsProcessorToTheOthers) {
   release_isolated_processor(c);
 }
 
+TEST(RealtimeThread, TheSpinIsShortenedOnlyWhereTheHapticThreadSharesItsProcessor) {
+  RuntimeSettings s;
+  s.spin_ns = 200000;
+  s.shared_processor_spin_ns = 50000;
+  EXPECT_EQ(haptic_spin_ns(s, /*shares_processor=*/false), 200000);
+  EXPECT_EQ(haptic_spin_ns(s, /*shares_processor=*/true), 50000);
+  // Never lengthened: a settings' shorter spin stands.
+  s.spin_ns = 20000;
+  EXPECT_EQ(haptic_spin_ns(s, /*shares_processor=*/true), 20000);
+  EXPECT_EQ(haptic_spin_ns(s, /*shares_processor=*/false), 20000);
+}
+
 TEST(RealtimeThread, TheProcessorIsKeptOnlyWhereTheRestKeepTwoOrTheThreadIsBestEffort) {
   EXPECT_FALSE(keep_others_off_haptic_processor(2, /*realtime_priority=*/true));
   EXPECT_TRUE(keep_others_off_haptic_processor(2, /*realtime_priority=*/false));
