@@ -308,7 +308,7 @@ int main(int argc, char** argv) {
     const lap::app::RenderProfile& profile = window.operative_view()->render_profile_in_use();
     stats["graphics"]["renderer"] = window.view()->gl_renderer();
     stats["graphics"]["render_quality"] = profile.fast ? "fast" : "full";
-    stats["graphics"]["scene_scale"] = window.view()->scene_scale();
+    stats["graphics"]["scene_scale"] = window.view()->drawn_scene_scale();
     f << stats.dump(2) << "\n";
     f.flush();
     if (!f) {

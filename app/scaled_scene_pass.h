@@ -29,6 +29,9 @@ class ScaledScenePass : public vtkRenderPass {
 
   /// The off-screen buffer's side as a fraction of the window's, (0, 1].
   void set_scale(double scale) { scale_ = scale; }
+  /// Whether the driver refused the off-screen buffer: the scene is then drawn at the window's
+  /// size, whatever the scale.
+  [[nodiscard]] bool unavailable() const { return unavailable_; }
 
   void Render(const vtkRenderState* s) override;
   /// Frees the off-screen buffer (made again, at the right size, by the next Render).

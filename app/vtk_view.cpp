@@ -83,6 +83,11 @@ void VtkView::set_scene_scale(double scale) {
   renderer_->SetPass(scaled_pass_);
 }
 
+double VtkView::drawn_scene_scale() const {
+  const bool scaled = scene_scale_ < 1.0 && scaled_pass_ && !scaled_pass_->unavailable();
+  return scaled ? scene_scale_ : 1.0;
+}
+
 void VtkView::set_home_camera(const CameraPose& pose) {
   home_ = pose;
   reset_camera();

@@ -78,6 +78,9 @@ class VtkView : public QWidget {
   /// at full size (ScaledScenePass); 1 draws it at the window's size with VTK's own passes.
   void set_scene_scale(double scale);
   [[nodiscard]] double scene_scale() const { return scene_scale_; }
+  /// The scale the 3D picture is drawn at: scene_scale(), or 1 where the driver gave no
+  /// off-screen buffer (ScaledScenePass's fallback).
+  [[nodiscard]] double drawn_scene_scale() const;
   /// The OpenGL renderer's name (GL_RENDERER), known once the first frame was drawn ("" before).
   [[nodiscard]] const std::string& gl_renderer() const { return gl_renderer_; }
   /// When each frame was done [s, steady clock] (for `laptrainer --stats`).

@@ -92,18 +92,21 @@ int classify(const QColor& c, const std::vector<Eigen::Vector3d>& organ_colours)
 
 // The picture drawn with `quality` (app/render_quality.h): whatever the profile, everything is
 // where it belongs, and the heads-up display is there. `instruction_white`: how many white
-// pixels the instruction's text at the top left has.
-void expect_default_scenario_picture(const std::string& quality, int* instruction_white) {
+// pixels the instruction's text at the top left has. `env`: variables set for the run
+// ("NAME=value ", or empty); *err: what the program said on stderr (may be null).
+void expect_default_scenario_picture(const std::string& quality, int* instruction_white,
+                                     const std::string& env = "", std::string* err = nullptr) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   TempDir dir;
   const auto png = dir.path() / "shot.png";
   const auto stats_file = dir.path() / "stats.json";
   const auto scenario = source_dir() / "scenarios/default.yaml";
   const CommandResult r =
-      run_command((bin_dir() / "laptrainer").string() + " --scenario " + scenario.string() +
+      run_command(env + (bin_dir() / "laptrainer").string() + " --scenario " + scenario.string() +
                   " --screenshot " + png.string() + " --frames 20 --render-quality " + quality +
                   " --stats " + stats_file.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  if (err != nullptr) *err = r.err;
   // What the frames were drawn with: the full profile at the field's own resolution, the fast
   // one at about half of each side (where it starts; then what holds 30 frames/s), never below
   // the floor.
@@ -113,7 +116,8 @@ void expect_default_scenario_picture(const std::string& quality, int* instructio
   EXPECT_EQ(stats["graphics"]["render_quality"], quality);
   EXPECT_FALSE(stats["graphics"]["renderer"].get<std::string>().empty());
   const double scale = stats["graphics"]["scene_scale"].get<double>();
-  if (quality == "full") {
+  const bool refused_buffer = env.find("LAPTRAINER_NO_OFFSCREEN_BUFFER") != std::string::npos;
+  if (quality == "full" || refused_buffer) {
     EXPECT_EQ(scale, 1.0);
   } else {
     // (20 frames: at most one second's adjustment, 5 % up at most, from the floor.)
@@ -237,6 +241,21 @@ TEST(Screenshot, TheFastPictureShowsTheSameFieldWithASharpDisplay) {
   expect_default_scenario_picture("fast", &fast_white);
   EXPECT_GE(fast_white, full_white * 9 / 10) << "the instruction's text is blurred";
   EXPECT_LE(fast_white, full_white * 11 / 10);
+}
+
+// A driver that gives no off-screen buffer (ScaledScenePass's fallback, played by
+// LAPTRAINER_NO_OFFSCREEN_BUFFER): the fast profile then draws the scene at the window's size,
+// everything where it belongs and the display there, and says so once, not on every frame.
+TEST(Screenshot, WithoutAnOffScreenBufferTheFastPictureIsDrawnAtTheWindowsSize) {
+  int white = 0;
+  std::string err;
+  expect_default_scenario_picture("fast", &white, "LAPTRAINER_NO_OFFSCREEN_BUFFER=1 ", &err);
+  const std::string said = "gave no off-screen buffer";
+  const size_t first = err.find(said);
+  EXPECT_NE(first, std::string::npos) << err;
+  if (first != std::string::npos) {
+    EXPECT_EQ(err.find(said, first + 1), std::string::npos) << "said more than once: " << err;
+  }
 }
 
 // The resident's session is saved when it ends (--record DIR): the inputs of both tools, which
