@@ -72,9 +72,11 @@ class LiveSession {
     return session_ ? session_->scheduling_warnings() : std::vector<std::string>{};
   }
 
-  /// UI thread: move a simulated tool's handle by `delta` [m] and open its jaws by `opening`
-  /// (ignored while paused: the tools stay where they were).
-  void nudge(int tool, const Eigen::Vector3d& delta, double opening_rad);
+  /// UI thread: move a simulated tool's handle by `delta` [m], open its jaws by `opening`, and
+  /// turn it about its shaft by `roll_rad` (right-handed about the shaft's direction from the
+  /// handle to the tip: the jaws' opening direction turns by as much) (ignored while paused: the
+  /// tools stay where they were).
+  void nudge(int tool, const Eigen::Vector3d& delta, double opening_rad, double roll_rad = 0.0);
   /// Takes a simulated tool back to where it started (its handle 10 cm into the port, pointing
   /// at the task's target, the jaws half open).
   void go_home(int tool);
@@ -119,6 +121,7 @@ class LiveSession {
   std::array<hardware::SimulatedDevice*, 2> devices_{};
   std::array<hardware::SimulatedInput, 2> inputs_{};
   std::array<hardware::SimulatedInput, 2> homes_{};
+  std::array<Eigen::Vector3d, 2> ports_W_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   std::thread runner_;
   std::atomic<bool> finished_{false};
   bool user_paused_ = false;

@@ -281,10 +281,12 @@ void OperativeView::update_figures() {
 }
 
 void OperativeView::keyPressEvent(QKeyEvent* e) {
-  constexpr double kStep = 0.002;    // m per press
-  constexpr double kOpening = 0.05;  // rad per press
+  constexpr double kStep = 0.002;         // m per press
+  constexpr double kOpening = 0.05;       // rad per press
+  constexpr double kRoll = 0.0872664626;  // rad per press: 5 degrees
   Eigen::Vector3d d = Eigen::Vector3d::Zero();
   double opening = 0.0;
+  double roll = 0.0;
   switch (e->key()) {
     case Qt::Key_T:
       set_active_tool(1 - active_tool_);
@@ -316,11 +318,17 @@ void OperativeView::keyPressEvent(QKeyEvent* e) {
     case Qt::Key_BracketRight:
       opening = kOpening;
       break;
+    case Qt::Key_Comma:
+      roll = -kRoll;
+      break;
+    case Qt::Key_Period:
+      roll = kRoll;
+      break;
     default:
       QWidget::keyPressEvent(e);
       return;
   }
-  session_.nudge(active_tool_, d, opening);
+  session_.nudge(active_tool_, d, opening, roll);
 }
 
 }  // namespace lap::app
