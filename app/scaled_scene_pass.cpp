@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <string_view>
 
 namespace lap::app {
 
@@ -85,7 +86,10 @@ bool ScaledScenePass::draw_scene_off_screen(vtkRenderer* ren, vtkOpenGLRenderWin
   buffer_->Bind();
   if (buffer_size_[0] == 0) {
     // LAPTRAINER_NO_OFFSCREEN_BUFFER=1 plays a driver that gives none (the fallback's test).
-    static const bool refused = std::getenv("LAPTRAINER_NO_OFFSCREEN_BUFFER") != nullptr;
+    static const bool refused = [] {
+      const char* v = std::getenv("LAPTRAINER_NO_OFFSCREEN_BUFFER");
+      return v != nullptr && std::string_view(v) == "1";
+    }();
     if (refused ||
         !buffer_->PopulateFramebuffer(w, h, /*useTextures=*/true, /*numberOfColorAttachments=*/1,
                                       VTK_UNSIGNED_CHAR, /*wantDepthAttachment=*/true,

@@ -47,7 +47,11 @@ constexpr double kReach = 0.1;
 constexpr double kMaxPushM = 0.01;
 
 // Whether the segment p -> q touches the box of the mesh's tree root (all its faces: the box is
-// rounded outward). A segment that does not is wholly outside a closed mesh.
+// rounded outward, and refitted with every change of the surface). A segment that does not is
+// wholly outside a closed, consistently oriented surface that does not cross itself, and no ray
+// along it meets a face. (A dent pushed through the organ's far wall folds the surface through
+// itself; there the old answer, the ray behind the probe, could meet a face from behind and say
+// inside where this says outside, the better answer for a point outside the organ's box.)
 bool touches_bounds(const MeshDatabase& m, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
   const std::vector<BvhNode>& nodes = m.tree().nodes();
   if (nodes.empty()) return false;
@@ -85,8 +89,9 @@ bool SegmentProxy::partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a
   const double length = axis.norm();
   if (!(length > 0.0)) return false;
   const Eigen::Vector3d d = axis / length;
-  // Nowhere near the organ (on most ticks most organs): outside, without casting a ray. The
-  // first test the push-out stage makes of every closed organ whose surface moved, for each
+  // Nowhere near the organ (on most ticks most organs): outside, without casting a ray (the same
+  // answer as the rays below but on a surface folded through itself: touches_bounds). The first
+  // test the push-out stage makes of every closed organ whose surface moved, for each
   // proxy: 42 times a modelling step in the hardest patient's expert run, where it doubled the
   // haptic tick that follows a step (docs/benchmarks.md).
   if (!touches_bounds(m, a, b)) return false;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -33,6 +34,9 @@ bool right_tool_after(LiveSession& live, int64_t tick, haptics::GripperPose* pos
 
 // The roll keys (, and .): the jaws' opening direction turns about the shaft by the angle asked,
 // right-handed about the shaft from the handle to the tip, and nothing else about the tool moves.
+// The second and third turns come after the handle has moved (the shaft pivoted in its port):
+// each turn is about the shaft where it is then, in the world (a turn about the handle's own
+// axes, or about the shaft's first direction, would fail them).
 TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
   const sim::SceneLoadResult scene =
       sim::load_scene_file(test::source_dir() / "scenarios/default.yaml");
@@ -43,7 +47,15 @@ TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
   haptics::GripperPose before;
   int64_t seen = 0;
   ASSERT_TRUE(right_tool_after(live, 20, &before, &seen));
-  for (const double roll : {0.5, -0.2}) {
+  for (const double roll : {0.5, -0.2, 0.3}) {
+    if (roll != 0.5) {  // the handle moved 3-4 cm first: the shaft pivots
+      live.nudge(1, Eigen::Vector3d(0.03, 0.0, 0.02), 0.0);
+      haptics::GripperPose moved;
+      ASSERT_TRUE(right_tool_after(live, seen + 20, &moved, &seen));
+      ASSERT_GT(std::acos(std::clamp(moved.shaft_dir_W.dot(before.shaft_dir_W), -1.0, 1.0)), 0.05)
+          << "the shaft did not pivot";
+      before = moved;
+    }
     live.nudge(1, Eigen::Vector3d::Zero(), 0.0, roll);
     haptics::GripperPose after;
     // A few ticks on: the device's triple buffer hands the new pose to the next read.
