@@ -135,7 +135,11 @@ void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_r
     return;
   }
   hardware::SimulatedInput& in = inputs_[static_cast<size_t>(tool)];
-  in.position_W += delta;
+  hardware::SimulatedDevice* device = devices_[static_cast<size_t>(tool)];
+  // Kept where the device keeps it (its workspace), so that the roll below turns about the
+  // shaft the loops have, and a key held against the workspace's edge does not wind up.
+  const Eigen::AlignedBox3d& workspace = device->limits().workspace_W;
+  in.position_W = (in.position_W + delta).cwiseMax(workspace.min()).cwiseMin(workspace.max());
   in.gripper_angle_rad = std::clamp(in.gripper_angle_rad + opening_rad, 0.0, 1.0);
   // The roll: the handle turned about the shaft (from the handle through the port), which turns
   // the device's x axis, and with it the jaws' opening direction (sim::tool_kinematics), by
@@ -145,7 +149,7 @@ void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_r
     in.orientation_W =
         (Eigen::AngleAxisd(roll_rad, to_port.normalized()) * in.orientation_W).normalized();
   }
-  devices_[static_cast<size_t>(tool)]->set_input(in);
+  device->set_input(in);
 }
 
 void LiveSession::go_home(int tool) {

@@ -73,5 +73,25 @@ TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
   live.stop();
 }
 
+// A key held against the edge of the device's workspace does not wind up: the first press back
+// moves the tool at once (the handle is kept where the device keeps it).
+TEST(LiveSession, AHandlePushedPastTheWorkspaceComesBackWithTheFirstPressBack) {
+  const sim::SceneLoadResult scene =
+      sim::load_scene_file(test::source_dir() / "scenarios/default.yaml");
+  ASSERT_TRUE(scene.ok()) << scene.message();
+  LiveSession live;
+  ASSERT_TRUE(live.start(scene.value(), {}).ok());
+  haptics::GripperPose at_edge;
+  int64_t seen = 0;
+  live.nudge(1, Eigen::Vector3d(5.0, 0.0, 0.0), 0.0);  // far past the workspace's +x face
+  ASSERT_TRUE(right_tool_after(live, 20, &at_edge, &seen));
+  live.nudge(1, Eigen::Vector3d(-0.02, 0.0, 0.0), 0.0);
+  haptics::GripperPose back;
+  ASSERT_TRUE(right_tool_after(live, seen + 20, &back, &seen));
+  // The shaft pivots in its port as the handle comes back 2 cm from the edge.
+  EXPECT_GT(std::acos(std::clamp(back.shaft_dir_W.dot(at_edge.shaft_dir_W), -1.0, 1.0)), 1e-3);
+  live.stop();
+}
+
 }  // namespace
 }  // namespace lap::app
