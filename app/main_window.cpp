@@ -190,7 +190,7 @@ void MainWindow::build_menus() {
   }
   reset_camera_action_ = view_menu->addAction("&Reset Camera", QKeySequence("R"), this,
                                               [this] { view()->reset_camera(); });
-  QAction* wire = view_menu->addAction("&Wireframe", QKeySequence("Ctrl+W"), this, [this] {
+  QAction* wire = view_menu->addAction("&Wireframe", QKeySequence("Ctrl+Shift+W"), this, [this] {
     wireframe_ = !wireframe_;
     run_->operative()->set_wireframe(wireframe_);
   });

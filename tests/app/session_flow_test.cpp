@@ -8,12 +8,15 @@
 #include <gtest/gtest.h>
 #include <vtkAutoInit.h>
 
+#include <QAction>
 #include <QApplication>
 #include <QComboBox>
 #include <QImage>
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QMenu>
+#include <QMenuBar>
 #include <QPainter>
 #include <QProgressBar>
 #include <QPushButton>
@@ -23,6 +26,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
 
 #include "app/main_window.h"
@@ -247,6 +251,45 @@ TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
 // The next attempt, in a window opened afresh (the station remembers the trainee, the patient
 // and the devices), played as fast as the computer can: the clumsy script lets the catheter
 // go, the result says so, and the trainee's attempts on the patient are both, newest first.
+// Menus and shortcuts follow desktop conventions: no menu action takes a key the desktop gives a
+// standard meaning (Close, Copy, Undo...) for something else, and no two actions share a key.
+TEST_F(SessionFlow, NoShortcutTakesADesktopsStandardKeyForSomethingElse) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  MainWindow w;
+  const std::vector<std::pair<QKeySequence::StandardKey, QString>> standard = {
+      {QKeySequence::Close, "close"},
+      {QKeySequence::Copy, "copy"},
+      {QKeySequence::Cut, "cut"},
+      {QKeySequence::Paste, "paste"},
+      {QKeySequence::Undo, "undo"},
+      {QKeySequence::Redo, "redo"},
+      {QKeySequence::SelectAll, "select all"},
+      {QKeySequence::Find, "find"},
+      {QKeySequence::Print, "print"},
+      {QKeySequence::Save, "save"}};
+  std::map<QString, QString> taken;  // key -> the action that has it
+  int shortcuts = 0;
+  for (QAction* menu : w.menuBar()->actions()) {
+    ASSERT_NE(menu->menu(), nullptr);
+    for (QAction* a : menu->menu()->actions()) {
+      for (const QKeySequence& k : a->shortcuts()) {
+        ++shortcuts;
+        const QString key = k.toString(QKeySequence::PortableText);
+        for (const auto& [std_key, meaning] : standard) {
+          for (const QKeySequence& s : QKeySequence::keyBindings(std_key)) {
+            EXPECT_NE(k, s) << a->text().toStdString() << " takes " << key.toStdString()
+                            << ", the desktop's key to " << meaning.toStdString();
+          }
+        }
+        const auto [it, fresh] = taken.emplace(key, a->text());
+        EXPECT_TRUE(fresh) << key.toStdString() << " is both " << it->second.toStdString()
+                           << " and " << a->text().toStdString();
+      }
+    }
+  }
+  EXPECT_GT(shortcuts, 10) << "the menus' shortcuts were not found";
+}
+
 TEST_F(SessionFlow, AFailedAttemptSaysWhyBesideTheEarlierOnes) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   if (app::StationSettings().last_trainee().isEmpty()) {
