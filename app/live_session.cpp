@@ -46,11 +46,6 @@ Status LiveSession::start(const sim::Scene& scene,
     home.gripper_angle_rad = 0.6;
     homes_[i] = home;
     inputs_[i] = home;
-    // Where the shaft turns about (nudge's roll): the tool's port.
-    const sim::ToolSpec* tool =
-        scene.scenario.tool(side == 0 ? sim::ToolSpec::Side::kLeft : sim::ToolSpec::Side::kRight);
-    const sim::TrocarSpec* port = tool == nullptr ? nullptr : scene.scenario.trocar(tool->trocar);
-    ports_W_[i] = port == nullptr ? Eigen::Vector3d::Zero() : port->position_m;
     auto dev = std::make_unique<hardware::SimulatedDevice>(home, side == 0 ? "left" : "right");
     devices_[i] = dev.get();
     devices[i] = std::move(dev);
@@ -144,7 +139,8 @@ void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_r
   // The roll: the handle turned about the shaft (from the handle through the port), which turns
   // the device's x axis, and with it the jaws' opening direction (sim::tool_kinematics), by
   // roll_rad about the shaft.
-  const Eigen::Vector3d to_port = ports_W_[static_cast<size_t>(tool)] - in.position_W;
+  const Eigen::Vector3d to_port =
+      session_->model().tool(static_cast<size_t>(tool)).trocar.port_W - in.position_W;
   if (roll_rad != 0.0 && to_port.norm() > 1e-9) {
     in.orientation_W =
         (Eigen::AngleAxisd(roll_rad, to_port.normalized()) * in.orientation_W).normalized();

@@ -121,7 +121,6 @@ class LiveSession {
   std::array<hardware::SimulatedDevice*, 2> devices_{};
   std::array<hardware::SimulatedInput, 2> inputs_{};
   std::array<hardware::SimulatedInput, 2> homes_{};
-  std::array<Eigen::Vector3d, 2> ports_W_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   std::thread runner_;
   std::atomic<bool> finished_{false};
   bool user_paused_ = false;
