@@ -300,6 +300,13 @@ class BoundingVolumeTree {
     }
   }
 
+  /// Whether the segment p0 -> p1 (a point when they are equal) touches the root's box, which
+  /// bounds every primitive: first_hit's first test, on its own. False for an empty tree.
+  [[nodiscard]] bool segment_touches_bounds(const Eigen::Vector3d& p0,
+                                            const Eigen::Vector3d& p1) const {
+    if (nodes_.empty()) return false;
+    return segment_touches(nodes_.front(), p0, inverse_direction(Capsule{p0, p1, 0.0}), 1.0);
+  }
   [[nodiscard]] const std::vector<BvhNode>& nodes() const { return nodes_; }
   [[nodiscard]] int32_t depth() const { return depth_; }
   [[nodiscard]] size_t memory_bytes() const { return nodes_.capacity() * sizeof(BvhNode); }

@@ -21,9 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
-#include "haptics/bounding_volume_tree.h"
 #include "haptics/mesh_database.h"
 #include "haptics/segment_proxy.h"
 
@@ -46,36 +44,6 @@ constexpr double kReach = 0.1;
 // without the push).
 constexpr double kMaxPushM = 0.01;
 
-// Whether the segment p -> q touches the box of the mesh's tree root (all its faces: the box is
-// rounded outward, and refitted with every change of the surface). A segment that does not is
-// wholly outside a closed, consistently oriented surface that does not cross itself, and no ray
-// along it meets a face. (A dent pushed through the organ's far wall folds the surface through
-// itself; there the old answer, the ray behind the probe, could meet a face from behind and say
-// inside where this says outside, the better answer for a point outside the organ's box.)
-bool touches_bounds(const MeshDatabase& m, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
-  const std::vector<BvhNode>& nodes = m.tree().nodes();
-  if (nodes.empty()) return false;
-  const BvhNode& root = nodes.front();
-  double t0 = 0.0;
-  double t1 = 1.0;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = root.lo[static_cast<size_t>(k)];
-    const double hi = root.hi[static_cast<size_t>(k)];
-    const double d = q[k] - p[k];
-    if (d == 0.0) {
-      if (p[k] < lo || p[k] > hi) return false;
-      continue;
-    }
-    double ta = (lo - p[k]) / d;
-    double tb = (hi - p[k]) / d;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
 // A closed, one-sided surface: only such an object has an inside to push a probe out of.
 bool has_inside(const HapticObject& o) {
   return o.segments != nullptr && !o.two_sided && !o.segments->mesh().has_boundary();
@@ -89,12 +57,16 @@ bool SegmentProxy::partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a
   const double length = axis.norm();
   if (!(length > 0.0)) return false;
   const Eigen::Vector3d d = axis / length;
-  // Nowhere near the organ (on most ticks most organs): outside, without casting a ray (the same
-  // answer as the rays below but on a surface folded through itself: touches_bounds). The first
-  // test the push-out stage makes of every closed organ whose surface moved, for each
-  // proxy: 42 times a modelling step in the hardest patient's expert run, where it doubled the
-  // haptic tick that follows a step (docs/benchmarks.md).
-  if (!touches_bounds(m, a, b)) return false;
+  // Nowhere near the organ (on most ticks most organs): outside, without casting a ray. The
+  // tree's root box bounds every face (rounded outward, refitted with every change), so a probe
+  // missing it is wholly outside a closed surface that does not cross itself, and no ray along
+  // it meets a face. (Where a dent has folded the surface through itself, the ray behind the
+  // probe below could meet a face from behind and say inside where this says outside, the better
+  // answer for a point outside the organ's box.) The first test the push-out stage makes of
+  // every closed organ whose surface moved, for each proxy: 42 times a modelling step in the
+  // hardest patient's expert run, where it doubled the haptic tick that follows a step
+  // (docs/benchmarks.md).
+  if (!m.tree().segment_touches_bounds(a, b)) return false;
   // The first crossings of the surface along the probe, from either end (either side). An end
   // is inside when the first crossing from it leaves the surface (the mesh is closed and
   // outward-facing), or when the first crossing from the other end enters it and nothing
@@ -106,7 +78,7 @@ bool SegmentProxy::partly_inside(const MeshDatabase& m, const Eigen::Vector3d& a
   bool b_inside = false;
   if (from_a.face < 0 && from_b.face < 0) {
     // Crossing nothing, the probe is on one side; outside if an end lies outside the bounds.
-    if (!touches_bounds(m, a, a)) return false;
+    if (!m.tree().segment_touches_bounds(a, a)) return false;
     const MeshDatabase::Crossing behind = m.first_crossing(a, a - kReach * d, true);
     a_inside = b_inside = behind.face >= 0 && !behind.from_front;
   } else {
