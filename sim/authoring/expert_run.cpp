@@ -334,8 +334,8 @@ struct Planner {
           if (db->nearest_face(x, &q, nullptr) >= 0 && (q - x).norm() < 0.008) return false;
         }
       }
-      const V to = (hinge - task.camera_W).normalized();
-      return to.dot(task.view_dir_W) > task.cos_half_view;
+      const V to = (hinge - task.picture.camera_W).normalized();
+      return to.dot(task.picture.view_dir_W) > task.picture.cos_half_view;
     };
     const V to_port = (left.port_W - g.incision).normalized();
     V park = g.incision + 0.06 * to_port;
@@ -473,7 +473,7 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
     const std::vector<const haptics::MeshDatabase*> dbs = model.rest_databases();
     p.cbd_surface = dbs[static_cast<size_t>(model.task().cbd_organ)];
     p.duct_surface = dbs[static_cast<size_t>(model.tissue().duct_organ())];
-    p.camera_W = model.task().camera_W;
+    p.camera_W = model.task().picture.camera_W;
   }
   for (size_t side : {size_t{0}, size_t{1}}) {
     PortTool& tool = side == 0 ? p.left : p.right;

@@ -1,5 +1,7 @@
 #include "sim/setup/device_factory.h"
 
+#include <algorithm>
+
 #include "hardware/device_recording.h"
 #include "hardware/libusb_transport.h"
 #include "hardware/open_haptics_api.h"
@@ -8,6 +10,7 @@
 #include "hardware/scripted_device.h"
 #include "hardware/simulated_device.h"
 #include "hardware/usb_gripper.h"
+#include "sim/setup/camera_picture.h"
 
 namespace lap::sim {
 
@@ -22,6 +25,30 @@ Eigen::Vector3d default_handle_position(const Scene& scene, int side, double ins
   return port->position_m - (tool->shaft_length_m - inside_m) * axis;
 }
 
+Eigen::Vector3d home_handle_position(const Scene& scene, int side) {
+  constexpr double kHomeInsideM = 0.10;
+  constexpr double kPastPictureEdgeM = 0.02;
+  constexpr double kMaxShareOfWay = 0.6;
+  constexpr double kScanStepM = 0.005;
+  const Scenario& sc = scene.scenario;
+  const ToolSpec* tool = sc.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
+  const TrocarSpec* port = tool == nullptr ? nullptr : sc.trocar(tool->trocar);
+  if (port == nullptr) return default_handle_position(scene, side, kHomeInsideM);
+  const Eigen::Vector3d to_target = scene.task_target_point() - port->position_m;
+  const double way_m = to_target.norm();
+  if (!(way_m > 1e-9)) return default_handle_position(scene, side, kHomeInsideM);
+  const Eigen::Vector3d axis = to_target / way_m;
+  const CameraPicture picture = CameraPicture::of(sc.camera);
+  const double deepest_m = std::max(kHomeInsideM, kMaxShareOfWay * way_m);
+  for (double in_m = 0.0; in_m <= deepest_m; in_m += kScanStepM) {
+    if (picture.contains(port->position_m + in_m * axis)) {
+      const double home_m = std::clamp(in_m + kPastPictureEdgeM, kHomeInsideM, deepest_m);
+      return default_handle_position(scene, side, home_m);
+    }
+  }
+  return default_handle_position(scene, side, kHomeInsideM);  // never in view on this line
+}
+
 namespace {
 
 Result<std::unique_ptr<hardware::HapticDevice>> make_arm(const hardware::DeviceSpec& spec,
@@ -30,7 +57,7 @@ Result<std::unique_ptr<hardware::HapticDevice>> make_arm(const hardware::DeviceS
   switch (spec.kind) {
     case hardware::DeviceKind::kSimulated: {
       hardware::SimulatedInput home;
-      home.position_W = default_handle_position(scene, side, 0.10);
+      home.position_W = home_handle_position(scene, side);
       home.gripper_angle_rad = 0.6;
       return std::unique_ptr<hardware::HapticDevice>(
           std::make_unique<hardware::SimulatedDevice>(home, name + " simulated"));
@@ -48,11 +75,11 @@ Result<std::unique_ptr<hardware::HapticDevice>> make_arm(const hardware::DeviceS
           std::make_unique<hardware::ReplayDevice>(std::move(rec).value(), name + " replay"));
     }
     case hardware::DeviceKind::kPhantom: {
-      // The device's origin (the middle of its workspace) at the handle's home, 10 cm in.
+      // The device's origin (the middle of its workspace) at the handle's home.
       hardware::PhantomSettings ps;
       ps.device_name = spec.argument;
-      ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, side, 0.10)) *
-                           Eigen::Isometry3d::Identity();
+      ps.device_to_world =
+          Eigen::Translation3d(home_handle_position(scene, side)) * Eigen::Isometry3d::Identity();
       auto dev = std::make_unique<hardware::PhantomDevice>(ps);
       // Started by the session; here only the library is checked, to fail early and clearly.
       auto api = hardware::hd::load_api(ps.library);

@@ -29,19 +29,7 @@ Result<TaskModel> TaskModel::build(const Scenario& scenario, const TissueModel& 
   TaskModel m;
   m.organ_count = tissue.organ_count();
   m.forbidden.assign(static_cast<size_t>(m.organ_count), 0);
-  const CameraSpec& cam = scenario.camera;
-  m.camera_W = cam.position_m;
-  m.view_dir_W = (cam.focal_point_m - cam.position_m).normalized();
-  m.cos_half_view = std::cos(0.5 * cam.view_angle_deg * M_PI / 180.0);
-  // The picture's up: the scenario's view_up made square to the line of sight (a view_up along
-  // the line of sight leaves the cone).
-  const Eigen::Vector3d up = cam.view_up - cam.view_up.dot(m.view_dir_W) * m.view_dir_W;
-  if (up.norm() > 1e-9 && m.view_dir_W.allFinite()) {
-    m.view_up_W = up.normalized();
-    m.view_right_W = m.view_dir_W.cross(m.view_up_W);
-    m.tan_half_vertical = std::tan(0.5 * cam.view_angle_deg * M_PI / 180.0);
-    m.tan_half_horizontal = kPictureAspect * m.tan_half_vertical;
-  }
+  m.picture = CameraPicture::of(scenario.camera);
   if (!scenario.task) return m;
   const TaskSpec& spec = *scenario.task;
   m.spec = spec;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "sim/setup/camera_picture.h"
 #include "sim/setup/scenario.h"
 #include "sim/setup/tissue_model.h"
 
@@ -58,27 +59,10 @@ struct TaskModel {
   /// inside it (a closed mesh, at rest) is an error.
   int32_t cbd_organ = -1;
 
-  // The laparoscope's picture at the scenario's camera: the frustum of its vertical view angle
-  // and the operative field's 16:9 aspect (HD laparoscopy monitors; the window's field is drawn
-  // at that aspect), so that a tip seen anywhere in the picture is in view. Before, a cone of
-  // half the vertical angle called tips at the picture's sides out of view (the hardest
-  // patient's keyboard tools, 10 cm into their ports, failed at 3 s).
-  static constexpr double kPictureAspect = 16.0 / 9.0;
-  Eigen::Vector3d camera_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d view_dir_W = -Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d view_up_W = Eigen::Vector3d::UnitY();     ///< unit, ⊥ view_dir_W
-  Eigen::Vector3d view_right_W = Eigen::Vector3d::UnitX();  ///< unit, view_dir_W × view_up_W
-  double cos_half_view = 0.0;  ///< half the vertical angle (the cone, when tan_half_* are 0)
-  double tan_half_vertical = 0.0;
-  double tan_half_horizontal = 0.0;
+  /// The laparoscope's picture at the scenario's camera (sim/setup/camera_picture.h).
+  CameraPicture picture;
   /// `tip_W` within the laparoscope's picture.
-  [[nodiscard]] bool in_view(const Eigen::Vector3d& tip_W) const {
-    const Eigen::Vector3d v = tip_W - camera_W;
-    const double depth = v.dot(view_dir_W);
-    if (tan_half_vertical <= 0.0) return depth >= cos_half_view * v.norm();
-    return depth > 0.0 && std::abs(v.dot(view_up_W)) <= depth * tan_half_vertical &&
-           std::abs(v.dot(view_right_W)) <= depth * tan_half_horizontal;
-  }
+  [[nodiscard]] bool in_view(const Eigen::Vector3d& tip_W) const { return picture.contains(tip_W); }
 
   /// From the scenario and the tissue's model (the duct's shell and incision faces).
   /// Diagnostics name the scenario's file and line (task) and the field.

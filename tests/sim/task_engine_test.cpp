@@ -43,9 +43,9 @@ TaskModel duct_model() {
   m.incision_half_width_m = 0.0015;
   m.at_incision_m = 0.0035;
   m.forbidden = {0, 0, 1};
-  m.camera_W = Eigen::Vector3d(0.0, 0.0, 0.2);
-  m.view_dir_W = -Eigen::Vector3d::UnitZ();
-  m.cos_half_view = std::cos(17.5 * M_PI / 180.0);
+  m.picture.camera_W = Eigen::Vector3d(0.0, 0.0, 0.2);
+  m.picture.view_dir_W = -Eigen::Vector3d::UnitZ();
+  m.picture.cos_half_view = std::cos(17.5 * M_PI / 180.0);
   return m;
 }
 
@@ -115,14 +115,14 @@ class Driver {
 // atan(16/9 tan 17.5°) = 29.27° to each side; the old cone of 17.5° called the sides out of view.
 TEST(TaskView, ATipAnywhereInTheSixteenByNinePictureIsInView) {
   TaskModel m;
-  m.camera_W = Eigen::Vector3d::Zero();
-  m.view_dir_W = -Eigen::Vector3d::UnitZ();
-  m.view_up_W = Eigen::Vector3d::UnitY();
-  m.view_right_W = m.view_dir_W.cross(m.view_up_W);  // +x
-  m.cos_half_view = std::cos(17.5 * M_PI / 180.0);
-  m.tan_half_vertical = std::tan(17.5 * M_PI / 180.0);
-  m.tan_half_horizontal = TaskModel::kPictureAspect * m.tan_half_vertical;
-  const double half_h_deg = std::atan(m.tan_half_horizontal) * 180.0 / M_PI;
+  m.picture.camera_W = Eigen::Vector3d::Zero();
+  m.picture.view_dir_W = -Eigen::Vector3d::UnitZ();
+  m.picture.view_up_W = Eigen::Vector3d::UnitY();
+  m.picture.view_right_W = m.picture.view_dir_W.cross(m.picture.view_up_W);  // +x
+  m.picture.cos_half_view = std::cos(17.5 * M_PI / 180.0);
+  m.picture.tan_half_vertical = std::tan(17.5 * M_PI / 180.0);
+  m.picture.tan_half_horizontal = CameraPicture::kAspect * m.picture.tan_half_vertical;
+  const double half_h_deg = std::atan(m.picture.tan_half_horizontal) * 180.0 / M_PI;
   EXPECT_NEAR(half_h_deg, 29.27, 0.01);
   auto at = [](double right_deg, double up_deg) {  // 0.1 m deep, turned by those angles
     const double d = 0.1;
@@ -138,7 +138,7 @@ TEST(TaskView, ATipAnywhereInTheSixteenByNinePictureIsInView) {
   EXPECT_TRUE(m.in_view(at(28.0, -17.0)));                  // a corner
   EXPECT_FALSE(m.in_view(Eigen::Vector3d(0.0, 0.0, 0.1)));  // behind the scope
   // Without the frustum's fields (older models), the cone of half the vertical angle.
-  m.tan_half_vertical = 0.0;
+  m.picture.tan_half_vertical = 0.0;
   EXPECT_FALSE(m.in_view(at(25.0, 0.0)));
   EXPECT_TRUE(m.in_view(at(17.0, 0.0)));
 }

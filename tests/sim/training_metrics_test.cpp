@@ -28,9 +28,9 @@ TaskModel view_model() {
   m.spec.duct_injury_force_n = 1.5;
   m.spec.duct_squeeze_n = 4.0;
   m.spec.organ_injury_force_n = 2.5;
-  m.camera_W = Eigen::Vector3d(0.0, 0.0, 0.2);
-  m.view_dir_W = -Eigen::Vector3d::UnitZ();
-  m.cos_half_view = std::cos(17.5 * M_PI / 180.0);
+  m.picture.camera_W = Eigen::Vector3d(0.0, 0.0, 0.2);
+  m.picture.view_dir_W = -Eigen::Vector3d::UnitZ();
+  m.picture.cos_half_view = std::cos(17.5 * M_PI / 180.0);
   return m;
 }
 
