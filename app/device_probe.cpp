@@ -11,7 +11,7 @@ void DeviceProbe::start(const sim::Scene& scene, const std::array<hardware::Devi
   stop();
   for (int side = 0; side < 2; ++side) {
     const auto i = static_cast<size_t>(side);
-    homes_[i] = sim::default_handle_position(scene, side, 0.10);
+    homes_[i] = sim::home_handle_position(scene, side);
     problems_[i].clear();
     simulated_[i] = nullptr;
     if (specs[i].kind == hardware::DeviceKind::kSimulated) {  // as LiveSession builds it
@@ -75,12 +75,13 @@ std::array<ProbeReading, 2> DeviceProbe::read(double elapsed_s) {
   return out;
 }
 
-void DeviceProbe::nudge(int side, const Eigen::Vector3d& delta_m, double opening_rad) {
+void DeviceProbe::nudge(int side, const hardware::ToolNudge& n) {
   if (side < 0 || side > 1 || simulated_[static_cast<size_t>(side)] == nullptr) return;
   hardware::SimulatedInput& in = inputs_[static_cast<size_t>(side)];
-  in.position_W += delta_m;
-  in.gripper_angle_rad = std::clamp(in.gripper_angle_rad + opening_rad, 0.0, 1.0);
-  simulated_[static_cast<size_t>(side)]->set_input(in);
+  hardware::SimulatedDevice* device = simulated_[static_cast<size_t>(side)];
+  // No port on this page: a roll turns the handle about its own axis.
+  in = hardware::nudged(in, n, device->limits().workspace_W, std::nullopt);
+  device->set_input(in);
 }
 
 void DeviceProbe::go_home(int side) {

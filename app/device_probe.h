@@ -2,9 +2,9 @@
 /// \file
 /// The device set-up's live test: each hand's device opened on its own, before any session, and
 /// read from the UI thread a few dozen times a second, so that the trainee sees each one move —
-/// its position against the home position (where the hand starts: the tool 10 cm into its
-/// port, pointing at the task's target), its grip and its buttons. Nothing is sent to a device
-/// but zero force. Closed (stop()) before a session opens the same devices.
+/// its position against the home position (where the hand starts: sim::home_handle_position,
+/// the tool in view, pointing at the task's target), its grip and its buttons. Nothing is sent to a
+/// device but zero force. Closed (stop()) before a session opens the same devices.
 
 #include <array>
 #include <memory>
@@ -14,6 +14,7 @@
 #include "hardware/device_spec.h"
 #include "hardware/haptic_device.h"
 #include "hardware/simulated_device.h"
+#include "hardware/tool_nudge.h"
 #include "sim/setup/scene.h"
 
 namespace lap::app {
@@ -51,7 +52,7 @@ class DeviceProbe {
     return homes_[static_cast<size_t>(side)];
   }
   /// Moves a simulated device's handle (the keyboard, in the test screen), as in a session.
-  void nudge(int side, const Eigen::Vector3d& delta_m, double opening_rad);
+  void nudge(int side, const hardware::ToolNudge& n);
   /// Takes a simulated device back home.
   void go_home(int side);
 

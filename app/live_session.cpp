@@ -39,10 +39,10 @@ Status LiveSession::start(const sim::Scene& scene,
       devices_[i] = nullptr;  // not driven from the keyboard
       continue;
     }
-    // Home: the handle 10 cm into its port, pointing at the task's target, the jaws half open
-    // (as sim::make_device starts a simulated device).
+    // Home: sim::home_handle_position (in view, pointing at the task's target), the jaws half
+    // open (as sim::make_device starts a simulated device).
     hardware::SimulatedInput home;
-    home.position_W = sim::default_handle_position(scene, side, 0.10);
+    home.position_W = sim::home_handle_position(scene, side);
     home.gripper_angle_rad = 0.6;
     homes_[i] = home;
     inputs_[i] = home;
@@ -123,28 +123,15 @@ Status LiveSession::stop_and_save(const std::string& dir) {
   return saved;
 }
 
-void LiveSession::nudge(int tool, const Eigen::Vector3d& delta, double opening_rad,
-                        double roll_rad) {
+void LiveSession::nudge(int tool, const hardware::ToolNudge& n) {
   if (!session_ || user_paused_ || tool < 0 || tool > 1 ||
       devices_[static_cast<size_t>(tool)] == nullptr) {
     return;
   }
   hardware::SimulatedInput& in = inputs_[static_cast<size_t>(tool)];
   hardware::SimulatedDevice* device = devices_[static_cast<size_t>(tool)];
-  // Kept where the device keeps it (its workspace), so that the roll below turns about the
-  // shaft the loops have, and a key held against the workspace's edge does not wind up.
-  const Eigen::AlignedBox3d& workspace = device->limits().workspace_W;
-  in.position_W = (in.position_W + delta).cwiseMax(workspace.min()).cwiseMin(workspace.max());
-  in.gripper_angle_rad = std::clamp(in.gripper_angle_rad + opening_rad, 0.0, 1.0);
-  // The roll: the handle turned about the shaft (from the handle through the port), which turns
-  // the device's x axis, and with it the jaws' opening direction (sim::tool_kinematics), by
-  // roll_rad about the shaft.
-  const Eigen::Vector3d to_port =
-      session_->model().tool(static_cast<size_t>(tool)).trocar.port_W - in.position_W;
-  if (roll_rad != 0.0 && to_port.norm() > 1e-9) {
-    in.orientation_W =
-        (Eigen::AngleAxisd(roll_rad, to_port.normalized()) * in.orientation_W).normalized();
-  }
+  in = hardware::nudged(in, n, device->limits().workspace_W,
+                        session_->model().tool(static_cast<size_t>(tool)).trocar.port_W);
   device->set_input(in);
 }
 

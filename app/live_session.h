@@ -9,6 +9,7 @@
 /// to its folder while it runs (session.lrec: a crash leaves a reviewable, interrupted session)
 /// and can be paused by the trainee (pause(): zero force, the task's clock stopped).
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 #include <string>
@@ -17,6 +18,7 @@
 
 #include "hardware/device_spec.h"
 #include "hardware/simulated_device.h"
+#include "hardware/tool_nudge.h"
 #include "sim/runtime/session.h"
 
 namespace lap::app {
@@ -72,13 +74,17 @@ class LiveSession {
     return session_ ? session_->scheduling_warnings() : std::vector<std::string>{};
   }
 
-  /// UI thread: move a simulated tool's handle by `delta` [m], open its jaws by `opening`, and
-  /// turn it about its shaft by `roll_rad` (right-handed about the shaft's direction from the
-  /// handle to the tip: the jaws' opening direction turns by as much) (ignored while paused: the
-  /// tools stay where they were).
-  void nudge(int tool, const Eigen::Vector3d& delta, double opening_rad, double roll_rad = 0.0);
-  /// Takes a simulated tool back to where it started (its handle 10 cm into the port, pointing
-  /// at the task's target, the jaws half open).
+  /// UI thread: move a simulated tool by `n` (hardware::nudged: the handle kept in the device's
+  /// workspace, the roll about the shaft from the handle through the tool's port, so the jaws'
+  /// opening direction turns by as much) (ignored while paused: the tools stay where they were).
+  void nudge(int tool, const hardware::ToolNudge& n);
+  /// Where the keys, mouse and 3D mouse have asked a keyboard-driven tool's handle to be (its
+  /// device follows at the hand's speeds: hardware::SimulatedHandSpeeds).
+  [[nodiscard]] const hardware::SimulatedInput& input(int tool) const {
+    return inputs_[static_cast<size_t>(std::clamp(tool, 0, 1))];
+  }
+  /// Takes a simulated tool back to where it started (sim::home_handle_position: in view,
+  /// pointing at the task's target, the jaws half open).
   void go_home(int tool);
   /// Whether tool `tool` (0 left, 1 right) is driven from the keyboard, mouse and 3D mouse.
   [[nodiscard]] bool keyboard_driven(int tool) const {

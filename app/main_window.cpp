@@ -95,7 +95,8 @@ MainWindow::MainWindow() {
   statusBar()->addPermanentWidget(fps_label_);
   if (run_->operative()->has_space_mouse()) {
     auto* mouse_label = new QLabel("3D mouse", this);
-    mouse_label->setToolTip("A 3D mouse (spacenavd) steers the active tool (T switches tools)");
+    mouse_label->setToolTip(
+        "A 3D mouse (spacenavd) steers and turns the active tool (T switches tools)");
     statusBar()->addPermanentWidget(mouse_label);
   }
   connect(run_->operative(), &OperativeView::figures_updated, this, &MainWindow::update_status);
@@ -576,8 +577,10 @@ void MainWindow::show_controls() {
       "away/towards you, U/O up/down, 2 mm a press (the tip moves the other way: the shaft "
       "pivots in its port). [ closes the jaws, ] opens them; , and . turn the instrument about "
       "its shaft, 5° a press (the jaws' plane turns with it). H takes the instrument home.<br>"
-      "Ctrl+left drag moves it in the view's plane, Ctrl+wheel along the view. A 3D mouse "
-      "moves it in three dimensions; its buttons close and open the jaws.<br><br>"
+      "Ctrl+left drag moves it in the view's plane, Ctrl+wheel along the view, Ctrl+middle "
+      "drag (or Ctrl+Shift+left drag) sideways turns it about its shaft. A 3D mouse "
+      "moves it in three dimensions and a twist of its cap turns it about its shaft; its buttons "
+      "close and open the jaws.<br><br>"
       "<b>The laparoscope</b><br>Left drag or the arrows pivot it about its port, right drag or "
       "W/S slide it in and out, middle drag (or Shift+left) or A/D turn it (a 30° scope's view "
       "turns with it), Q/E turn the picture's horizon, the wheel or +/- zoom. C switches the "

@@ -11,10 +11,12 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "app/dynamic_resolution.h"
 #include "app/mesh_actor.h"
+#include "app/tool_keys.h"
 
 namespace lap::app {
 namespace {
@@ -34,7 +36,14 @@ OperativeView::OperativeView(QWidget* parent) : QWidget(parent) {
   layout->addWidget(view_);
   setFocusProxy(view_);
   connect(view_, &VtkView::tool_moved, this, [this](double dx, double dy, double dz) {
-    session_.nudge(active_tool_, Eigen::Vector3d(dx, dy, dz), 0.0);
+    hardware::ToolNudge n;
+    n.delta_W = Eigen::Vector3d(dx, dy, dz);
+    session_.nudge(active_tool_, n);
+  });
+  connect(view_, &VtkView::tool_rolled, this, [this](double roll_rad) {
+    hardware::ToolNudge n;
+    n.roll_rad = roll_rad;
+    session_.nudge(active_tool_, n);
   });
   connect(view_, &VtkView::scope_command, this, &OperativeView::move_scope);
   connect(view_, &VtkView::about_to_render, this, &OperativeView::draw_scene);
@@ -186,8 +195,8 @@ void OperativeView::graphics_frame() {
     const double dt = std::clamp(now_s - last_frame_s_, 0.0, 0.1);  // a stalled UI must not jump
     const hardware::ToolNudge n =
         hardware::space_mouse_nudge(space_mouse_->poll(now_s), space_mouse_mapping_, dt);
-    if (!n.delta_W.isZero() || n.opening_rad != 0.0) {
-      session_.nudge(active_tool_, n.delta_W, n.opening_rad);
+    if (!n.delta_W.isZero() || n.opening_rad != 0.0 || n.roll_rad != 0.0) {
+      session_.nudge(active_tool_, n);
     }
   }
   last_frame_s_ = now_s;
@@ -281,12 +290,6 @@ void OperativeView::update_figures() {
 }
 
 void OperativeView::keyPressEvent(QKeyEvent* e) {
-  constexpr double kStep = 0.002;         // m per press
-  constexpr double kOpening = 0.05;       // rad per press
-  constexpr double kRoll = 0.0872664626;  // rad per press: 5 degrees
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  double opening = 0.0;
-  double roll = 0.0;
   switch (e->key()) {
     case Qt::Key_T:
       set_active_tool(1 - active_tool_);
@@ -294,41 +297,15 @@ void OperativeView::keyPressEvent(QKeyEvent* e) {
     case Qt::Key_Space:
       session_.resume();
       return;
-    case Qt::Key_J:
-      d.x() = -kStep;
-      break;
-    case Qt::Key_L:
-      d.x() = kStep;
-      break;
-    case Qt::Key_I:
-      d.z() = -kStep;
-      break;
-    case Qt::Key_K:
-      d.z() = kStep;
-      break;
-    case Qt::Key_U:
-      d.y() = kStep;
-      break;
-    case Qt::Key_O:
-      d.y() = -kStep;
-      break;
-    case Qt::Key_BracketLeft:
-      opening = -kOpening;
-      break;
-    case Qt::Key_BracketRight:
-      opening = kOpening;
-      break;
-    case Qt::Key_Comma:
-      roll = -kRoll;
-      break;
-    case Qt::Key_Period:
-      roll = kRoll;
-      break;
     default:
-      QWidget::keyPressEvent(e);
-      return;
+      break;
   }
-  session_.nudge(active_tool_, d, opening, roll);
+  if (const std::optional<hardware::ToolKey> key = tool_key(e->key())) {
+    session_.nudge(active_tool_,
+                   hardware::key_nudge(*key, fine_step(static_cast<int>(e->modifiers()))));
+    return;
+  }
+  QWidget::keyPressEvent(e);
 }
 
 }  // namespace lap::app

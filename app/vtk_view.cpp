@@ -146,7 +146,10 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
   const bool shift = (e->modifiers() & Qt::ShiftModifier) != 0;
   const bool ctrl = (e->modifiers() & Qt::ControlModifier) != 0;
   constexpr double kRadPerPixel = 0.0025;  // the scope pivots 0.14 degrees per pixel
-  if ((buttons_ & Qt::LeftButton) && ctrl) {
+  if (ctrl && ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift))) {
+    // The tool turns about its shaft with the horizontal motion, as the scope does without Ctrl.
+    emit tool_rolled(kToolRollRadPerPixel * d.x());
+  } else if ((buttons_ & Qt::LeftButton) && ctrl) {
     // The tool's handle follows the mouse in the view's plane, 0.2 mm per pixel.
     vtkCamera* cam = renderer_->GetActiveCamera();
     double up[3];

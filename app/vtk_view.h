@@ -50,13 +50,19 @@ struct CameraPose {
 /// (Shift+left) turn it about its axis (an angled optic's view turns with it), Q/E turn the
 /// camera head (the picture's horizon), +/- or the wheel zoom, C switches the camera assistant,
 /// R resets. With Ctrl held, the left button and the wheel move the active tool instead
-/// (tool_moved). Before each frame it emits about_to_render, for whoever draws the scene.
+/// (tool_moved), and the middle button (or Shift+left) turns it about its shaft (tool_rolled).
+/// Before each frame it emits about_to_render, for whoever draws the scene.
 class VtkView : public QWidget {
   Q_OBJECT
 
  public:
   explicit VtkView(QWidget* parent = nullptr);
   ~VtkView() override;
+
+  /// The tool's roll per pixel of a Ctrl+middle drag: 0.3 degrees, a quarter turn across 300
+  /// pixels (an estimate: fine enough to set the jaws within a degree, quick enough to turn them
+  /// in one stroke).
+  static constexpr double kToolRollRadPerPixel = 0.005;
 
   vtkRenderer* renderer() { return renderer_; }
   vtkRenderWindow* render_window() { return render_window_; }
@@ -97,6 +103,10 @@ class VtkView : public QWidget {
   /// Ctrl+left drag (in the view's plane) or Ctrl+wheel (along the view): a world displacement
   /// [m] for the active tool's handle.
   void tool_moved(double dx, double dy, double dz);
+  /// Ctrl+middle drag or Ctrl+Shift+left drag, sideways: a turn [rad] of the active tool about
+  /// its shaft (kToolRollRadPerPixel a pixel, right-handed about the shaft towards the tip for a
+  /// drag to the right).
+  void tool_rolled(double roll_rad);
 
  protected:
   void paintEvent(QPaintEvent* event) override;

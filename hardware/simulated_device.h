@@ -2,8 +2,9 @@
 /// \file
 /// A device without hardware, so residents can practise with mouse and keyboard: the UI thread
 /// sets where the tool should go (set_input), the haptic thread reads it through a triple buffer
-/// (wait-free both ways). The sample follows the input, limited to the workspace, and reports
-/// the velocity of the last change. There is nothing to push back against the hand.
+/// (wait-free both ways). The sample follows the input as a hand would, at most at the hand's
+/// speeds (SimulatedHandSpeeds), limited to the workspace, and reports its velocity. There is
+/// nothing to push back against the hand.
 
 #include "hardware/input_device.h"
 #include "hardware/triple_buffer.h"
@@ -17,18 +18,36 @@ struct SimulatedInput {
   uint32_t buttons = 0;
 };
 
+/// How fast the simulated hand follows its input: a key press (2 mm, 5 degrees, 0.05 rad of the
+/// jaws: hardware/tool_nudge.h) is a motion over a few tens of milliseconds, never a jump in one
+/// tick. Estimates, not measured hands: 50 mm/s is a held key's pace (25 presses a second of
+/// 2 mm), and the jaws' rate is the 3D mouse's (hardware/space_mouse.h). Measured here: with
+/// the keys' steps taken at twice this speed, the catheter's tip whips through the cystic duct's
+/// wall as the keyboard's hand inserts it on the default patient; at this speed it goes in
+/// (tests/sim/keyboard_run_test.cpp, docs/benchmarks.md "The keyboard's hand").
+struct SimulatedHandSpeeds {
+  double speed_m_per_s = 0.05;  ///< the handle's speed
+  double turn_rad_per_s = 2.0;  ///< the handle's angular speed (a 5 degree roll in 44 ms)
+  double jaws_rad_per_s = 1.0;  ///< the jaws' opening and closing rate
+};
+
 class SimulatedDevice final : public InputDevice {
  public:
-  SimulatedDevice(const SimulatedInput& home, std::string name, const DeviceLimits& limits = {});
+  SimulatedDevice(const SimulatedInput& home, std::string name, const DeviceLimits& limits = {},
+                  const SimulatedHandSpeeds& speeds = {});
 
   Status start() override;
+  /// The first read after start() is at the input; each later one moves towards it by at most
+  /// the hand's speeds over the time since the previous read.
   DeviceStatus read(int64_t tick, double period_s, DeviceSample* out) noexcept override;
 
   /// UI thread (one writer): where the tool should be now.
   void set_input(const SimulatedInput& input) { input_.publish(input); }
+  [[nodiscard]] const SimulatedHandSpeeds& speeds() const { return speeds_; }
 
  private:
   TripleBuffer<SimulatedInput> input_;
+  SimulatedHandSpeeds speeds_;
   DeviceSample last_{};
   bool has_last_ = false;
 };

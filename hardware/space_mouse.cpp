@@ -74,6 +74,9 @@ ToolNudge space_mouse_nudge(const SpaceMouseState& s, const SpaceMouseMapping& m
     const double beyond = std::max(0.0, std::abs(u) - m.dead_zone) / (1.0 - m.dead_zone);
     n.delta_W[a] = std::copysign(beyond, u) * m.axis_sign[a] * m.speed_m_per_s * dt_s;
   }
+  const double twist = std::clamp(static_cast<double>(s.axes[5]) / m.full_scale, -1.0, 1.0);
+  const double twist_beyond = std::max(0.0, std::abs(twist) - m.dead_zone) / (1.0 - m.dead_zone);
+  n.roll_rad = std::copysign(twist_beyond, twist) * m.roll_sign * m.roll_rate_rad_per_s * dt_s;
   const bool close = (s.buttons & 1U) != 0;
   const bool open = (s.buttons & 2U) != 0;
   if (close != open) n.opening_rad = (open ? 1.0 : -1.0) * m.jaw_rate_rad_per_s * dt_s;

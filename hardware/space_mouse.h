@@ -17,6 +17,7 @@
 #include <string>
 
 #include "core/result.h"
+#include "hardware/tool_nudge.h"
 
 namespace lap::hardware {
 
@@ -91,17 +92,16 @@ struct SpaceMouseMapping {
   double dead_zone = 0.08;          ///< fraction of full scale ignored (the puck's rest noise)
   double speed_m_per_s = 0.05;      ///< tip speed at full deflection
   double jaw_rate_rad_per_s = 1.0;  ///< jaw opening rate while a button is held
+  /// Roll rate at full twist: a quarter turn in a second, the keyboard's rate with a held key
+  /// (hardware/tool_nudge.h: 5 degrees a press, about 25 presses a second). An estimate.
+  double roll_rate_rad_per_s = 1.5;
+  double roll_sign = 1.0;                    ///< the twist's direction to the roll's
   Eigen::Vector3d axis_sign{1.0, 1.0, 1.0};  ///< puck x, y, z to world x, y, z
 };
 
-/// What to add to the simulated tool over dt_s.
-struct ToolNudge {
-  Eigen::Vector3d delta_W = Eigen::Vector3d::Zero();  ///< [m]
-  double opening_rad = 0.0;
-};
-
 /// The tool motion over dt_s from the puck's state. Each axis: zero within the dead zone, then
-/// rising linearly to full speed at full scale (and no further).
+/// rising linearly to full speed at full scale (and no further); the twist about the puck's
+/// vertical axis (rz) rolls the tool about its shaft the same way.
 [[nodiscard]] ToolNudge space_mouse_nudge(const SpaceMouseState& s, const SpaceMouseMapping& m,
                                           double dt_s);
 

@@ -7,18 +7,18 @@
 #include <QKeyEvent>
 #include <QVBoxLayout>
 #include <cmath>
+#include <optional>
 
 #include "app/pages/page_style.h"
+#include "app/tool_keys.h"
 #include "hardware/device_spec.h"
 #include "hardware/libusb_transport.h"
 
 namespace lap::app {
 namespace {
 
-constexpr double kKeyStepM = 0.002;      // as the operative field's keys
-constexpr double kKeyOpeningRad = 0.05;  // as the operative field's keys
-constexpr double kMaxGripRad = 1.0;      // the simulated jaws' widest opening
-constexpr int kReadPeriodMs = 33;        // 30 readings a second: smooth to the eye
+constexpr double kMaxGripRad = 1.0;  // the simulated jaws' widest opening
+constexpr int kReadPeriodMs = 33;    // 30 readings a second: smooth to the eye
 
 QString gripper_suffix(const hardware::GripperSelector& g) {
   if (!g.serial.empty()) return ":" + QString::fromStdString(g.serial);
@@ -351,11 +351,12 @@ DevicesPage::DevicesPage(QWidget* parent) : QWidget(parent) {
 
   v->addSpacing(6);
   home_text_ = hint_label(
-      "Home position: each instrument starts 10 cm into its port, pointing at the duct, its jaws "
-      "half open. Hold a PHANToM's stylus in the middle of its workspace before you start: that "
+      "Home position: each instrument starts in view, 10 cm or more into its port, pointing at "
+      "the duct, its jaws half open. Hold a PHANToM's stylus in the middle of its workspace before "
+      "you start: that "
       "is where the instrument starts. While testing, the keyboard moves the keyboard-driven "
-      "hands: T switches hand, J/L, I/K, U/O move it, [ and ] close and open the jaws, H goes "
-      "home.",
+      "hands: T switches hand, J/L, I/K, U/O move it, [ and ] close and open the jaws (a quarter "
+      "as far with Shift), H goes home.",
       this);
   v->addWidget(home_text_);
   problem_ = new QLabel(this);
@@ -497,8 +498,6 @@ void DevicesPage::keyPressEvent(QKeyEvent* e) {
     QWidget::keyPressEvent(e);
     return;
   }
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  double opening = 0.0;
   switch (e->key()) {
     case Qt::Key_T:
       active_hand_ = 1 - active_hand_;
@@ -506,35 +505,15 @@ void DevicesPage::keyPressEvent(QKeyEvent* e) {
     case Qt::Key_H:
       probe_.go_home(active_hand_);
       return;
-    case Qt::Key_J:
-      d.x() = -kKeyStepM;
-      break;
-    case Qt::Key_L:
-      d.x() = kKeyStepM;
-      break;
-    case Qt::Key_I:
-      d.z() = -kKeyStepM;
-      break;
-    case Qt::Key_K:
-      d.z() = kKeyStepM;
-      break;
-    case Qt::Key_U:
-      d.y() = kKeyStepM;
-      break;
-    case Qt::Key_O:
-      d.y() = -kKeyStepM;
-      break;
-    case Qt::Key_BracketLeft:
-      opening = -kKeyOpeningRad;
-      break;
-    case Qt::Key_BracketRight:
-      opening = kKeyOpeningRad;
-      break;
     default:
-      QWidget::keyPressEvent(e);
-      return;
+      break;
   }
-  probe_.nudge(active_hand_, d, opening);
+  if (const std::optional<hardware::ToolKey> key = tool_key(e->key())) {
+    probe_.nudge(active_hand_,
+                 hardware::key_nudge(*key, fine_step(static_cast<int>(e->modifiers()))));
+    return;
+  }
+  QWidget::keyPressEvent(e);
 }
 
 void DevicesPage::accept() {

@@ -32,6 +32,13 @@ bool right_tool_after(LiveSession& live, int64_t tick, haptics::GripperPose* pos
   return false;
 }
 
+// A nudge that moves the handle only.
+hardware::ToolNudge handle_move(const Eigen::Vector3d& delta_W) {
+  hardware::ToolNudge n;
+  n.delta_W = delta_W;
+  return n;
+}
+
 // The roll keys (, and .): the jaws' opening direction turns about the shaft by the angle asked,
 // right-handed about the shaft from the handle to the tip, and nothing else about the tool moves.
 // The second and third turns come after the handle has moved (the shaft pivoted in its port):
@@ -49,17 +56,20 @@ TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
   ASSERT_TRUE(right_tool_after(live, 20, &before, &seen));
   for (const double roll : {0.5, -0.2, 0.3}) {
     if (roll != 0.5) {  // the handle moved 3-4 cm first: the shaft pivots
-      live.nudge(1, Eigen::Vector3d(0.03, 0.0, 0.02), 0.0);
+      live.nudge(1, handle_move(Eigen::Vector3d(0.03, 0.0, 0.02)));
       haptics::GripperPose moved;
-      ASSERT_TRUE(right_tool_after(live, seen + 20, &moved, &seen));
+      // At the hand's 50 mm/s (hardware::SimulatedHandSpeeds), the 3.6 cm take 0.72 s.
+      ASSERT_TRUE(right_tool_after(live, seen + 1500, &moved, &seen));
       ASSERT_GT(std::acos(std::clamp(moved.shaft_dir_W.dot(before.shaft_dir_W), -1.0, 1.0)), 0.05)
           << "the shaft did not pivot";
       before = moved;
     }
-    live.nudge(1, Eigen::Vector3d::Zero(), 0.0, roll);
+    hardware::ToolNudge turn;
+    turn.roll_rad = roll;
+    live.nudge(1, turn);
     haptics::GripperPose after;
-    // A few ticks on: the device's triple buffer hands the new pose to the next read.
-    ASSERT_TRUE(right_tool_after(live, seen + 20, &after, &seen));
+    // The device turns the handle at the hand's 2 rad/s: half a radian in 0.25 s.
+    ASSERT_TRUE(right_tool_after(live, seen + 600, &after, &seen));
     const Eigen::Vector3d to_tip = -before.shaft_dir_W;
     const double turned = std::atan2(before.open_dir_W.cross(after.open_dir_W).dot(to_tip),
                                      before.open_dir_W.dot(after.open_dir_W));
@@ -73,23 +83,20 @@ TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
   live.stop();
 }
 
-// A key held against the edge of the device's workspace does not wind up: the first press back
-// moves the tool at once (the handle is kept where the device keeps it).
+// A key held against the edge of the device's workspace does not wind up: the handle's input
+// stops at the edge, so the first press back moves it (hardware::nudged with the device's own
+// workspace).
 TEST(LiveSession, AHandlePushedPastTheWorkspaceComesBackWithTheFirstPressBack) {
   const sim::SceneLoadResult scene =
       sim::load_scene_file(test::source_dir() / "scenarios/default.yaml");
   ASSERT_TRUE(scene.ok()) << scene.message();
   LiveSession live;
   ASSERT_TRUE(live.start(scene.value(), {}).ok());
-  haptics::GripperPose at_edge;
-  int64_t seen = 0;
-  live.nudge(1, Eigen::Vector3d(5.0, 0.0, 0.0), 0.0);  // far past the workspace's +x face
-  ASSERT_TRUE(right_tool_after(live, 20, &at_edge, &seen));
-  live.nudge(1, Eigen::Vector3d(-0.02, 0.0, 0.0), 0.0);
-  haptics::GripperPose back;
-  ASSERT_TRUE(right_tool_after(live, seen + 20, &back, &seen));
-  // The shaft pivots in its port as the handle comes back 2 cm from the edge.
-  EXPECT_GT(std::acos(std::clamp(back.shaft_dir_W.dot(at_edge.shaft_dir_W), -1.0, 1.0)), 1e-3);
+  const double edge_x = hardware::DeviceLimits{}.workspace_W.max().x();  // the device's own
+  live.nudge(1, handle_move(Eigen::Vector3d(5.0, 0.0, 0.0)));  // far past the workspace's +x face
+  EXPECT_EQ(live.input(1).position_W.x(), edge_x);
+  live.nudge(1, handle_move(Eigen::Vector3d(-0.02, 0.0, 0.0)));
+  EXPECT_NEAR(live.input(1).position_W.x(), edge_x - 0.02, 1e-12);
   live.stop();
 }
 

@@ -57,7 +57,8 @@ TEST(SpaceMouse, WithoutTheDaemonItSaysToStartIt) {
 }
 
 // Each axis: nothing within the dead zone, then linear up to full speed at full scale, and no
-// further; the mapping's signs applied. Buttons 0 and 1 close and open the jaws.
+// further; the mapping's signs applied. The twist about the vertical rolls the tool about its
+// shaft, the same way. Buttons 0 and 1 close and open the jaws.
 TEST(SpaceMouse, ThePuckSteersTheToolTip) {
   const Fake fake;
   Result<std::unique_ptr<SpaceMouse>> opened = SpaceMouse::open(LAP_FAKE_SPNAV);
@@ -76,6 +77,14 @@ TEST(SpaceMouse, ThePuckSteersTheToolTip) {
   EXPECT_NEAR(n.delta_W.y(), -(0.5 - 0.08) / 0.92 * m.speed_m_per_s * dt, 1e-15);
   EXPECT_NEAR(n.delta_W.z(), -m.speed_m_per_s * dt, 1e-15);
   EXPECT_EQ(n.opening_rad, 0.0);
+  EXPECT_EQ(n.roll_rad, 0.0);        // the twist (rz 7) within the dead zone
+  fake.motion(0, 0, 0, 0, 0, -175);  // half a twist, clockwise seen from above: a roll
+  n = space_mouse_nudge(mouse->poll(0.005), m, dt);
+  EXPECT_TRUE(n.delta_W.isZero());
+  EXPECT_NEAR(n.roll_rad, -(0.5 - 0.08) / 0.92 * m.roll_rate_rad_per_s * dt, 1e-15);
+  m.roll_sign = -1.0;
+  EXPECT_NEAR(space_mouse_nudge(mouse->state(), m, dt).roll_rad,
+              (0.5 - 0.08) / 0.92 * m.roll_rate_rad_per_s * dt, 1e-15);
   fake.button(1, 0);  // close
   n = space_mouse_nudge(mouse->poll(0.01), m, dt);
   EXPECT_NEAR(n.opening_rad, -m.jaw_rate_rad_per_s * dt, 1e-15);
