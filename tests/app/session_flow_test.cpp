@@ -17,12 +17,15 @@
 #include <QListWidget>
 #include <QMenu>
 #include <QMenuBar>
+#include <QMouseEvent>
 #include <QPainter>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTableWidget>
 #include <QTest>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -30,12 +33,16 @@
 #include <string>
 
 #include "app/main_window.h"
+#include "app/operative_view.h"
 #include "app/pages/page_style.h"
+#include "app/pages/run_page.h"
 #include "app/session_archive.h"
 #include "app/station_settings.h"
+#include "app/vtk_view.h"
 #include "sim/report/session_replay.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/device_factory.h"
+#include "tests/support/keyboard_operator.h"
 #include "tests/test_support.h"
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
@@ -381,6 +388,163 @@ TEST_F(SessionFlow, AnAttemptCutShortIsFiledAsInterruptedAtTheNextStart) {
   EXPECT_EQ(filed.result, "incomplete");
   EXPECT_DOUBLE_EQ(filed.duration_s, 1.0);
   EXPECT_EQ(filed.recording_dir, QString::fromStdString(dir.string()));
+  w.close();
+}
+
+// With no hardware, the keys and the mouse drive the active instrument as Help > Controls says:
+// J a 2 mm step along -x, Shift+J a quarter of it, [ closes the jaws 0.05 rad, . and Shift+.
+// turn the instrument 5 and 1.25 degrees about its shaft, Ctrl+middle drag sideways turns it
+// 0.005 rad a pixel, Ctrl+left drag moves it 0.2 mm a pixel in the view's plane. Real key and
+// mouse events on the operative field, read back from the hand's input (what the simulated
+// device then follows at the hand's speeds).
+TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  sign_in_and_choose_default(w, "R-3300 Dr K. Osei", "");
+  if (HasFatalFailure()) return;
+  for (const char* hand : {"left", "right"}) {
+    choose(find<QComboBox>(w.devices_page(), (std::string(hand) + "_kind").c_str()), 0);
+  }
+  QTest::mouseClick(find<QPushButton>(w.devices_page(), "devices_continue"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
+  QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kRun);
+  app::OperativeView* field = w.run_page()->operative();
+  app::LiveSession& live = field->session();
+  ASSERT_TRUE(live.keyboard_driven(0) && live.keyboard_driven(1));
+  const int tool = field->active_tool();
+  app::VtkView* view = field->view();
+  view->setFocus();
+  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  ASSERT_TRUE(scene.ok());
+  const sim::ToolSpec* spec = scene.value().scenario.tool(tool == 0 ? sim::ToolSpec::Side::kLeft
+                                                                    : sim::ToolSpec::Side::kRight);
+  ASSERT_NE(spec, nullptr);
+  const Eigen::Vector3d port = scene.value().scenario.trocar(spec->trocar)->position_m;
+  // The roll from `a` to `b` about the shaft (handle to port) of `b`.
+  auto rolled = [&](const hardware::SimulatedInput& a, const hardware::SimulatedInput& b) {
+    const Eigen::Vector3d k = (port - b.position_W).normalized();
+    Eigen::Vector3d x0 = a.orientation_W * Eigen::Vector3d::UnitX();
+    Eigen::Vector3d x1 = b.orientation_W * Eigen::Vector3d::UnitX();
+    x0 = (x0 - x0.dot(k) * k).normalized();
+    x1 = (x1 - x1.dot(k) * k).normalized();
+    return std::atan2(x0.cross(x1).dot(k), x0.dot(x1));
+  };
+
+  hardware::SimulatedInput before = live.input(tool);
+  QTest::keyClick(view, Qt::Key_J);
+  EXPECT_NEAR(live.input(tool).position_W.x() - before.position_W.x(), -0.002, 1e-12);
+  before = live.input(tool);
+  QTest::keyClick(view, Qt::Key_J, Qt::ShiftModifier);
+  EXPECT_NEAR(live.input(tool).position_W.x() - before.position_W.x(), -0.0005, 1e-12);
+  before = live.input(tool);
+  QTest::keyClick(view, Qt::Key_BracketLeft);
+  EXPECT_NEAR(live.input(tool).gripper_angle_rad - before.gripper_angle_rad, -0.05, 1e-12);
+  before = live.input(tool);
+  QTest::keyClick(view, Qt::Key_Period);
+  EXPECT_NEAR(rolled(before, live.input(tool)), 5.0 * M_PI / 180.0, 1e-9);
+  before = live.input(tool);
+  QTest::keyClick(view, Qt::Key_Greater, Qt::ShiftModifier);  // Shift+. on a US layout
+  EXPECT_NEAR(rolled(before, live.input(tool)), 1.25 * M_PI / 180.0, 1e-9);
+
+  // The mouse: press, move 40 pixels right, release, with Ctrl (and the events' own buttons).
+  auto drag = [&](Qt::MouseButton button) {
+    const QPointF a(400, 300);
+    const QPointF b(440, 300);
+    QMouseEvent press(QEvent::MouseButtonPress, a, view->mapToGlobal(a), button, button,
+                      Qt::ControlModifier);
+    QApplication::sendEvent(view, &press);
+    QMouseEvent move(QEvent::MouseMove, b, view->mapToGlobal(b), Qt::NoButton, button,
+                     Qt::ControlModifier);
+    QApplication::sendEvent(view, &move);
+    QMouseEvent release(QEvent::MouseButtonRelease, b, view->mapToGlobal(b), button, Qt::NoButton,
+                        Qt::ControlModifier);
+    QApplication::sendEvent(view, &release);
+  };
+  before = live.input(tool);
+  drag(Qt::MiddleButton);
+  EXPECT_NEAR(rolled(before, live.input(tool)), 40 * app::VtkView::kToolRollRadPerPixel, 1e-9);
+  EXPECT_LT((live.input(tool).position_W - before.position_W).norm(), 1e-15);
+  before = live.input(tool);
+  drag(Qt::LeftButton);
+  EXPECT_NEAR((live.input(tool).position_W - before.position_W).norm(), 40 * 2e-4, 1e-9);
+  EXPECT_NEAR(rolled(before, live.input(tool)), 0.0, 1e-12);
+  w.close();
+}
+
+// The default patient completed in the window with the keyboard alone, in real time: the
+// operator of tests/support/keyboard_operator.h copies the expert's run with real key events on
+// the operative field, 25 a second (a held key's autorepeat), T to switch hands, Shift for the
+// quarter steps, no key while the heads-up display says hold; the window goes to the result by
+// itself, and it is a success. (The same presses --fast: tests/sim/keyboard_run_test.cpp.)
+TEST_F(SessionFlow, TheDefaultPatientIsCompletedWithTheKeysInTheWindow) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  ASSERT_TRUE(scene.ok());
+  const std::vector<Press> presses =
+      keyboard_operator(scene.value(), "default", 25.0).plan().presses;
+  ASSERT_FALSE(presses.empty());
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  sign_in_and_choose_default(w, "R-3301 Dr L. Haddad", "");
+  if (HasFatalFailure()) return;
+  for (const char* hand : {"left", "right"}) {
+    choose(find<QComboBox>(w.devices_page(), (std::string(hand) + "_kind").c_str()), 0);
+  }
+  QTest::mouseClick(find<QPushButton>(w.devices_page(), "devices_continue"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
+  QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kRun);
+  app::OperativeView* field = w.run_page()->operative();
+  app::LiveSession& live = field->session();
+  app::VtkView* view = field->view();
+  view->setFocus();
+  const std::map<hardware::ToolKey, Qt::Key> qt_key{
+      {hardware::ToolKey::kXMinus, Qt::Key_J},
+      {hardware::ToolKey::kXPlus, Qt::Key_L},
+      {hardware::ToolKey::kYPlus, Qt::Key_U},
+      {hardware::ToolKey::kYMinus, Qt::Key_O},
+      {hardware::ToolKey::kZMinus, Qt::Key_I},
+      {hardware::ToolKey::kZPlus, Qt::Key_K},
+      {hardware::ToolKey::kClose, Qt::Key_BracketLeft},
+      {hardware::ToolKey::kOpen, Qt::Key_BracketRight},
+      {hardware::ToolKey::kRollMinus, Qt::Key_Comma},
+      {hardware::ToolKey::kRollPlus, Qt::Key_Period}};
+  int made = 0;
+  int late = 0;
+  bool shot = false;
+  for (const Press& p : presses) {
+    // Until the session's clock reaches the press (the event loop running: frames are drawn).
+    while (w.step() == MainWindow::Step::kRun && live.running() && !live.finished() &&
+           static_cast<double>(live.haptic().tick) * 1e-3 < p.t_s) {
+      QTest::qWait(1);
+    }
+    if (w.step() != MainWindow::Step::kRun || !live.running() || live.finished()) break;
+    if (static_cast<double>(live.haptic().tick) * 1e-3 > p.t_s + 0.1) ++late;
+    const sim::TaskStage stage = live.model().task.stage;
+    if (stage == sim::TaskStage::kAdvance && !shot) {
+      screenshot(w, "8-run-keyboard");  // the tip in the lumen, on its way to the depth
+      shot = true;
+    }
+    if (stage == sim::TaskStage::kHold) continue;  // hold: hands still
+    if (field->active_tool() != p.tool) QTest::keyClick(view, Qt::Key_T);
+    QTest::keyClick(view, qt_key.at(p.key), p.fine ? Qt::ShiftModifier : Qt::NoModifier);
+    ++made;
+  }
+  ASSERT_TRUE(wait_until([&] { return w.step() == MainWindow::Step::kResult; }, 30.0))
+      << "the run did not end; its stage: " << static_cast<int>(live.model().task.stage);
+  std::printf("[ keys ] the window: %d of %zu presses made (%d over 0.1 s late)\n", made,
+              presses.size(), late);
+  auto* headline = find<QLabel>(w.result_page(), "result_headline");
+  EXPECT_TRUE(headline->text().endsWith("Success"))
+      << headline->text().toStdString() << ": "
+      << find<QLabel>(w.result_page(), "result_reasons")->text().toStdString();
+  screenshot(w, "9-result-keyboard");
   w.close();
 }
 

@@ -1,13 +1,10 @@
 // The procedure completed with the keyboard alone (issue 23: "with no hardware, mouse, keyboard
-// and 3D mouse drive the tools, and the procedure can be completed with them"). A resident at the
-// keyboard is played by an operator who watches the expert's run (the shipped scripts) and
-// copies it with the keys the application gives: one key at a time, at a held key's autorepeat
-// rate, on the active tool only (T switches tools, and takes a press's time), each press doing
-// what it does in the window (hardware::key_nudge and hardware::nudged, as app::LiveSession
-// applies them). The operator never looks at the simulation, only at the expert: where the
-// keys' 2 mm steps cannot follow the expert's hand, it falls behind and catches up. Each press
-// reaches the tool's simulated device at its time, and the session runs --fast, so the run is a
-// function of the presses alone.
+// and 3D mouse drive the tools, and the procedure can be completed with them"), --fast: the
+// operator of tests/support/keyboard_operator.h copies the expert's run with the keys; each
+// press reaches the tool's simulated device (the window's, hardware::SimulatedDevice) at the
+// first tick at or after its time, and none while the heads-up display says hold, so the run is
+// a function of the presses alone. In the window, with real key events:
+// tests/app/session_flow_test.cpp.
 
 #include <gtest/gtest.h>
 
@@ -27,129 +24,15 @@
 #include "sim/runtime/trocar_tool.h"
 #include "sim/setup/device_factory.h"
 #include "tests/sim/session_test_support.h"
+#include "tests/support/keyboard_operator.h"
 
 namespace lap::sim {
 namespace {
 
 using hardware::SimulatedInput;
-using hardware::ToolKey;
+using test::KeyboardOperator;
+using test::Press;
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
-
-struct Press {
-  double t_s = 0.0;
-  int tool = 0;
-  ToolKey key = ToolKey::kXPlus;
-  bool fine = false;  ///< Shift held: a quarter step
-};
-
-struct KeyChoice {
-  ToolKey key = ToolKey::kXPlus;
-  bool fine = false;
-};
-
-// The keys an operator presses to follow `expert` from `start`: every 1/presses_per_s s one
-// press, of the key that most reduces the active tool's largest error to the expert's pose at
-// the operator's place in the script (position along one axis in steps, the jaws' opening, the
-// roll of the jaws' opening direction about the shaft); when the active tool is within half a
-// step of the expert on all of them and the other is not, a switch to the other (no key
-// pressed on a tool); when both are, the operator reads on in the script by one press's time.
-struct KeyboardOperator {
-  std::array<hardware::ScriptedTrajectory, 2> expert;
-  std::array<SimulatedInput, 2> start;
-  std::array<Eigen::Vector3d, 2> ports_W;
-  std::array<Eigen::AlignedBox3d, 2> workspaces_W;
-  double presses_per_s = 20.0;
-  double give_up_s = 300.0;
-  /// Where the operator starts reading the expert's run: once the expert has brought both
-  /// instruments into the laparoscope's picture (its approach through the ports is not followed:
-  /// the keyboard's tools start in view, sim::home_handle_position).
-  double script_start_s = 0.0;
-
-  struct Plan {
-    std::vector<Press> presses;
-    int switches = 0;
-    double script_done_s = 0.0;  ///< when the operator reached the expert's last keyframe
-  };
-
-  // The jaws' opening direction (the device's x axis made perpendicular to the shaft,
-  // sim::tool_kinematics) of orientation q with the handle at p.
-  Eigen::Vector3d opening_dir(int tool, const Eigen::Quaterniond& q,
-                              const Eigen::Vector3d& p) const {
-    const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - p).normalized();
-    const Eigen::Vector3d x = q * Eigen::Vector3d::UnitX();
-    return (x - x.dot(s) * s).normalized();
-  }
-
-  // The press that most reduces tool's largest error, measured in fine presses (Shift: a
-  // quarter step); a whole press while that error is at least three quarters of one. None
-  // within half a fine press.
-  std::optional<KeyChoice> best_key(int tool, const SimulatedInput& at,
-                                    const hardware::DeviceSample& want) const {
-    constexpr double kFine = hardware::kKeyFineFraction;
-    double worst = 0.5 + 1e-6;  // in fine presses
-    std::optional<ToolKey> key;
-    const Eigen::Vector3d e = want.position_W - at.position_W;
-    constexpr std::array<std::array<ToolKey, 2>, 3> kAxis{{{ToolKey::kXMinus, ToolKey::kXPlus},
-                                                           {ToolKey::kYMinus, ToolKey::kYPlus},
-                                                           {ToolKey::kZMinus, ToolKey::kZPlus}}};
-    for (int a = 0; a < 3; ++a) {
-      const double presses = std::abs(e[a]) / (kFine * hardware::kKeyStepM);
-      if (presses > worst) {
-        worst = presses;
-        key = kAxis[static_cast<size_t>(a)][e[a] > 0.0 ? 1 : 0];
-      }
-    }
-    const double open = want.gripper_angle_rad - at.gripper_angle_rad;
-    if (std::abs(open) / (kFine * hardware::kKeyOpeningRad) > worst) {
-      worst = std::abs(open) / (kFine * hardware::kKeyOpeningRad);
-      key = open > 0.0 ? ToolKey::kOpen : ToolKey::kClose;
-    }
-    const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
-    const Eigen::Vector3d now = opening_dir(tool, at.orientation_W, at.position_W);
-    const Eigen::Vector3d goal = opening_dir(tool, want.orientation_W, at.position_W);
-    const double roll = std::atan2(now.cross(goal).dot(s), now.dot(goal));
-    if (std::abs(roll) / (kFine * hardware::kKeyRollRad) > worst) {
-      worst = std::abs(roll) / (kFine * hardware::kKeyRollRad);
-      key = roll > 0.0 ? ToolKey::kRollPlus : ToolKey::kRollMinus;
-    }
-    if (!key) return std::nullopt;
-    return KeyChoice{*key, worst < 0.75 / kFine};
-  }
-
-  [[nodiscard]] Plan plan() const {
-    Plan out;
-    std::array<SimulatedInput, 2> at = start;
-    const double period = 1.0 / presses_per_s;
-    const double end = std::max(expert[0].duration_s(), expert[1].duration_s());
-    double script_s = script_start_s;
-    int active = 1;  // the window starts with the right tool active
-    std::array<size_t, 2> cursor{};
-    for (double t = period; t < give_up_s; t += period) {
-      std::array<std::optional<KeyChoice>, 2> key;
-      for (int tool = 0; tool < 2; ++tool) {
-        const auto i = static_cast<size_t>(tool);
-        hardware::DeviceSample want;
-        expert[i].sample(script_s, &cursor[i], &want);
-        key[i] = best_key(tool, at[i], want);
-      }
-      if (key[static_cast<size_t>(active)]) {
-        const auto i = static_cast<size_t>(active);
-        at[i] = hardware::nudged(at[i], hardware::key_nudge(key[i]->key, key[i]->fine),
-                                 workspaces_W[i], ports_W[i]);
-        out.presses.push_back({t, active, key[i]->key, key[i]->fine});
-      } else if (key[static_cast<size_t>(1 - active)]) {
-        active = 1 - active;
-        ++out.switches;
-      } else if (script_s < end) {
-        script_s = std::min(end, script_s + period);
-        if (script_s == end) out.script_done_s = t;
-      } else {
-        break;  // done: both tools hold the expert's last pose
-      }
-    }
-    return out;
-  }
-};
 
 // A simulated device (the window's, for a keyboard-driven tool) that takes the operator's
 // presses for its tool at their times: at the first tick at or after each, the input is nudged
@@ -210,46 +93,10 @@ KeyboardRun run_with_keys(const std::string& stem, double presses_per_s) {
       load_scene_file(test::source_dir() / "scenarios" / (stem + ".yaml"));
   EXPECT_TRUE(loaded.ok()) << loaded.message();
   const Scene& scene = loaded.value();
-  KeyboardOperator op;
-  op.presses_per_s = presses_per_s;
-  const hardware::SimulatedDevice probe({}, "limits");
-  for (int side = 0; side < 2; ++side) {
-    const auto i = static_cast<size_t>(side);
-    const fs::path script = test::source_dir() / "scenarios/scripts" / stem /
-                            (side == 0 ? "expert_left.csv" : "expert_right.csv");
-    auto t = hardware::load_scripted_trajectory(script);
-    EXPECT_TRUE(t.ok()) << t.message();
-    op.expert[i] = std::move(t).value();
-    op.start[i].position_W = home_handle_position(scene, side);
-    op.start[i].gripper_angle_rad = 0.6;
-    const ToolSpec* tool =
-        scene.scenario.tool(side == 0 ? ToolSpec::Side::kLeft : ToolSpec::Side::kRight);
-    EXPECT_NE(tool, nullptr);
-    op.ports_W[i] = scene.scenario.trocar(tool->trocar)->position_m;
-    op.workspaces_W[i] = probe.limits().workspace_W;
-  }
+  const KeyboardOperator op = test::keyboard_operator(scene, stem, presses_per_s);
   RuntimeSettings rs;
   rs.fast = true;
   rs.duration_s = 200.0;  // the slowest operator here succeeds at about 125 s
-  const auto model = SessionModel::build(scene, rs, {DeviceDescription{"left", {}}, {"right", {}}});
-  EXPECT_TRUE(model.ok()) << model.message();
-  const SessionModel& m = *model.value();
-  for (size_t i = 0; i < 2; ++i) EXPECT_EQ(op.ports_W[i], m.tool(i).trocar.port_W);
-  // The first 10 ms at which both of the expert's jaws' hinges are in the picture.
-  std::array<size_t, 2> cursor{};
-  for (double t = 0.0; t <= op.expert[1].duration_s(); t += 0.01) {
-    bool both = true;
-    for (size_t i = 0; i < 2; ++i) {
-      hardware::DeviceSample at;
-      op.expert[i].sample(t, &cursor[i], &at);
-      const ToolKinematics k = tool_kinematics(m.tool(i).trocar, at, m.tool(i).initial_axis_W);
-      both = both && m.task().in_view(k.pose.hinge_W);
-    }
-    if (both) {
-      op.script_start_s = t;
-      break;
-    }
-  }
   KeyboardRun run;
   run.plan = op.plan();
   Devices devices;

@@ -1,0 +1,203 @@
+#pragma once
+/// \file
+/// A resident at the keyboard, for tests: an operator who watches the expert's run (a scenario's
+/// shipped expert scripts) and copies it with the keys the application gives, one key at a time,
+/// at a held key's autorepeat rate or slower, on the active tool only (T switches tools, and takes
+/// a press's time), each press doing what it does in the window (hardware::key_nudge and
+/// hardware::nudged, as app::LiveSession applies them). Coarse presses while the hand is far from
+/// the expert's, Shift's quarter presses to land. The operator looks at the expert, not at the
+/// simulation: where the keys cannot follow the expert's hand it falls behind and catches up, so
+/// its presses are planned ahead (plan()); whoever plays them stops pressing while the heads-up
+/// display says hold (tests/sim/keyboard_run_test.cpp in --fast, tests/app/session_flow_test.cpp
+/// in the window, in real time).
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hardware/scripted_trajectory.h"
+#include "hardware/simulated_device.h"
+#include "hardware/tool_nudge.h"
+#include "sim/runtime/trocar_tool.h"
+#include "sim/setup/device_factory.h"
+#include "sim/setup/scene.h"
+#include "sim/setup/session_model.h"
+#include "tests/test_support.h"
+
+namespace lap::test {
+
+struct Press {
+  double t_s = 0.0;
+  int tool = 0;
+  hardware::ToolKey key = hardware::ToolKey::kXPlus;
+  bool fine = false;  ///< Shift held: a quarter step
+};
+
+struct KeyChoice {
+  hardware::ToolKey key = hardware::ToolKey::kXPlus;
+  bool fine = false;
+};
+
+// The keys an operator presses to follow `expert` from `start`: every 1/presses_per_s s one
+// press, of the key that most reduces the active tool's largest error to the expert's pose at
+// the operator's place in the script (position along one axis in steps, the jaws' opening, the
+// roll of the jaws' opening direction about the shaft); when the active tool is within half a
+// step of the expert on all of them and the other is not, a switch to the other (no key
+// pressed on a tool); when both are, the operator reads on in the script by one press's time.
+struct KeyboardOperator {
+  std::array<hardware::ScriptedTrajectory, 2> expert;
+  std::array<hardware::SimulatedInput, 2> start;
+  std::array<Eigen::Vector3d, 2> ports_W;
+  std::array<Eigen::AlignedBox3d, 2> workspaces_W;
+  double presses_per_s = 20.0;
+  double give_up_s = 300.0;
+  /// Where the operator starts reading the expert's run: once the expert has brought both
+  /// instruments into the laparoscope's picture (its approach through the ports is not followed:
+  /// the keyboard's tools start in view, sim::home_handle_position).
+  double script_start_s = 0.0;
+
+  struct Plan {
+    std::vector<Press> presses;
+    int switches = 0;
+    double script_done_s = 0.0;  ///< when the operator reached the expert's last keyframe
+  };
+
+  // The jaws' opening direction (the device's x axis made perpendicular to the shaft,
+  // sim::sim::tool_kinematics) of orientation q with the handle at p.
+  Eigen::Vector3d opening_dir(int tool, const Eigen::Quaterniond& q,
+                              const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - p).normalized();
+    const Eigen::Vector3d x = q * Eigen::Vector3d::UnitX();
+    return (x - x.dot(s) * s).normalized();
+  }
+
+  // The press that most reduces tool's largest error, measured in fine presses (Shift: a
+  // quarter step); a whole press while that error is at least three quarters of one. None
+  // within half a fine press.
+  std::optional<KeyChoice> best_key(int tool, const hardware::SimulatedInput& at,
+                                    const hardware::DeviceSample& want) const {
+    constexpr double kFine = hardware::kKeyFineFraction;
+    double worst = 0.5 + 1e-6;  // in fine presses
+    std::optional<hardware::ToolKey> key;
+    const Eigen::Vector3d e = want.position_W - at.position_W;
+    constexpr std::array<std::array<hardware::ToolKey, 2>, 3> kAxis{
+        {{hardware::ToolKey::kXMinus, hardware::ToolKey::kXPlus},
+         {hardware::ToolKey::kYMinus, hardware::ToolKey::kYPlus},
+         {hardware::ToolKey::kZMinus, hardware::ToolKey::kZPlus}}};
+    for (int a = 0; a < 3; ++a) {
+      const double presses = std::abs(e[a]) / (kFine * hardware::kKeyStepM);
+      if (presses > worst) {
+        worst = presses;
+        key = kAxis[static_cast<size_t>(a)][e[a] > 0.0 ? 1 : 0];
+      }
+    }
+    const double open = want.gripper_angle_rad - at.gripper_angle_rad;
+    if (std::abs(open) / (kFine * hardware::kKeyOpeningRad) > worst) {
+      worst = std::abs(open) / (kFine * hardware::kKeyOpeningRad);
+      key = open > 0.0 ? hardware::ToolKey::kOpen : hardware::ToolKey::kClose;
+    }
+    const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
+    const Eigen::Vector3d now = opening_dir(tool, at.orientation_W, at.position_W);
+    const Eigen::Vector3d goal = opening_dir(tool, want.orientation_W, at.position_W);
+    const double roll = std::atan2(now.cross(goal).dot(s), now.dot(goal));
+    if (std::abs(roll) / (kFine * hardware::kKeyRollRad) > worst) {
+      worst = std::abs(roll) / (kFine * hardware::kKeyRollRad);
+      key = roll > 0.0 ? hardware::ToolKey::kRollPlus : hardware::ToolKey::kRollMinus;
+    }
+    if (!key) return std::nullopt;
+    return KeyChoice{*key, worst < 0.75 / kFine};
+  }
+
+  [[nodiscard]] Plan plan() const {
+    Plan out;
+    std::array<hardware::SimulatedInput, 2> at = start;
+    const double period = 1.0 / presses_per_s;
+    const double end = std::max(expert[0].duration_s(), expert[1].duration_s());
+    double script_s = script_start_s;
+    int active = 1;  // the window starts with the right tool active
+    std::array<size_t, 2> cursor{};
+    for (double t = period; t < give_up_s; t += period) {
+      std::array<std::optional<KeyChoice>, 2> key;
+      for (int tool = 0; tool < 2; ++tool) {
+        const auto i = static_cast<size_t>(tool);
+        hardware::DeviceSample want;
+        expert[i].sample(script_s, &cursor[i], &want);
+        key[i] = best_key(tool, at[i], want);
+      }
+      if (key[static_cast<size_t>(active)]) {
+        const auto i = static_cast<size_t>(active);
+        at[i] = hardware::nudged(at[i], hardware::key_nudge(key[i]->key, key[i]->fine),
+                                 workspaces_W[i], ports_W[i]);
+        out.presses.push_back({t, active, key[i]->key, key[i]->fine});
+      } else if (key[static_cast<size_t>(1 - active)]) {
+        active = 1 - active;
+        ++out.switches;
+      } else if (script_s < end) {
+        script_s = std::min(end, script_s + period);
+        if (script_s == end) out.script_done_s = t;
+      } else {
+        break;  // done: both tools hold the expert's last pose
+      }
+    }
+    return out;
+  }
+};
+
+/// The operator for the shipped expert scripts scenarios/scripts/`stem`/expert_*.csv on `scene`,
+/// from the keyboard's home pose of each tool (app::LiveSession: sim::home_handle_position, the
+/// jaws half open, the orientation the identity), starting where the expert has both
+/// instruments in the laparoscope's picture.
+inline KeyboardOperator keyboard_operator(const sim::Scene& scene, const std::string& stem,
+                                          double presses_per_s) {
+  KeyboardOperator op;
+  op.presses_per_s = presses_per_s;
+  const hardware::SimulatedDevice probe({}, "limits");
+  for (int side = 0; side < 2; ++side) {
+    const auto i = static_cast<size_t>(side);
+    const std::filesystem::path script = source_dir() / "scenarios/scripts" / stem /
+                                         (side == 0 ? "expert_left.csv" : "expert_right.csv");
+    auto t = hardware::load_scripted_trajectory(script);
+    EXPECT_TRUE(t.ok()) << t.message();
+    op.expert[i] = std::move(t).value();
+    op.start[i].position_W = sim::home_handle_position(scene, side);
+    op.start[i].gripper_angle_rad = 0.6;
+    const sim::ToolSpec* tool =
+        scene.scenario.tool(side == 0 ? sim::ToolSpec::Side::kLeft : sim::ToolSpec::Side::kRight);
+    EXPECT_NE(tool, nullptr);
+    op.ports_W[i] = scene.scenario.trocar(tool->trocar)->position_m;
+    op.workspaces_W[i] = probe.limits().workspace_W;
+  }
+  sim::RuntimeSettings rs;
+  rs.fast = true;
+  const auto model =
+      sim::SessionModel::build(scene, rs, {sim::DeviceDescription{"left", {}}, {"right", {}}});
+  EXPECT_TRUE(model.ok()) << model.message();
+  const sim::SessionModel& m = *model.value();
+  for (size_t i = 0; i < 2; ++i) EXPECT_EQ(op.ports_W[i], m.tool(i).trocar.port_W);
+  // The first 10 ms at which both of the expert's jaws' hinges are in the picture.
+  std::array<size_t, 2> cursor{};
+  for (double t = 0.0; t <= op.expert[1].duration_s(); t += 0.01) {
+    bool both = true;
+    for (size_t i = 0; i < 2; ++i) {
+      hardware::DeviceSample at;
+      op.expert[i].sample(t, &cursor[i], &at);
+      const sim::ToolKinematics k =
+          sim::tool_kinematics(m.tool(i).trocar, at, m.tool(i).initial_axis_W);
+      both = both && m.task().in_view(k.pose.hinge_W);
+    }
+    if (both) {
+      op.script_start_s = t;
+      break;
+    }
+  }
+  return op;
+}
+
+}  // namespace lap::test
