@@ -12,8 +12,10 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "hardware/scripted_trajectory.h"
@@ -39,7 +41,8 @@ using namespace session_test;  // NOLINT(google-build-using-namespace): the test
 // and published, as LiveSession::nudge does on the UI thread.
 class PressedDevice final : public hardware::HapticDevice {
  public:
-  PressedDevice(const SimulatedInput& home, std::vector<Press> presses, Eigen::Vector3d port_W)
+  PressedDevice(const SimulatedInput& home, std::vector<test::TimedNudge> presses,
+                Eigen::Vector3d port_W)
       : inner_(home, "keyboard"), in_(home), presses_(std::move(presses)), port_W_(port_W) {}
   Status start() override { return inner_.start(); }
   void stop() override {}
@@ -48,13 +51,12 @@ class PressedDevice final : public hardware::HapticDevice {
     const double t = static_cast<double>(tick) * dt;
     bool moved = false;
     while (next_ < presses_.size() && presses_[next_].t_s <= t + 1e-9) {
-      const Press& p = presses_[next_++];
+      const test::TimedNudge& p = presses_[next_++];
       if (holding && holding()) {
         ++skipped;  // the display says "hold": the resident's hands keep still
         continue;
       }
-      in_ = hardware::nudged(in_, hardware::key_nudge(p.key, p.fine), inner_.limits().workspace_W,
-                             port_W_);
+      in_ = hardware::nudged(in_, p.nudge, inner_.limits().workspace_W, port_W_);
       moved = true;
     }
     if (moved) inner_.set_input(in_);
@@ -74,37 +76,34 @@ class PressedDevice final : public hardware::HapticDevice {
  private:
   hardware::SimulatedDevice inner_;
   SimulatedInput in_;
-  std::vector<Press> presses_;
+  std::vector<test::TimedNudge> presses_;
   size_t next_ = 0;
   Eigen::Vector3d port_W_;
 };
 
 struct KeyboardRun {
-  KeyboardOperator::Plan plan;
+  size_t motions = 0;          ///< key presses (or 3D mouse frames) planned
+  int switches = 0;            ///< T pressed
+  double script_done_s = 0.0;  ///< when the operator had followed the expert's run to its end
   SessionMetrics metrics;
-  int skipped = 0;  ///< presses the resident did not make while told to hold
+  int skipped = 0;  ///< motions the resident did not make while told to hold
 };
 
-// The operator's presses for `stem`'s expert run, played on the scene from the window's home
-// pose of each tool (app::LiveSession: sim::home_handle_position, the jaws half open, the
-// orientation the identity).
-KeyboardRun run_with_keys(const std::string& stem, double presses_per_s) {
-  const SceneLoadResult loaded =
-      load_scene_file(test::source_dir() / "scenarios" / (stem + ".yaml"));
-  EXPECT_TRUE(loaded.ok()) << loaded.message();
-  const Scene& scene = loaded.value();
-  const KeyboardOperator op = test::keyboard_operator(scene, stem, presses_per_s);
+// `nudges` played on the scene from the window's home pose of each tool (`op.start`), --fast,
+// with nothing pressed while the display says hold.
+KeyboardRun play(const Scene& scene, const KeyboardOperator& op,
+                 const std::vector<test::TimedNudge>& nudges) {
   RuntimeSettings rs;
   rs.fast = true;
   rs.duration_s = 200.0;  // the slowest operator here succeeds at about 125 s
   KeyboardRun run;
-  run.plan = op.plan();
+  run.motions = nudges.size();
   Devices devices;
   for (int side = 0; side < 2; ++side) {
     const auto i = static_cast<size_t>(side);
-    std::vector<Press> mine;
-    for (const Press& p : run.plan.presses) {
-      if (p.tool == side) mine.push_back(p);
+    std::vector<test::TimedNudge> mine;
+    for (const test::TimedNudge& n : nudges) {
+      if (n.tool == side) mine.push_back(n);
     }
     devices[i] = std::make_unique<PressedDevice>(op.start[i], std::move(mine), op.ports_W[i]);
   }
@@ -118,6 +117,43 @@ KeyboardRun run_with_keys(const std::string& stem, double presses_per_s) {
   }
   run.metrics = session.run();
   run.skipped = pressed[0]->skipped + pressed[1]->skipped;
+  return run;
+}
+
+const Scene& scene_of(const std::string& stem) {
+  static std::map<std::string, SceneLoadResult> loaded;
+  auto it = loaded.find(stem);
+  if (it == loaded.end()) {
+    it = loaded.emplace(stem, load_scene_file(test::source_dir() / "scenarios" / (stem + ".yaml")))
+             .first;
+  }
+  EXPECT_TRUE(it->second.ok()) << it->second.message();
+  return it->second.value();
+}
+
+// The keyboard operator's presses for `stem`'s expert run.
+KeyboardRun run_with_keys(const std::string& stem, double presses_per_s) {
+  const Scene& scene = scene_of(stem);
+  const KeyboardOperator op = test::keyboard_operator(scene, stem, presses_per_s);
+  const KeyboardOperator::Plan plan = op.plan();
+  std::vector<test::TimedNudge> nudges;
+  for (const Press& p : plan.presses) nudges.push_back(test::as_nudge(p));
+  KeyboardRun run = play(scene, op, nudges);
+  run.switches = plan.switches;
+  run.script_done_s = plan.script_done_s;
+  return run;
+}
+
+// The same operator with the 3D mouse (the default mapping, polled at 60 Hz).
+KeyboardRun run_with_puck(const std::string& stem) {
+  const Scene& scene = scene_of(stem);
+  const KeyboardOperator op = test::keyboard_operator(scene, stem, 25.0);
+  test::PuckOperator puck;
+  puck.op = &op;
+  const test::PuckOperator::Plan plan = puck.plan();
+  KeyboardRun run = play(scene, op, plan.motions);
+  run.switches = plan.switches;
+  run.script_done_s = plan.script_done_s;
   return run;
 }
 
@@ -166,9 +202,10 @@ TEST(KeyboardRun, BothToolsStartInThePicture) {
 void expect_success(const KeyboardRun& run, const char* what) {
   const TaskState& task = run.metrics.task;
   std::printf(
-      "[ keys ] %s: %zu presses planned (%d not made while holding), %d switches of tool, the "
+      "[ keys ] %s: %zu motions planned (key presses or 3D mouse frames; %d not made while "
+      "holding), %d switches of tool, the "
       "expert's path followed by %.1f s; %s at %.2f s after %zu events\n",
-      what, run.plan.presses.size(), run.skipped, run.plan.switches, run.plan.script_done_s,
+      what, run.motions, run.skipped, run.switches, run.script_done_s,
       std::string(to_string(task.result)).c_str(), task.end_s, task.events.size());
   EXPECT_EQ(task.result, TaskResult::kSuccess) << what << ": " << event_kinds(task);
   EXPECT_EQ(task.reason_count, 0U);
@@ -193,12 +230,22 @@ TEST(KeyboardRun, TheDefaultPatientsProcedureCanBeCompletedWithTheKeys) {
 }
 
 // The easy and the moderate patient, with held keys. (The hardest patient is not completed this
-// way: the catheter's tip comes to the incision and does not go in before the time limit. The
-// operator copies the expert's hands, not the tip: where its grasp took the catheter a little
-// off the expert's, the tip misses the ductotomy by as much, and a resident would aim it.)
+// way, at 25, 10 or 5 presses a second, nor with Shift's quarter steps throughout: the catheter's
+// tip comes to the incision and does not go in. The 3D mouse's operator, below, following the
+// same expert along the same targets, completes it: what differs is the keys' motion, one axis
+// at a time in steps. Not yet understood further; a resident at the keys would aim the tip
+// itself, which this operator does not.)
 TEST(KeyboardRun, TheEasyAndModeratePatientsCanBeCompletedWithTheKeys) {
   expect_success(run_with_keys("patient_easy", 25.0), "patient_easy, 25 presses/s");
   expect_success(run_with_keys("patient_moderate", 25.0), "patient_moderate, 25 presses/s");
+}
+
+// The 3D mouse, on every patient, the hardest too: its hand moves along all three axes at once,
+// smoothly, where the keys' move along one at a time.
+TEST(KeyboardRun, ThePatientsCanBeCompletedWithThe3DMouse) {
+  for (const char* stem : {"default", "patient_easy", "patient_moderate", "patient_hard"}) {
+    expect_success(run_with_puck(stem), (std::string(stem) + ", 3D mouse").c_str());
+  }
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 
 #include "hardware/scripted_trajectory.h"
 #include "hardware/simulated_device.h"
+#include "hardware/space_mouse.h"
 #include "hardware/tool_nudge.h"
 #include "sim/runtime/trocar_tool.h"
 #include "sim/setup/device_factory.h"
@@ -39,6 +40,18 @@ struct Press {
   hardware::ToolKey key = hardware::ToolKey::kXPlus;
   bool fine = false;  ///< Shift held: a quarter step
 };
+
+/// A nudge at a time: a key press (hardware::key_nudge) or a frame's motion of the 3D mouse.
+struct TimedNudge {
+  double t_s = 0.0;
+  int tool = 0;
+  hardware::ToolNudge nudge;
+};
+
+/// A press as the nudge it makes.
+inline TimedNudge as_nudge(const Press& p) {
+  return {p.t_s, p.tool, hardware::key_nudge(p.key, p.fine)};
+}
 
 struct KeyChoice {
   hardware::ToolKey key = hardware::ToolKey::kXPlus;
@@ -144,6 +157,94 @@ struct KeyboardOperator {
         if (script_s == end) out.script_done_s = t;
       } else {
         break;  // done: both tools hold the expert's last pose
+      }
+    }
+    return out;
+  }
+};
+
+/// The same operator with a 3D mouse: every frame of the window's graphics loop (which polls the
+/// puck) it deflects the puck towards the expert's pose of the active tool, all three axes at
+/// once, so that the handle would close the error in kReachS (no faster than the puck's full
+/// speed); twists it the same way for the roll; holds a button for the jaws. The puck's state
+/// goes through hardware::space_mouse_nudge with `mapping`, as app::OperativeView does, and its
+/// raw counts are whole numbers, as spacenavd's. T switches tools, as with the keys.
+struct PuckOperator {
+  const KeyboardOperator* op = nullptr;
+  hardware::SpaceMouseMapping mapping;
+  double frame_hz = 60.0;
+  static constexpr double kReachS = 0.15;
+  static constexpr double kSettledM = 2e-4;
+  static constexpr double kSettledRollRad = 0.01;
+  static constexpr double kSettledJawsRad = 0.01;
+
+  struct Plan {
+    std::vector<TimedNudge> motions;
+    int switches = 0;
+    double script_done_s = 0.0;
+  };
+
+  // Raw counts for a wanted rate: the inverse of space_mouse_nudge's dead zone and scale.
+  [[nodiscard]] int counts(double rate, double full_rate) const {
+    const double share = std::min(1.0, std::abs(rate) / full_rate);
+    if (share < 1e-3) return 0;
+    const double u = mapping.dead_zone + (1.0 - mapping.dead_zone) * share;
+    return static_cast<int>(std::copysign(std::round(u * mapping.full_scale), rate));
+  }
+
+  // The puck's state that moves `at` towards `want`; none once settled.
+  [[nodiscard]] std::optional<hardware::SpaceMouseState> puck(
+      int tool, const hardware::SimulatedInput& at, const hardware::DeviceSample& want) const {
+    const Eigen::Vector3d e = want.position_W - at.position_W;
+    const Eigen::Vector3d s = (op->ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
+    const Eigen::Vector3d now = op->opening_dir(tool, at.orientation_W, at.position_W);
+    const Eigen::Vector3d goal = op->opening_dir(tool, want.orientation_W, at.position_W);
+    const double roll = std::atan2(now.cross(goal).dot(s), now.dot(goal));
+    const double jaws = want.gripper_angle_rad - at.gripper_angle_rad;
+    const double frame_jaws = mapping.jaw_rate_rad_per_s / frame_hz;
+    if (e.norm() < kSettledM && std::abs(roll) < kSettledRollRad &&
+        std::abs(jaws) < std::max(kSettledJawsRad, 0.5 * frame_jaws)) {
+      return std::nullopt;
+    }
+    hardware::SpaceMouseState p;
+    for (int a = 0; a < 3; ++a) {
+      p.axes[static_cast<size_t>(a)] =
+          counts(mapping.axis_sign[a] * e[a] / kReachS, mapping.speed_m_per_s);
+    }
+    p.axes[5] = counts(mapping.roll_sign * roll / kReachS, mapping.roll_rate_rad_per_s);
+    if (std::abs(jaws) >= 0.5 * frame_jaws) p.buttons = jaws < 0.0 ? 1U : 2U;
+    return p;
+  }
+
+  [[nodiscard]] Plan plan() const {
+    Plan out;
+    std::array<hardware::SimulatedInput, 2> at = op->start;
+    const double period = 1.0 / frame_hz;
+    const double end = std::max(op->expert[0].duration_s(), op->expert[1].duration_s());
+    double script_s = op->script_start_s;
+    int active = 1;
+    std::array<size_t, 2> cursor{};
+    for (double t = period; t < op->give_up_s; t += period) {
+      std::array<std::optional<hardware::SpaceMouseState>, 2> state;
+      for (int tool = 0; tool < 2; ++tool) {
+        const auto i = static_cast<size_t>(tool);
+        hardware::DeviceSample want;
+        op->expert[i].sample(script_s, &cursor[i], &want);
+        state[i] = puck(tool, at[i], want);
+      }
+      const auto a = static_cast<size_t>(active);
+      if (state[a]) {
+        const hardware::ToolNudge n = hardware::space_mouse_nudge(*state[a], mapping, period);
+        at[a] = hardware::nudged(at[a], n, op->workspaces_W[a], op->ports_W[a]);
+        out.motions.push_back({t, active, n});
+      } else if (state[1 - a]) {
+        active = 1 - active;
+        ++out.switches;
+      } else if (script_s < end) {
+        script_s = std::min(end, script_s + period);
+        if (script_s == end) out.script_done_s = t;
+      } else {
+        break;
       }
     }
     return out;
