@@ -130,6 +130,23 @@ class SessionFlow : public ::testing::Test {
     ASSERT_EQ(w.step(), MainWindow::Step::kDevices);
   }
 
+  // The window shown, `trainee` signed in, the default patient, both hands on the keyboard and
+  // mouse, the run started.
+  static void run_with_keyboard(MainWindow& w, const QString& trainee) {
+    w.resize(1280, 800);
+    w.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+    sign_in_and_choose_default(w, trainee, "");
+    if (::testing::Test::HasFatalFailure()) return;
+    for (const char* hand : {"left", "right"}) {
+      choose(find<QComboBox>(w.devices_page(), (std::string(hand) + "_kind").c_str()), 0);
+    }
+    QTest::mouseClick(find<QPushButton>(w.devices_page(), "devices_continue"), Qt::LeftButton);
+    ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
+    QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
+    ASSERT_EQ(w.step(), MainWindow::Step::kRun);
+  }
+
   // Both hands scripted: kind "Scripted motion", the file typed in.
   static void assign_scripts(MainWindow& w, const std::string& stem) {
     const fs::path scripts = source_dir() / "scenarios/scripts/default";
@@ -400,18 +417,8 @@ TEST_F(SessionFlow, AnAttemptCutShortIsFiledAsInterruptedAtTheNextStart) {
 TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   MainWindow w;
-  w.resize(1280, 800);
-  w.show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
-  sign_in_and_choose_default(w, "R-3300 Dr K. Osei", "");
+  run_with_keyboard(w, "R-3300 Dr K. Osei");
   if (HasFatalFailure()) return;
-  for (const char* hand : {"left", "right"}) {
-    choose(find<QComboBox>(w.devices_page(), (std::string(hand) + "_kind").c_str()), 0);
-  }
-  QTest::mouseClick(find<QPushButton>(w.devices_page(), "devices_continue"), Qt::LeftButton);
-  ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
-  QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
-  ASSERT_EQ(w.step(), MainWindow::Step::kRun);
   app::OperativeView* field = w.run_page()->operative();
   app::LiveSession& live = field->session();
   ASSERT_TRUE(live.keyboard_driven(0) && live.keyboard_driven(1));
@@ -488,18 +495,8 @@ TEST_F(SessionFlow, TheDefaultPatientIsCompletedWithTheKeysInTheWindow) {
       keyboard_operator(scene.value(), "default", 25.0).plan().presses;
   ASSERT_FALSE(presses.empty());
   MainWindow w;
-  w.resize(1280, 800);
-  w.show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
-  sign_in_and_choose_default(w, "R-3301 Dr L. Haddad", "");
+  run_with_keyboard(w, "R-3301 Dr L. Haddad");
   if (HasFatalFailure()) return;
-  for (const char* hand : {"left", "right"}) {
-    choose(find<QComboBox>(w.devices_page(), (std::string(hand) + "_kind").c_str()), 0);
-  }
-  QTest::mouseClick(find<QPushButton>(w.devices_page(), "devices_continue"), Qt::LeftButton);
-  ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
-  QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
-  ASSERT_EQ(w.step(), MainWindow::Step::kRun);
   app::OperativeView* field = w.run_page()->operative();
   app::LiveSession& live = field->session();
   app::VtkView* view = field->view();
