@@ -35,6 +35,7 @@ QLabel* light(const QString& text, QWidget* parent) {
 }
 
 void set_light(QLabel* l, bool on) {
+  l->setProperty("on", on);  // for whoever reads the screen without its colours (tests)
   l->setStyleSheet(
       on ? QString("border: 1px solid %1; border-radius: 9px; padding: 2px 8px; "
                    "background: %1; color: #0d1418; font-weight: 600;")
@@ -120,6 +121,8 @@ HandPanel::HandPanel(int side, QWidget* parent) : QWidget(parent), side_(side) {
   auto* button_row = new QHBoxLayout;
   buttons_[0] = light("Button 1", box);
   buttons_[1] = light("Button 2", box);
+  buttons_[0]->setObjectName(hand + "_button1");
+  buttons_[1]->setObjectName(hand + "_button2");
   button_row->addWidget(buttons_[0]);
   button_row->addWidget(buttons_[1]);
   button_row->addStretch(1);

@@ -28,12 +28,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <string>
+#include <tuple>
 
 #include "app/main_window.h"
 #include "app/operative_view.h"
+#include "app/pages/devices_page.h"
 #include "app/pages/page_style.h"
 #include "app/pages/run_page.h"
 #include "app/session_archive.h"
@@ -542,6 +545,132 @@ TEST_F(SessionFlow, TheDefaultPatientIsCompletedWithTheKeysInTheWindow) {
       << headline->text().toStdString() << ": "
       << find<QLabel>(w.result_page(), "result_reasons")->text().toStdString();
   screenshot(w, "9-result-keyboard");
+  w.close();
+}
+
+// The set-up page's live test screen shows each hand's device as it moves: a scripted right
+// hand that opens its jaws and holds button 2 after half a second, a keyboard left hand moved
+// 3 presses along -x, its jaws opened a press, then sent home with H.
+TEST_F(SessionFlow, TheTestScreenShowsEachHandsPositionGripButtonsAndHome) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  ASSERT_TRUE(scene.ok());
+  const Eigen::Vector3d right = sim::home_handle_position(scene.value(), 1);
+  const fs::path script = g_home->path() / "buttons_right.csv";
+  {
+    std::ofstream out(script);
+    out << "time_s,x_m,y_m,z_m,qw,qx,qy,qz,gripper_rad,buttons\n";
+    for (const auto& [t, grip, buttons] :
+         {std::tuple{0.0, 0.2, 0}, std::tuple{0.5, 0.2, 0}, std::tuple{0.6, 0.9, 2}}) {
+      out << t << "," << right.x() << "," << right.y() << "," << right.z() << ",1,0,0,0," << grip
+          << "," << buttons << "\n";
+    }
+  }
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  sign_in_and_choose_default(w, "R-3302 Dr P. Novak", "");
+  if (HasFatalFailure()) return;
+  app::DevicesPage* page = w.devices_page();
+  choose(find<QComboBox>(page, "left_kind"), 0);
+  choose(find<QComboBox>(page, "right_kind"), 2);
+  auto* file = find<QLineEdit>(page, "right_file");
+  file->clear();
+  QTest::keyClicks(file, QString::fromStdString(script.string()));
+  QTest::mouseClick(find<QPushButton>(page, "test_devices"), Qt::LeftButton);
+  ASSERT_TRUE(page->testing());
+  auto* grip = find<QProgressBar>(page, "right_grip");
+  auto* button1 = find<QLabel>(page, "right_button1");
+  auto* button2 = find<QLabel>(page, "right_button2");
+  EXPECT_TRUE(wait_until([&] { return grip->value() == 200; }, 5.0)) << grip->value();
+  EXPECT_FALSE(button2->property("on").toBool());
+  EXPECT_TRUE(wait_until([&] { return button2->property("on").toBool(); }, 5.0));
+  EXPECT_EQ(grip->value(), 900);
+  EXPECT_FALSE(button1->property("on").toBool());
+
+  // The keyboard hand: T makes it the active one (the right hand is active first).
+  auto* position = find<QLabel>(page, "left_position");
+  auto* left_grip = find<QProgressBar>(page, "left_grip");
+  page->setFocus();
+  QTest::keyClick(page, Qt::Key_T);
+  for (int i = 0; i < 3; ++i) QTest::keyClick(page, Qt::Key_J);
+  QTest::keyClick(page, Qt::Key_BracketRight);
+  // At the hand's 50 mm/s the 6 mm take 0.12 s; the screen reads 30 times a second.
+  EXPECT_TRUE(wait_until([&] { return position->text().contains("(6.0 mm away)"); }, 5.0))
+      << position->text().toStdString();
+  EXPECT_TRUE(position->text().contains("x   -6.0")) << position->text().toStdString();
+  EXPECT_TRUE(wait_until([&] { return left_grip->value() == 650; }, 5.0)) << left_grip->value();
+  screenshot(w, "3b-devices-keyboard");
+  QTest::keyClick(page, Qt::Key_H);
+  EXPECT_TRUE(wait_until([&] { return position->text().contains("(0.0 mm away)"); }, 5.0))
+      << position->text().toStdString();
+  EXPECT_TRUE(wait_until([&] { return left_grip->value() == 600; }, 5.0)) << left_grip->value();
+  w.close();
+}
+
+// The run's controls: Pause stops the clock and the keys, Resume starts both again, Restart
+// begins the patient afresh (the tools at home, the clock from zero, the restarted attempt
+// filed), End Attempt shows the result, Next Attempt goes to the briefing and a new run.
+TEST_F(SessionFlow, ARunIsPausedResumedRestartedEndedAndTriedAgain) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  const QString trainee = "R-3303 Dr E. Lindqvist";
+  MainWindow w;
+  run_with_keyboard(w, trainee);
+  if (HasFatalFailure()) return;
+  app::OperativeView* field = w.run_page()->operative();
+  app::LiveSession& live = field->session();
+  auto tick = [&] { return live.haptic().tick; };
+  ASSERT_TRUE(wait_until([&] { return tick() > 500; }, 10.0));
+  auto* pause = find<QPushButton>(w.run_page(), "pause");
+  auto* state = find<QLabel>(w.run_page(), "run_state");
+  QTest::mouseClick(pause, Qt::LeftButton);
+  EXPECT_TRUE(live.user_paused());
+  EXPECT_TRUE(wait_until([&] { return state->text().startsWith("PAUSED"); }, 2.0))
+      << state->text().toStdString();
+  EXPECT_EQ(pause->text(), "Resume");
+  QTest::qWait(100);
+  const int64_t held = tick();
+  const Eigen::Vector3d before = live.input(field->active_tool()).position_W;
+  field->view()->setFocus();
+  QTest::keyClick(field->view(), Qt::Key_J);  // ignored while paused
+  QTest::qWait(400);
+  EXPECT_LT(tick() - held, 20) << "the clock ran on while paused";
+  EXPECT_EQ(live.input(field->active_tool()).position_W, before);
+  QTest::mouseClick(pause, Qt::LeftButton);
+  EXPECT_FALSE(live.user_paused());
+  EXPECT_TRUE(wait_until([&] { return tick() > held + 300; }, 5.0));
+  EXPECT_TRUE(wait_until([&] { return state->text() == "Running"; }, 2.0));
+
+  QTest::keyClick(field->view(), Qt::Key_J);
+  EXPECT_NE(live.input(field->active_tool()).position_W, before);
+  const int64_t before_restart = tick();
+  QTest::mouseClick(find<QPushButton>(w.run_page(), "restart"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kRun);
+  ASSERT_TRUE(live.running());
+  EXPECT_LT(tick(), before_restart);
+  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  ASSERT_TRUE(scene.ok());
+  EXPECT_LT((live.input(1).position_W - sim::home_handle_position(scene.value(), 1)).norm(), 1e-12);
+  ASSERT_NE(w.store(), nullptr);
+  auto rows = w.store()->sessions(trainee);
+  ASSERT_TRUE(rows.ok()) << rows.message();
+  ASSERT_EQ(rows.value().size(), 1U);  // the restarted one
+  EXPECT_EQ(rows.value()[0].result, "incomplete");
+
+  ASSERT_TRUE(wait_until([&] { return tick() > 300; }, 10.0));
+  QTest::mouseClick(find<QPushButton>(w.run_page(), "end_attempt"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kResult);
+  EXPECT_FALSE(find<QLabel>(w.result_page(), "result_headline")->text().endsWith("Success"));
+  auto* attempts = find<QTableWidget>(w.result_page(), "earlier_attempts");
+  EXPECT_EQ(attempts->rowCount(), 2);
+  screenshot(w, "10-result-ended");
+  QTest::mouseClick(find<QPushButton>(w.result_page(), "next_attempt"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kBriefing);
+  QTest::mouseClick(find<QPushButton>(w.briefing_page(), "start"), Qt::LeftButton);
+  ASSERT_EQ(w.step(), MainWindow::Step::kRun);
+  EXPECT_TRUE(live.running() && live.keyboard_driven(1));
+  EXPECT_TRUE(wait_until([&] { return tick() > 100; }, 10.0));
   w.close();
 }
 
