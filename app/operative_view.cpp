@@ -300,7 +300,8 @@ void OperativeView::keyPressEvent(QKeyEvent* e) {
     default:
       break;
   }
-  if (const std::optional<hardware::ToolKey> key = tool_key(e->key())) {
+  if (const std::optional<hardware::ToolKey> key =
+          tool_key(e->key(), static_cast<int>(e->modifiers()))) {
     session_.nudge(active_tool_,
                    hardware::key_nudge(*key, fine_step(static_cast<int>(e->modifiers()))));
     return;

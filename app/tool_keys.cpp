@@ -4,8 +4,22 @@
 
 namespace lap::app {
 
-std::optional<hardware::ToolKey> tool_key(int qt_key) {
+std::optional<hardware::ToolKey> tool_key(int qt_key, int qt_modifiers) {
   using hardware::ToolKey;
+  if (fine_step(qt_modifiers)) {
+    switch (qt_key) {
+      case Qt::Key_BraceLeft:  // Shift+[ on a US layout
+        return ToolKey::kClose;
+      case Qt::Key_BraceRight:
+        return ToolKey::kOpen;
+      case Qt::Key_Less:  // Shift+,
+        return ToolKey::kRollMinus;
+      case Qt::Key_Greater:
+        return ToolKey::kRollPlus;
+      default:
+        break;
+    }
+  }
   switch (qt_key) {
     case Qt::Key_J:
       return ToolKey::kXMinus;
@@ -20,16 +34,12 @@ std::optional<hardware::ToolKey> tool_key(int qt_key) {
     case Qt::Key_K:
       return ToolKey::kZPlus;
     case Qt::Key_BracketLeft:
-    case Qt::Key_BraceLeft:  // Shift+[ on a US layout
       return ToolKey::kClose;
     case Qt::Key_BracketRight:
-    case Qt::Key_BraceRight:
       return ToolKey::kOpen;
     case Qt::Key_Comma:
-    case Qt::Key_Less:  // Shift+,
       return ToolKey::kRollMinus;
     case Qt::Key_Period:
-    case Qt::Key_Greater:
       return ToolKey::kRollPlus;
     default:
       return std::nullopt;

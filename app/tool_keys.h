@@ -10,9 +10,11 @@
 
 namespace lap::app {
 
-/// The tool key a Qt key code (Qt::Key) stands for, with Shift's variants (Shift+[ arrives as
-/// { on a US layout); none for any other key.
-[[nodiscard]] std::optional<hardware::ToolKey> tool_key(int qt_key);
+/// The tool key a Qt key code (Qt::Key) with its modifiers (Qt::KeyboardModifiers) stands for;
+/// none for any other key. With Shift, the characters Shift makes of [ ] , . on a US layout
+/// ({ } < >) count as those keys; without Shift they are not tool keys (an ISO layout's own
+/// < key would otherwise roll one way 5 degrees and, shifted, the other way a quarter of that).
+[[nodiscard]] std::optional<hardware::ToolKey> tool_key(int qt_key, int qt_modifiers);
 /// Whether a key event's modifiers (Qt::KeyboardModifiers) ask for the fine step (Shift).
 [[nodiscard]] bool fine_step(int qt_modifiers);
 

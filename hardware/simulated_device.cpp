@@ -15,6 +15,39 @@ Status SimulatedDevice::start() {
   return {};
 }
 
+namespace {
+
+// `last` moved towards `target` by at most the hand's speeds over step_s (none when the target
+// is not finite: the hand keeps still rather than jump to wherever the next finite input is).
+DeviceSample follow(const DeviceSample& last, DeviceSample target, const SimulatedHandSpeeds& v,
+                    double step_s) {
+  if (!target.position_W.allFinite() || !target.orientation_W.coeffs().allFinite() ||
+      !std::isfinite(target.gripper_angle_rad)) {
+    DeviceSample held = last;
+    held.time_s = target.time_s;
+    return held;
+  }
+  // The same turn on last's side of the quaternion double cover: the coefficients never flip.
+  if (last.orientation_W.dot(target.orientation_W) < 0.0) {
+    target.orientation_W.coeffs() = -target.orientation_W.coeffs();
+  }
+  const Eigen::Vector3d d = target.position_W - last.position_W;
+  const double reach_m = v.speed_m_per_s * step_s;
+  if (d.norm() > reach_m) target.position_W = last.position_W + d * (reach_m / d.norm());
+  const double turn = last.orientation_W.angularDistance(target.orientation_W);
+  const double reach_rad = v.turn_rad_per_s * step_s;
+  if (turn > reach_rad) {
+    target.orientation_W =
+        last.orientation_W.slerp(reach_rad / turn, target.orientation_W).normalized();
+  }
+  const double jaws_rad = v.jaws_rad_per_s * step_s;
+  target.gripper_angle_rad = std::clamp(target.gripper_angle_rad, last.gripper_angle_rad - jaws_rad,
+                                        last.gripper_angle_rad + jaws_rad);
+  return target;
+}
+
+}  // namespace
+
 DeviceStatus SimulatedDevice::read(int64_t tick, double period_s, DeviceSample* out) noexcept {
   const SimulatedInput& in = input_.latest();
   DeviceSample s;
@@ -25,21 +58,7 @@ DeviceStatus SimulatedDevice::read(int64_t tick, double period_s, DeviceSample* 
   s.gripper_angle_rad = in.gripper_angle_rad;
   s.buttons = in.buttons;
   const double dt = has_last_ ? s.time_s - last_.time_s : 0.0;
-  if (has_last_) {
-    // Towards the input, at most at the hand's speeds over dt (none when time did not advance).
-    const double step = std::max(0.0, dt);
-    const Eigen::Vector3d d = s.position_W - last_.position_W;
-    const double reach_m = speeds_.speed_m_per_s * step;
-    if (d.norm() > reach_m) s.position_W = last_.position_W + d * (reach_m / d.norm());
-    const double turn = last_.orientation_W.angularDistance(s.orientation_W);
-    const double reach_rad = speeds_.turn_rad_per_s * step;
-    if (turn > reach_rad) {
-      s.orientation_W = last_.orientation_W.slerp(reach_rad / turn, s.orientation_W).normalized();
-    }
-    const double jaws_rad = speeds_.jaws_rad_per_s * step;
-    s.gripper_angle_rad = std::clamp(s.gripper_angle_rad, last_.gripper_angle_rad - jaws_rad,
-                                     last_.gripper_angle_rad + jaws_rad);
-  }
+  if (has_last_) s = follow(last_, s, speeds_, std::max(0.0, dt));
   s.velocity_W = has_last_ && dt > 0.0 ? Eigen::Vector3d((s.position_W - last_.position_W) / dt)
                                        : Eigen::Vector3d::Zero();
   last_ = s;

@@ -20,15 +20,16 @@ struct SimulatedInput {
 
 /// How fast the simulated hand follows its input: a key press (2 mm, 5 degrees, 0.05 rad of the
 /// jaws: hardware/tool_nudge.h) is a motion over a few tens of milliseconds, never a jump in one
-/// tick. Estimates, not measured hands: 50 mm/s is a held key's pace (25 presses a second of
-/// 2 mm), and the jaws' rate is the 3D mouse's (hardware/space_mouse.h). Measured here: with
-/// the keys' steps taken at twice this speed, the catheter's tip whips through the cystic duct's
-/// wall as the keyboard's hand inserts it on the default patient; at this speed it goes in
-/// (tests/sim/keyboard_run_test.cpp, docs/benchmarks.md "The keyboard's hand").
+/// tick. Estimates, not measured hands, each at or above a held key's pace (the desktop's
+/// autorepeat, about 25 presses a second: 50 mm/s, 2.2 rad/s of roll, 1.25 rad/s of the jaws),
+/// so that a held key does not run ahead of the hand. Measured on the keyboard's runs
+/// (docs/benchmarks.md, "The keyboard's hand"): the keys' 2 mm steps made as jumps, or at twice
+/// this speed, whip the catheter's tip through the cystic duct's wall on the default patient; at
+/// this speed it goes in.
 struct SimulatedHandSpeeds {
   double speed_m_per_s = 0.05;  ///< the handle's speed
-  double turn_rad_per_s = 2.0;  ///< the handle's angular speed (a 5 degree roll in 44 ms)
-  double jaws_rad_per_s = 1.0;  ///< the jaws' opening and closing rate
+  double turn_rad_per_s = 2.5;  ///< the handle's angular speed (a 5 degree roll in 35 ms)
+  double jaws_rad_per_s = 1.5;  ///< the jaws' opening and closing rate
 };
 
 class SimulatedDevice final : public InputDevice {

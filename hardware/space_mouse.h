@@ -92,8 +92,9 @@ struct SpaceMouseMapping {
   double dead_zone = 0.08;          ///< fraction of full scale ignored (the puck's rest noise)
   double speed_m_per_s = 0.05;      ///< tip speed at full deflection
   double jaw_rate_rad_per_s = 1.0;  ///< jaw opening rate while a button is held
-  /// Roll rate at full twist: a quarter turn in a second, the keyboard's rate with a held key
-  /// (hardware/tool_nudge.h: 5 degrees a press, about 25 presses a second). An estimate.
+  /// Roll rate at full twist: about a quarter turn in a second, a little under a held roll
+  /// key's 2.2 rad/s (hardware/tool_nudge.h: 5 degrees a press, about 25 presses a second), for
+  /// a puck's finer control. An estimate.
   double roll_rate_rad_per_s = 1.5;
   double roll_sign = 1.0;                    ///< the twist's direction to the roll's
   Eigen::Vector3d axis_sign{1.0, 1.0, 1.0};  ///< puck x, y, z to world x, y, z

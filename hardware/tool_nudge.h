@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 
 #include "hardware/simulated_device.h"
@@ -40,11 +41,11 @@ enum class ToolKey : uint8_t {
 // 15 cm from a port to the duct in a few seconds of a held key (the desktop's autorepeat, about
 // 25 presses a second). The jaws: 20 presses from closed to fully open. The roll: 5 degrees,
 // 72 presses a turn. With Shift held, a quarter of each (0.5 mm, 1.25 degrees, 0.0125 rad): the
-// catheter's tip, 0.4 of the handle's motion away on the other side of the port, cannot be put
-// into the ductotomy on the 2 mm steps' lattice alone (tests/sim/keyboard_run_test.cpp).
+// catheter's tip, 0.4 of the handle's motion away on the other side of the port, was not put
+// into the ductotomy on the 2 mm steps alone (docs/benchmarks.md, "The keyboard's hand").
 inline constexpr double kKeyStepM = 0.002;
 inline constexpr double kKeyOpeningRad = 0.05;
-inline constexpr double kKeyRollRad = 0.0872664626;  // 5 degrees
+inline constexpr double kKeyRollRad = std::numbers::pi / 36.0;  // 5 degrees
 inline constexpr double kKeyFineFraction = 0.25;
 
 /// One press of `key`; `fine` (Shift held) a quarter of it.

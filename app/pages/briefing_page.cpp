@@ -194,12 +194,15 @@ void BriefingPage::set_briefing(const CatalogEntry& s, const std::array<QString,
     c += row(key("[") + " " + key("]"),
              "close / open the jaws (close them on the catheter to "
              "hold it)");
+    c += row(key(",") + " " + key("."),
+             "turn the instrument 5° about its shaft (the jaws' plane turns with it)");
+    c += row(key("Shift"), "with any of these keys: a quarter of the step, to aim finely");
     c += row(key("Ctrl") + " + drag",
-             "move the instrument in the view's plane; Ctrl + wheel "
-             "along the view");
+             "move the instrument in the view's plane; Ctrl + wheel along the view; Ctrl + "
+             "middle drag sideways turns it about its shaft");
     c += row("3D mouse",
-             "moves the active instrument in three dimensions; its buttons close "
-             "and open the jaws");
+             "moves the active instrument in three dimensions, a twist of its cap turns it; its "
+             "buttons close and open the jaws");
   }
   c += row("Laparoscope", "left drag or the arrows pivot it, right drag or " + key("W") + "/" +
                               key("S") + " slide it in and out, middle drag or " + key("A") + "/" +

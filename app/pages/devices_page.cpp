@@ -511,7 +511,8 @@ void DevicesPage::keyPressEvent(QKeyEvent* e) {
     default:
       break;
   }
-  if (const std::optional<hardware::ToolKey> key = tool_key(e->key())) {
+  if (const std::optional<hardware::ToolKey> key =
+          tool_key(e->key(), static_cast<int>(e->modifiers()))) {
     probe_.nudge(active_hand_,
                  hardware::key_nudge(*key, fine_step(static_cast<int>(e->modifiers()))));
     return;

@@ -68,7 +68,7 @@ TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
     turn.roll_rad = roll;
     live.nudge(1, turn);
     haptics::GripperPose after;
-    // The device turns the handle at the hand's 2 rad/s: half a radian in 0.25 s.
+    // The device turns the handle at the hand's 2.5 rad/s: half a radian in 0.2 s.
     ASSERT_TRUE(right_tool_after(live, seen + 600, &after, &seen));
     const Eigen::Vector3d to_tip = -before.shaft_dir_W;
     const double turned = std::atan2(before.open_dir_W.cross(after.open_dir_W).dot(to_tip),

@@ -476,7 +476,7 @@ TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   };
   before = live.input(tool);
   drag(Qt::MiddleButton);
-  EXPECT_NEAR(rolled(before, live.input(tool)), 40 * app::VtkView::kToolRollRadPerPixel, 1e-9);
+  EXPECT_NEAR(rolled(before, live.input(tool)), 0.2, 1e-9);  // 40 pixels at 0.005 rad
   EXPECT_LT((live.input(tool).position_W - before.position_W).norm(), 1e-15);
   before = live.input(tool);
   drag(Qt::LeftButton);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace lap::hardware {
 namespace {
@@ -64,6 +65,39 @@ TEST(SimulatedDevice, TheWorkspaceBoundsItAndTimeMustPassForItToMove) {
   EXPECT_EQ(s.position_W, Eigen::Vector3d::Zero());
   for (int64_t k = 1; k <= 3000; ++k) d.read(k, kPeriodS, &s);
   EXPECT_EQ(s.position_W, Eigen::Vector3d(0.1, 0.0, 0.0));
+}
+
+// A non-finite input leaves the hand where it was (and the next finite one is still followed at
+// the hand's speed, not jumped to); the same orientation given as -q is no turn, and the
+// sample's coefficients keep their sign; a read at an earlier tick does not move the hand.
+TEST(SimulatedDevice, NonFiniteInputsTheDoubleCoverAndTimeGoingBackAreHeld) {
+  SimulatedInput home;
+  home.orientation_W = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()));
+  SimulatedDevice d(home, "keys");
+  ASSERT_TRUE(d.start().ok());
+  DeviceSample s;
+  d.read(0, kPeriodS, &s);
+  const Eigen::Vector4d q0 = s.orientation_W.coeffs();
+  SimulatedInput bad = home;
+  bad.position_W.x() = std::numeric_limits<double>::quiet_NaN();
+  d.set_input(bad);
+  d.read(1, kPeriodS, &s);
+  EXPECT_EQ(s.position_W, Eigen::Vector3d::Zero());
+  SimulatedInput far = home;
+  far.position_W = Eigen::Vector3d(0.1, 0.0, 0.0);
+  d.set_input(far);
+  d.read(2, kPeriodS, &s);
+  EXPECT_NEAR(s.position_W.x(), d.speeds().speed_m_per_s * kPeriodS, 1e-15);  // one tick's reach
+  SimulatedInput flipped = home;
+  flipped.position_W = s.position_W;
+  flipped.orientation_W.coeffs() = -home.orientation_W.coeffs();
+  d.set_input(flipped);
+  d.read(3, kPeriodS, &s);
+  EXPECT_LT((s.orientation_W.coeffs() - q0).norm(), 1e-12) << "the coefficients flipped";
+  const Eigen::Vector3d at = s.position_W;
+  d.set_input(far);
+  d.read(1, kPeriodS, &s);  // back in time
+  EXPECT_EQ(s.position_W, at);
 }
 
 }  // namespace

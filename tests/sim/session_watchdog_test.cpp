@@ -419,7 +419,8 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
     const Scene& scene = default_scene();
     hardware::PhantomSettings ps;
     ps.library = LAP_FAKE_HD;
-    // The device's origin 10 cm in, at the left tool's home: the arm starts there.
+    // The device's origin 10 cm in (the left tool's home on the default scenario): the arm
+    // starts there.
     ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, 0, 0.10)) *
                          Eigen::Isometry3d::Identity();
     Devices d = with_left(scene, std::make_unique<hardware::PhantomDevice>(ps));
