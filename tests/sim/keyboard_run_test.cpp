@@ -3,8 +3,8 @@
 // operator of tests/support/keyboard_operator.h copies the expert's run with the keys; each
 // press reaches the tool's simulated device (the window's, hardware::SimulatedDevice) at the
 // first tick at or after its time, and none while the heads-up display says hold, so the run is
-// a function of the presses alone. In the window, with real key events:
-// tests/app/session_flow_test.cpp.
+// a function of the presses alone. In the window, with real key events in real time, to the
+// ductotomy (the whole run on request): tests/app/session_flow_test.cpp.
 
 #include <gtest/gtest.h>
 
