@@ -751,12 +751,12 @@ int cmd_expert_benchmarks(int argc, char** argv) {
 
 int cmd_plan_expert(int argc, char** argv) {
   Args args(argc, argv, {});
-  lap::sim::ExpertRunSettings settings;
+  lap::sim::ExpertMistake mistake_run = lap::sim::ExpertMistake::kNone;
   std::string prefix = "expert";
   if (args.has("--mistake")) {
     const std::string m = args.get("--mistake");
     if (const std::optional<lap::sim::ExpertMistake> mistake = lap::sim::parse_mistake(m)) {
-      settings.mistake = *mistake;
+      mistake_run = *mistake;
     } else {
       args.errors.push_back("--mistake: expected drop, overshoot, tear, cbd or time_limit, got '" +
                             m + "'");
@@ -777,6 +777,8 @@ int cmd_plan_expert(int argc, char** argv) {
       lap::sim::DeviceDescription{"left", {}}, lap::sim::DeviceDescription{"right", {}}};
   auto model = lap::sim::SessionModel::build(r.value(), rs, devices);
   if (!model.ok()) return print_problems(model.diagnostics());
+  lap::sim::ExpertRunSettings settings = lap::sim::expert_run_settings(r.value().scenario);
+  settings.mistake = mistake_run;
   const auto plan = lap::sim::plan_expert_run(r.value(), *model.value(), settings);
   if (!plan.ok()) return print_problems(plan.diagnostics());
   const fs::path dir = args.get("--out");

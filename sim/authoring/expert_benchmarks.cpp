@@ -17,11 +17,10 @@ double uniform(std::mt19937& rng, double lo, double hi) {
   return lo + (hi - lo) * (static_cast<double>(rng() >> 8) / static_cast<double>(1U << 24));
 }
 
-/// The planner's expert settings, varied about its defaults: the slant ±2°, the grasp ±2 mm
-/// along the catheter and ±0.05 along the jaws, the start ±1 mm (of the order a surgeon's
-/// placement varies by; estimates).
-ExpertRunSettings varied(std::mt19937& rng) {
-  ExpertRunSettings s;
+/// The planner's expert settings for the scenario (expert_run_settings), varied: the slant ±2°, the
+/// grasp ±2 mm along the catheter and ±0.05 along the jaws, the start ±1 mm (of the order a
+/// surgeon's placement varies by; estimates).
+ExpertRunSettings varied(ExpertRunSettings s, std::mt19937& rng) {
   s.entry_slant_deg = uniform(rng, s.entry_slant_deg - 2.0, s.entry_slant_deg + 2.0);
   s.grasp_from_tip_m = uniform(rng, s.grasp_from_tip_m - 0.002, s.grasp_from_tip_m + 0.002);
   s.grasp_depth = uniform(rng, s.grasp_depth - 0.05, s.grasp_depth + 0.05);
@@ -73,7 +72,8 @@ Result<ExpertBenchmarks> plan_expert_benchmarks(const Scene& scene,
   std::mt19937 rng(settings.seed);
   std::vector<std::vector<double>> values(settings.metrics.size());
   for (int run = 0; run < settings.runs; ++run) {
-    const ExpertRunSettings s = run == 0 ? ExpertRunSettings{} : varied(rng);
+    const ExpertRunSettings base = expert_run_settings(scene.scenario);
+    const ExpertRunSettings s = run == 0 ? base : varied(base, rng);
     ++out.runs;
     const Result<std::vector<Metric>> metrics = run_variant(scene, *model.value(), s);
     if (!metrics.ok()) {

@@ -454,6 +454,14 @@ struct Planner {
 
 }  // namespace
 
+ExpertRunSettings expert_run_settings(const Scenario& scenario) {
+  ExpertRunSettings s;
+  if (scenario.task && scenario.task->expert_entry_slant_deg) {
+    s.entry_slant_deg = *scenario.task->expert_entry_slant_deg;
+  }
+  return s;
+}
+
 Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
                                   const ExpertRunSettings& settings) {
   const Scenario& sc = scene.scenario;

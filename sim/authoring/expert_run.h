@@ -65,7 +65,8 @@ struct ExpertRunSettings {
   ExpertMistake mistake = ExpertMistake::kNone;
   /// The catheter's slant to the duct's axis as it enters, into the wall [deg]: shallow enough
   /// to turn along the lumen, steep enough to pass the hole (the catheter is 1.7 mm across, the
-  /// lumen 3 mm).
+  /// lumen 3 mm). A scenario may name its own (task.expert_entry_slant_deg:
+  /// expert_run_settings): the fulcrum meets some slants better than others.
   double entry_slant_deg = 39.0;
   double grasp_from_tip_m = 0.025;  ///< where the jaws take the catheter, behind its tip
   double grasp_depth = 0.5;         ///< how far along the jaws it lies, from the hinge (of 1)
@@ -115,6 +116,10 @@ struct ExpertRun {
   /// reaches the duct beside the incision clear of the other organs, and it waits in view.
   std::optional<double> steady_site_m;
 };
+
+/// The planner's settings for `scenario`: the defaults above, with the approach its task names
+/// (task.expert_entry_slant_deg).
+[[nodiscard]] ExpertRunSettings expert_run_settings(const Scenario& scenario);
 
 /// Fails, saying why, for a scenario without a catheter-insertion task, a catheter port or an
 /// incision, and for the clumsy run into the common bile duct where the task names none.

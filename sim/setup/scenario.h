@@ -213,6 +213,10 @@ struct TaskSpec {
   /// The organ that is the common bile duct (closed, its lumen inside), or empty: the catheter's
   /// tip inside it is the error `common_bile_duct`.
   std::string common_bile_duct;
+  /// The slant at which the expert's run (`laptrainer-cli plan-expert`,
+  /// sim/authoring/expert_run.h) brings the catheter into the duct's wall, to its axis [deg];
+  /// absent, the planner's 39. Not read by the task engine: an approach, not a rule.
+  std::optional<double> expert_entry_slant_deg;
   int line = 0;  ///< where it is in the file, for later messages
 };
 

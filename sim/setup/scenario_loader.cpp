@@ -408,7 +408,8 @@ class ScenarioParser {
             n, "task",
             {"kind", "target", "insertion_depth_m", "hold_s", "time_limit_s", "duct_injury_force_n",
              "duct_injury_time_s", "duct_squeeze_n", "organ_injury_force_n", "organ_injury_time_s",
-             "drop_grace_s", "out_of_view_grace_s", "forbidden_organs", "common_bile_duct"})) {
+             "drop_grace_s", "out_of_view_grace_s", "forbidden_organs", "common_bile_duct",
+             "expert_entry_slant_deg"})) {
       return;
     }
     t.line = yaml_line(n);
@@ -453,6 +454,8 @@ class ScenarioParser {
                             "from 0 to 60 (s)");
     fields_.optional_number(n, "out_of_view_grace_s", "task", t.out_of_view_grace_s, 0.0, 600.0,
                             "from 0 to 600 (s)");
+    fields_.optional_number(n, "expert_entry_slant_deg", "task", t.expert_entry_slant_deg, 20.0,
+                            70.0, "from 20 to 70 (degrees)");
   }
 
   // The experts' benchmarks: a source, and per training metric (named as the reports name them,

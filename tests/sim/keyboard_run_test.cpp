@@ -237,16 +237,16 @@ TEST(KeyboardRun, TheDefaultPatientsProcedureCanBeCompletedWithTheKeys) {
   if (kEveryRun) expect_success(run_with_keys("default", 5.0), "default, 5 presses/s");
 }
 
-// The easy and the moderate patient, with held keys. (The hardest patient is not completed this
-// way, at 25, 10 or 5 presses a second, nor with Shift's quarter steps throughout: the catheter's
-// tip comes to the incision and does not go in. The 3D mouse's operator, below, following the
-// same expert along the same targets, completes it: what differs is the keys' motion, one axis
-// at a time in steps. Not yet understood further; a resident at the keys would aim the tip
-// itself, which this operator does not.)
-TEST(KeyboardRun, TheEasyAndModeratePatientsCanBeCompletedWithTheKeys) {
+// The other patients, with held keys. (The hardest patient's expert went into the incision at its
+// edge when it came in at the planner's 39 degrees, and the keys, following it less exactly,
+// slid off that edge; at the 42 degrees its scenario now names it goes in: docs/benchmarks.md,
+// "Why the keys miss the hardest patient's incision".)
+TEST(KeyboardRun, TheOtherPatientsCanBeCompletedWithTheKeys) {
   if (!kEveryRun) GTEST_SKIP() << "the optimised build's";
   expect_success(run_with_keys("patient_easy", 25.0), "patient_easy, 25 presses/s");
   expect_success(run_with_keys("patient_moderate", 25.0), "patient_moderate, 25 presses/s");
+  expect_success(run_with_keys("patient_hard", 25.0), "patient_hard, 25 presses/s");
+  expect_success(run_with_keys("patient_hard", 5.0), "patient_hard, 5 presses/s");
 }
 
 // The 3D mouse, on every patient, the hardest too: its hand moves along all three axes at once,

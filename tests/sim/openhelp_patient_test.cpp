@@ -38,7 +38,7 @@ TEST(RealMeshes, TheOpenHelpPatientsScriptsAreWhatThePlannerWritesFromTheScenari
   REQUIRE_SCANS_BESIDE_THE_SOURCE_TREE();
   const SceneLoadResult scene = load_scene_file(kScenario);
   ASSERT_TRUE(scene.ok()) << scene.message();
-  expect_planned_scripts(scene.value(), {}, kScripts, "expert");
+  expect_planned_scripts(scene.value(), ExpertMistake::kNone, kScripts, "expert");
 }
 
 TEST(RealMeshes, TheExpertInsertsTheCatheterInTheOpenHelpPatient) {

@@ -364,12 +364,17 @@ TEST_F(ScenarioFixture, Bad37_MisspelledTaskField) {
              "34: task.hold_time_s: unknown field (expected one of: kind, target, "
              "insertion_depth_m, hold_s, time_limit_s, duct_injury_force_n, duct_injury_time_s, "
              "duct_squeeze_n, organ_injury_force_n, organ_injury_time_s, drop_grace_s, "
-             "out_of_view_grace_s, forbidden_organs, common_bile_duct)");
+             "out_of_view_grace_s, forbidden_organs, common_bile_duct, expert_entry_slant_deg)");
 }
 
 TEST_F(ScenarioFixture, Bad38_OutOfViewGraceTooLong) {
   expect_one(load_with(33, "  target: duct\n  out_of_view_grace_s: 601"),
              "34: task.out_of_view_grace_s: expected a number from 0 to 600 (s), got 601");
+}
+
+TEST_F(ScenarioFixture, Bad38b_ExpertSlantOutOfRange) {
+  expect_one(load_with(33, "  target: duct\n  expert_entry_slant_deg: 90"),
+             "34: task.expert_entry_slant_deg: expected a number from 20 to 70 (degrees), got 90");
 }
 
 TEST_F(ScenarioFixture, Bad39_CatheterPortIsNoTrocar) {
@@ -497,13 +502,15 @@ TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {
   EXPECT_DOUBLE_EQ(d.drop_grace_s, 1.0);
   EXPECT_DOUBLE_EQ(d.out_of_view_grace_s, 3.0);
   EXPECT_TRUE(d.forbidden_organs.empty());
+  EXPECT_FALSE(d.expert_entry_slant_deg.has_value());
   EXPECT_EQ(d.line, 32);
   const ScenarioLoadResult r =
       load_with(33,
                 "  target: duct\n  insertion_depth_m: 0.015\n  hold_s: 5\n  time_limit_s: 300\n"
                 "  duct_injury_force_n: 1.5\n  duct_injury_time_s: 0.5\n  duct_squeeze_n: 4\n"
                 "  organ_injury_force_n: 6\n  organ_injury_time_s: 3\n  drop_grace_s: 2\n"
-                "  out_of_view_grace_s: 10\n  forbidden_organs: [liver]");
+                "  out_of_view_grace_s: 10\n  forbidden_organs: [liver]\n"
+                "  expert_entry_slant_deg: 42.5");
   ASSERT_TRUE(r.ok()) << all(r);
   const TaskSpec& t = *r.value().task;
   EXPECT_DOUBLE_EQ(t.insertion_depth_m, 0.015);
@@ -517,6 +524,7 @@ TEST_F(ScenarioFixture, TheTasksThresholdsAreReadWithTheirDefaults) {
   EXPECT_DOUBLE_EQ(t.drop_grace_s, 2.0);
   EXPECT_DOUBLE_EQ(t.out_of_view_grace_s, 10.0);
   EXPECT_EQ(t.forbidden_organs, std::vector<std::string>{"liver"});
+  EXPECT_EQ(t.expert_entry_slant_deg, 42.5);
 }
 
 TEST_F(ScenarioFixture, AnIncisionInTheDuctIsRead) {

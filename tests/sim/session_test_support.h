@@ -209,9 +209,12 @@ inline SessionMetrics run_scripts(const Scene& scene, const fs::path& dir,
 }
 
 // That the planner (sim/authoring/expert_run.h) still writes the scripts dir/`stem`_left.csv and
-// _right.csv from the scene, as `laptrainer-cli plan-expert` builds the session's model for it.
-inline void expect_planned_scripts(const Scene& scene, const ExpertRunSettings& settings,
-                                   const fs::path& dir, const std::string& stem) {
+// _right.csv from the scene, as `laptrainer-cli plan-expert` builds the session's model for it
+// and takes its settings from the scenario (expert_run_settings) with `mistake`.
+inline void expect_planned_scripts(const Scene& scene, ExpertMistake mistake, const fs::path& dir,
+                                   const std::string& stem) {
+  ExpertRunSettings settings = expert_run_settings(scene.scenario);
+  settings.mistake = mistake;
   RuntimeSettings rs;
   rs.fast = true;
   auto model = SessionModel::build(scene, rs, {DeviceDescription{"left", {}}, {"right", {}}});
