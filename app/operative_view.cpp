@@ -35,16 +35,8 @@ OperativeView::OperativeView(QWidget* parent) : QWidget(parent) {
   view_ = new VtkView(this);
   layout->addWidget(view_);
   setFocusProxy(view_);
-  connect(view_, &VtkView::tool_moved, this, [this](double dx, double dy, double dz) {
-    hardware::ToolNudge n;
-    n.delta_W = Eigen::Vector3d(dx, dy, dz);
-    session_.nudge(active_tool_, n);
-  });
-  connect(view_, &VtkView::tool_rolled, this, [this](double roll_rad) {
-    hardware::ToolNudge n;
-    n.roll_rad = roll_rad;
-    session_.nudge(active_tool_, n);
-  });
+  connect(view_, &VtkView::tool_nudged, this,
+          [this](const hardware::ToolNudge& n) { session_.nudge(active_tool_, n); });
   connect(view_, &VtkView::scope_command, this, &OperativeView::move_scope);
   connect(view_, &VtkView::about_to_render, this, &OperativeView::draw_scene);
 

@@ -148,21 +148,20 @@ void VtkView::mouseMoveEvent(QMouseEvent* e) {
   constexpr double kRadPerPixel = 0.0025;  // the scope pivots 0.14 degrees per pixel
   if (ctrl && ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift))) {
     // The tool turns about its shaft with the horizontal motion, as the scope does without Ctrl.
-    emit tool_rolled(kToolRollRadPerPixel * d.x());
+    emit tool_nudged(hardware::mouse_roll_nudge(d.x()));
   } else if ((buttons_ & Qt::LeftButton) && ctrl) {
-    // The tool's handle follows the mouse in the view's plane, 0.2 mm per pixel.
-    vtkCamera* cam = renderer_->GetActiveCamera();
+    // The tool's handle follows the mouse in the view's plane.
     double up[3];
     double dir[3];
+    vtkCamera* cam = renderer_->GetActiveCamera();
     cam->GetViewUp(up);
     cam->GetDirectionOfProjection(dir);
-    const double right[3] = {dir[1] * up[2] - dir[2] * up[1], dir[2] * up[0] - dir[0] * up[2],
-                             dir[0] * up[1] - dir[1] * up[0]};
-    constexpr double kMetresPerPixel = 2e-4;
-    const double sx = kMetresPerPixel * d.x();
-    const double sy = -kMetresPerPixel * d.y();
-    emit tool_moved(sx * right[0] + sy * up[0], sx * right[1] + sy * up[1],
-                    sx * right[2] + sy * up[2]);
+    const Eigen::Vector3d up_W = Eigen::Vector3d(up[0], up[1], up[2]).normalized();
+    const Eigen::Vector3d right_W =
+        Eigen::Vector3d(dir[0], dir[1], dir[2]).cross(up_W).normalized();
+    emit tool_nudged(hardware::mouse_drag_nudge(d.x(), d.y(), right_W, up_W));
+  } else if ((buttons_ & Qt::RightButton) && ctrl) {
+    emit tool_nudged(hardware::mouse_jaws_nudge(d.y()));
   } else if ((buttons_ & Qt::MiddleButton) || ((buttons_ & Qt::LeftButton) && shift)) {
     scope(ScopeMove::kRoll, 2.0 * kRadPerPixel * d.x());
   } else if (buttons_ & Qt::LeftButton) {
@@ -178,11 +177,15 @@ void VtkView::mouseReleaseEvent(QMouseEvent* e) { buttons_ = e->buttons(); }
 void VtkView::wheelEvent(QWheelEvent* e) {
   const double notches = e->angleDelta().y() / 120.0;
   if ((e->modifiers() & Qt::ControlModifier) != 0) {
-    // Along the view direction, 2 mm per notch (away from the viewer for a forward turn).
+    // Along the line of sight, away from the viewer for a forward turn. With Shift held some
+    // systems report the wheel as horizontal: either axis counts.
+    const QPoint a = e->angleDelta();
+    const double turned = (a.y() != 0 ? a.y() : a.x()) / 120.0;
     double dir[3];
     renderer_->GetActiveCamera()->GetDirectionOfProjection(dir);
-    const double s = 0.002 * notches;
-    emit tool_moved(s * dir[0], s * dir[1], s * dir[2]);
+    const bool fine = (e->modifiers() & Qt::ShiftModifier) != 0;
+    emit tool_nudged(hardware::mouse_wheel_nudge(
+        turned, Eigen::Vector3d(dir[0], dir[1], dir[2]).normalized(), fine));
     return;
   }
   scope(ScopeMove::kZoom, std::pow(1.1, notches));

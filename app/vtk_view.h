@@ -16,6 +16,7 @@
 
 #include "app/scaled_scene_pass.h"
 #include "core/result.h"
+#include "hardware/tool_nudge.h"
 
 namespace lap::app {
 
@@ -49,8 +50,10 @@ struct CameraPose {
 /// left drag pivot it about its port, W/S or right drag slide it in and out, A/D or middle drag
 /// (Shift+left) turn it about its axis (an angled optic's view turns with it), Q/E turn the
 /// camera head (the picture's horizon), +/- or the wheel zoom, C switches the camera assistant,
-/// R resets. With Ctrl held, the left button and the wheel move the active tool instead
-/// (tool_moved), and the middle button (or Shift+left) turns it about its shaft (tool_rolled).
+/// R resets. With Ctrl held the mouse drives the active tool instead (tool_nudged; the table is
+/// hardware/tool_nudge.h's): the left button and the wheel move it (Shift: the wheel's quarter
+/// step), the middle button (or Shift+left) turns it about its shaft, the right button opens and
+/// closes its jaws.
 /// Before each frame it emits about_to_render, for whoever draws the scene.
 class VtkView : public QWidget {
   Q_OBJECT
@@ -58,11 +61,6 @@ class VtkView : public QWidget {
  public:
   explicit VtkView(QWidget* parent = nullptr);
   ~VtkView() override;
-
-  /// The tool's roll per pixel of a Ctrl+middle drag: 0.3 degrees, a quarter turn across 300
-  /// pixels (an estimate: fine enough to set the jaws within a degree, quick enough to turn them
-  /// in one stroke).
-  static constexpr double kToolRollRadPerPixel = 0.005;
 
   vtkRenderer* renderer() { return renderer_; }
   vtkRenderWindow* render_window() { return render_window_; }
@@ -100,13 +98,10 @@ class VtkView : public QWidget {
   void about_to_render();
   /// A move of the scope (keys, mouse).
   void scope_command(const lap::app::ScopeCommand& command);
-  /// Ctrl+left drag (in the view's plane) or Ctrl+wheel (along the view): a world displacement
-  /// [m] for the active tool's handle.
-  void tool_moved(double dx, double dy, double dz);
-  /// Ctrl+middle drag or Ctrl+Shift+left drag, sideways: a turn [rad] of the active tool about
-  /// its shaft (kToolRollRadPerPixel a pixel, right-handed about the shaft towards the tip for a
-  /// drag to the right).
-  void tool_rolled(double roll_rad);
+  /// The mouse with Ctrl held, for the active tool: a Ctrl+left drag (in the view's plane) or
+  /// Ctrl+wheel (along the line of sight) moves its handle, a Ctrl+middle or Ctrl+Shift+left drag
+  /// sideways turns it about its shaft, a Ctrl+right drag opens or closes its jaws.
+  void tool_nudged(const lap::hardware::ToolNudge& nudge);
 
  protected:
   void paintEvent(QPaintEvent* event) override;

@@ -23,6 +23,7 @@
 #include <QPushButton>
 #include <QTableWidget>
 #include <QTest>
+#include <QWheelEvent>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -414,7 +415,9 @@ TEST_F(SessionFlow, AnAttemptCutShortIsFiledAsInterruptedAtTheNextStart) {
 // With no hardware, the keys and the mouse drive the active instrument as Help > Controls says:
 // J a 2 mm step along -x, Shift+J a quarter of it, [ closes the jaws 0.05 rad, . and Shift+.
 // turn the instrument 5 and 1.25 degrees about its shaft, Ctrl+middle drag sideways turns it
-// 0.005 rad a pixel, Ctrl+left drag moves it 0.2 mm a pixel in the view's plane. Real key and
+// 0.005 rad a pixel, Ctrl+left drag moves it 0.2 mm a pixel in the view's plane, Ctrl+right drag
+// downwards closes the jaws 0.005 rad a pixel, Ctrl+wheel moves it 2 mm a notch along the line
+// of sight (with Shift 0.5 mm). Real key and
 // mouse events on the operative field, read back from the hand's input (what the simulated
 // device then follows at the hand's speeds).
 TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
@@ -460,10 +463,11 @@ TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   QTest::keyClick(view, Qt::Key_Greater, Qt::ShiftModifier);  // Shift+. on a US layout
   EXPECT_NEAR(rolled(before, live.input(tool)), 1.25 * M_PI / 180.0, 1e-9);
 
-  // The mouse: press, move 40 pixels right, release, with Ctrl (and the events' own buttons).
-  auto drag = [&](Qt::MouseButton button) {
+  // The mouse: press, move 40 pixels right (or as `by`), release, with Ctrl (and the events' own
+  // buttons).
+  auto drag = [&](Qt::MouseButton button, QPointF by = QPointF(40, 0)) {
     const QPointF a(400, 300);
-    const QPointF b(440, 300);
+    const QPointF b = a + by;
     QMouseEvent press(QEvent::MouseButtonPress, a, view->mapToGlobal(a), button, button,
                       Qt::ControlModifier);
     QApplication::sendEvent(view, &press);
@@ -482,6 +486,22 @@ TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   drag(Qt::LeftButton);
   EXPECT_NEAR((live.input(tool).position_W - before.position_W).norm(), 40 * 2e-4, 1e-9);
   EXPECT_NEAR(rolled(before, live.input(tool)), 0.0, 1e-12);
+  before = live.input(tool);
+  drag(Qt::RightButton, QPointF(0, 40));
+  EXPECT_NEAR(live.input(tool).gripper_angle_rad - before.gripper_angle_rad, -0.2, 1e-12);
+  EXPECT_LT((live.input(tool).position_W - before.position_W).norm(), 1e-15);
+  auto wheel = [&](Qt::KeyboardModifiers mods) {
+    const QPointF at(400, 300);
+    QWheelEvent e(at, view->mapToGlobal(at), QPoint(), QPoint(0, 120), Qt::NoButton, mods,
+                  Qt::NoScrollPhase, false);
+    QApplication::sendEvent(view, &e);
+  };
+  before = live.input(tool);
+  wheel(Qt::ControlModifier);
+  EXPECT_NEAR((live.input(tool).position_W - before.position_W).norm(), 0.002, 1e-9);
+  before = live.input(tool);
+  wheel(Qt::ControlModifier | Qt::ShiftModifier);
+  EXPECT_NEAR((live.input(tool).position_W - before.position_W).norm(), 0.0005, 1e-9);
   w.close();
 }
 

@@ -150,8 +150,21 @@ KeyboardRun run_with_puck(const std::string& stem) {
   const KeyboardOperator op = test::keyboard_operator(scene, stem, 25.0);
   test::PuckOperator puck;
   puck.op = &op;
-  const test::PuckOperator::Plan plan = puck.plan();
-  KeyboardRun run = play(scene, op, plan.motions);
+  const test::FollowPlan plan = puck.plan();
+  KeyboardRun run = play(scene, op, test::timed_nudges(plan));
+  run.switches = plan.switches;
+  run.script_done_s = plan.script_done_s;
+  return run;
+}
+
+// The same operator with the mouse alone (Ctrl held; a gesture a 60 Hz frame).
+KeyboardRun run_with_mouse(const std::string& stem) {
+  const Scene& scene = scene_of(stem);
+  const KeyboardOperator op = test::keyboard_operator(scene, stem, 25.0);
+  test::MouseOperator mouse;
+  mouse.op = &op;
+  const test::FollowPlan plan = mouse.plan();
+  KeyboardRun run = play(scene, op, test::timed_nudges(plan));
   run.switches = plan.switches;
   run.script_done_s = plan.script_done_s;
   return run;
@@ -247,6 +260,15 @@ TEST(KeyboardRun, TheOtherPatientsCanBeCompletedWithTheKeys) {
   expect_success(run_with_keys("patient_moderate", 25.0), "patient_moderate, 25 presses/s");
   expect_success(run_with_keys("patient_hard", 25.0), "patient_hard, 25 presses/s");
   expect_success(run_with_keys("patient_hard", 5.0), "patient_hard, 5 presses/s");
+}
+
+// The mouse alone, on every patient: drags in the picture's plane, the wheel along the line of
+// sight, drags for the roll and the jaws, one gesture a frame.
+TEST(KeyboardRun, ThePatientsCanBeCompletedWithTheMouse) {
+  if (!kEveryRun) GTEST_SKIP() << "the optimised build's";
+  for (const char* stem : {"default", "patient_easy", "patient_moderate", "patient_hard"}) {
+    expect_success(run_with_mouse(stem), (std::string(stem) + ", mouse").c_str());
+  }
 }
 
 // The 3D mouse, on every patient, the hardest too: its hand moves along all three axes at once,

@@ -9,7 +9,8 @@
 /// simulation: where the keys cannot follow the expert's hand it falls behind and catches up, so
 /// its presses are planned ahead (plan()); whoever plays them stops pressing while the heads-up
 /// display says hold (tests/sim/keyboard_run_test.cpp in --fast, tests/app/session_flow_test.cpp
-/// in the window, in real time).
+/// in the window, in real time). The same operator with the 3D mouse (PuckOperator) and with the
+/// mouse alone (MouseOperator) follows the run the same way (follow_expert).
 
 #include <gtest/gtest.h>
 
@@ -27,6 +28,7 @@
 #include "hardware/space_mouse.h"
 #include "hardware/tool_nudge.h"
 #include "sim/runtime/trocar_tool.h"
+#include "sim/setup/camera_picture.h"
 #include "sim/setup/device_factory.h"
 #include "sim/setup/scene.h"
 #include "sim/setup/session_model.h"
@@ -69,6 +71,8 @@ struct KeyboardOperator {
   std::array<hardware::SimulatedInput, 2> start;
   std::array<Eigen::Vector3d, 2> ports_W;
   std::array<Eigen::AlignedBox3d, 2> workspaces_W;
+  /// The laparoscope's picture at the scenario's camera: the mouse drags in its plane.
+  sim::CameraPicture picture;
   double presses_per_s = 20.0;
   double give_up_s = 300.0;
   /// Where the operator starts reading the expert's run: once the expert has brought both
@@ -128,41 +132,86 @@ struct KeyboardOperator {
     return KeyChoice{*key, worst < 0.75 / kFine};
   }
 
-  [[nodiscard]] Plan plan() const {
-    Plan out;
-    if (expert[0].keyframes.empty() || expert[1].keyframes.empty()) return out;  // not loaded
-    std::array<hardware::SimulatedInput, 2> at = start;
-    const double period = 1.0 / presses_per_s;
-    const double end = std::max(expert[0].duration_s(), expert[1].duration_s());
-    double script_s = script_start_s;
-    int active = 1;  // the window starts with the right tool active
-    std::array<size_t, 2> cursor{};
-    for (double t = period; t < give_up_s; t += period) {
-      std::array<std::optional<KeyChoice>, 2> key;
-      for (int tool = 0; tool < 2; ++tool) {
-        const auto i = static_cast<size_t>(tool);
-        hardware::DeviceSample want;
-        expert[i].sample(script_s, &cursor[i], &want);
-        key[i] = best_key(tool, at[i], want);
-      }
-      if (key[static_cast<size_t>(active)]) {
-        const auto i = static_cast<size_t>(active);
-        at[i] = hardware::nudged(at[i], hardware::key_nudge(key[i]->key, key[i]->fine),
-                                 workspaces_W[i], ports_W[i]);
-        out.presses.push_back({t, active, key[i]->key, key[i]->fine});
-      } else if (key[static_cast<size_t>(1 - active)]) {
-        active = 1 - active;
-        ++out.switches;
-      } else if (script_s < end) {
-        script_s = std::min(end, script_s + period);
-        if (script_s == end) out.script_done_s = t;
-      } else {
-        break;  // done: both tools hold the expert's last pose
-      }
-    }
-    return out;
-  }
+  [[nodiscard]] Plan plan() const;  // below follow_expert
 };
+
+/// What an operator does: its motions (key presses, or nudges of the 3D mouse or the mouse), T
+/// presses, and when it had followed the expert's run to its end.
+template <typename M>
+struct Followed {
+  struct Timed {
+    double t_s = 0.0;
+    int tool = 0;
+    M motion;
+  };
+  std::vector<Timed> motions;
+  int switches = 0;
+  double script_done_s = 0.0;
+};
+
+/// The expert's run followed every `period` s by a motion of the active tool: `motion(tool, at,
+/// want)` (an optional M: none once `at` is settled on `want`), applied as `as_nudge(M)`. When the
+/// active tool is settled and the other is not, a switch to the other (T: no motion made); when
+/// both are, the operator reads on in the script by one period.
+template <typename M, typename Motion, typename AsNudge>
+Followed<M> follow_expert(const KeyboardOperator& op, double period, Motion motion,
+                          AsNudge as_nudge) {
+  Followed<M> out;
+  if (op.expert[0].keyframes.empty() || op.expert[1].keyframes.empty()) return out;  // not loaded
+  std::array<hardware::SimulatedInput, 2> at = op.start;
+  const double end = std::max(op.expert[0].duration_s(), op.expert[1].duration_s());
+  double script_s = op.script_start_s;
+  int active = 1;  // the window starts with the right tool active
+  std::array<size_t, 2> cursor{};
+  for (double t = period; t < op.give_up_s; t += period) {
+    std::array<std::optional<M>, 2> m;
+    for (int tool = 0; tool < 2; ++tool) {
+      const auto i = static_cast<size_t>(tool);
+      hardware::DeviceSample want;
+      op.expert[i].sample(script_s, &cursor[i], &want);
+      m[i] = motion(tool, at[i], want);
+    }
+    const auto a = static_cast<size_t>(active);
+    if (m[a]) {
+      at[a] = hardware::nudged(at[a], as_nudge(*m[a]), op.workspaces_W[a], op.ports_W[a]);
+      out.motions.push_back({t, active, *m[a]});
+    } else if (m[1 - a]) {
+      active = 1 - active;
+      ++out.switches;
+    } else if (script_s < end) {
+      script_s = std::min(end, script_s + period);
+      if (script_s == end) out.script_done_s = t;
+    } else {
+      break;  // done: both tools hold the expert's last pose
+    }
+  }
+  return out;
+}
+
+inline KeyboardOperator::Plan KeyboardOperator::plan() const {
+  const Followed<KeyChoice> f = follow_expert<KeyChoice>(
+      *this, 1.0 / presses_per_s,
+      [this](int tool, const hardware::SimulatedInput& at, const hardware::DeviceSample& want) {
+        return best_key(tool, at, want);
+      },
+      [](const KeyChoice& k) { return hardware::key_nudge(k.key, k.fine); });
+  Plan out;
+  for (const auto& m : f.motions)
+    out.presses.push_back({m.t_s, m.tool, m.motion.key, m.motion.fine});
+  out.switches = f.switches;
+  out.script_done_s = f.script_done_s;
+  return out;
+}
+
+/// A continuous operator's plan: a nudge a frame.
+using FollowPlan = Followed<hardware::ToolNudge>;
+inline hardware::ToolNudge as_is(const hardware::ToolNudge& n) { return n; }
+inline std::vector<TimedNudge> timed_nudges(const FollowPlan& plan) {
+  std::vector<TimedNudge> out;
+  out.reserve(plan.motions.size());
+  for (const auto& m : plan.motions) out.push_back({m.t_s, m.tool, m.motion});
+  return out;
+}
 
 /// The same operator with a 3D mouse: every frame of the window's graphics loop (which polls the
 /// puck) it deflects the puck towards the expert's pose of the active tool, all three axes at
@@ -178,12 +227,6 @@ struct PuckOperator {
   static constexpr double kSettledM = 2e-4;
   static constexpr double kSettledRollRad = 0.01;
   static constexpr double kSettledJawsRad = 0.01;
-
-  struct Plan {
-    std::vector<TimedNudge> motions;
-    int switches = 0;
-    double script_done_s = 0.0;
-  };
 
   // Raw counts for a wanted rate: the inverse of space_mouse_nudge's dead zone and scale.
   [[nodiscard]] int counts(double rate, double full_rate) const {
@@ -217,39 +260,72 @@ struct PuckOperator {
     return p;
   }
 
-  [[nodiscard]] Plan plan() const {
-    Plan out;
-    if (op->expert[0].keyframes.empty() || op->expert[1].keyframes.empty()) return out;
-    std::array<hardware::SimulatedInput, 2> at = op->start;
+  [[nodiscard]] FollowPlan plan() const {
     const double period = 1.0 / frame_hz;
-    const double end = std::max(op->expert[0].duration_s(), op->expert[1].duration_s());
-    double script_s = op->script_start_s;
-    int active = 1;
-    std::array<size_t, 2> cursor{};
-    for (double t = period; t < op->give_up_s; t += period) {
-      std::array<std::optional<hardware::SpaceMouseState>, 2> state;
-      for (int tool = 0; tool < 2; ++tool) {
-        const auto i = static_cast<size_t>(tool);
-        hardware::DeviceSample want;
-        op->expert[i].sample(script_s, &cursor[i], &want);
-        state[i] = puck(tool, at[i], want);
-      }
-      const auto a = static_cast<size_t>(active);
-      if (state[a]) {
-        const hardware::ToolNudge n = hardware::space_mouse_nudge(*state[a], mapping, period);
-        at[a] = hardware::nudged(at[a], n, op->workspaces_W[a], op->ports_W[a]);
-        out.motions.push_back({t, active, n});
-      } else if (state[1 - a]) {
-        active = 1 - active;
-        ++out.switches;
-      } else if (script_s < end) {
-        script_s = std::min(end, script_s + period);
-        if (script_s == end) out.script_done_s = t;
-      } else {
-        break;
-      }
+    return follow_expert<hardware::ToolNudge>(
+        *op, period,
+        [&](int tool, const hardware::SimulatedInput& at, const hardware::DeviceSample& want) {
+          const std::optional<hardware::SpaceMouseState> p = puck(tool, at, want);
+          return p ? std::optional(hardware::space_mouse_nudge(*p, mapping, period)) : std::nullopt;
+        },
+        as_is);
+  }
+};
+
+/// The same operator with the mouse alone, Ctrl held (app/vtk_view.cpp, through
+/// hardware::mouse_*_nudge): every frame of the window's graphics loop one gesture, whole pixels
+/// and wheel notches, of what is furthest from the expert's pose of the active tool: a left drag
+/// in the picture's plane (at most kMaxPixels a frame along each of its axes), a notch of the
+/// wheel along the line of sight (with Shift a quarter notch when within three quarters of a
+/// notch), a middle drag for the roll, a right drag for the jaws. T switches tools, as with the
+/// keys. The picture's plane is the scenario's camera's (the resident does not move the scope).
+struct MouseOperator {
+  const KeyboardOperator* op = nullptr;
+  double frame_hz = 60.0;
+  static constexpr double kMaxPixels = 12.0;  ///< 720 pixels a second: a brisk stroke
+
+  // The gesture for `at` towards `want`, if anything is more than half its smallest motion
+  // away; each error is measured in those smallest motions (a pixel, a quarter notch).
+  [[nodiscard]] std::optional<hardware::ToolNudge> gesture(
+      int tool, const hardware::SimulatedInput& at, const hardware::DeviceSample& want) const {
+    const sim::CameraPicture& v = op->picture;
+    const Eigen::Vector3d e = want.position_W - at.position_W;
+    const double px_x = e.dot(v.view_right_W) / hardware::kMouseMetresPerPixel;
+    const double px_y = -e.dot(v.view_up_W) / hardware::kMouseMetresPerPixel;  // screen y down
+    constexpr double kFineNotch = hardware::kKeyFineFraction;
+    const double notches = e.dot(v.view_dir_W) / hardware::kMouseWheelMetresPerNotch;
+    const Eigen::Vector3d s = (op->ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
+    const Eigen::Vector3d now = op->opening_dir(tool, at.orientation_W, at.position_W);
+    const Eigen::Vector3d goal = op->opening_dir(tool, want.orientation_W, at.position_W);
+    const double roll_px =
+        std::atan2(now.cross(goal).dot(s), now.dot(goal)) / hardware::kMouseRollRadPerPixel;
+    const double jaws_px =
+        -(want.gripper_angle_rad - at.gripper_angle_rad) / hardware::kMouseJawsRadPerPixel;
+    const double plane = std::max(std::abs(px_x), std::abs(px_y));
+    const double depth = std::abs(notches) / kFineNotch;
+    const double worst = std::max({plane, depth, std::abs(roll_px), std::abs(jaws_px)});
+    if (worst < 0.5) return std::nullopt;
+    auto pixels = [](double want_px) {
+      return std::clamp(std::round(want_px), -kMaxPixels, kMaxPixels);
+    };
+    if (worst == plane) {
+      return hardware::mouse_drag_nudge(pixels(px_x), pixels(px_y), v.view_right_W, v.view_up_W);
     }
-    return out;
+    if (worst == depth) {
+      const bool fine = std::abs(notches) < 0.75;
+      return hardware::mouse_wheel_nudge(std::copysign(1.0, notches), v.view_dir_W, fine);
+    }
+    if (worst == std::abs(roll_px)) return hardware::mouse_roll_nudge(pixels(roll_px));
+    return hardware::mouse_jaws_nudge(pixels(jaws_px));
+  }
+
+  [[nodiscard]] FollowPlan plan() const {
+    return follow_expert<hardware::ToolNudge>(
+        *op, 1.0 / frame_hz,
+        [&](int tool, const hardware::SimulatedInput& at, const hardware::DeviceSample& want) {
+          return gesture(tool, at, want);
+        },
+        as_is);
   }
 };
 
@@ -280,6 +356,7 @@ inline KeyboardOperator keyboard_operator(const sim::Scene& scene, const std::st
     op.ports_W[i] = scene.scenario.trocar(tool->trocar)->position_m;
     op.workspaces_W[i] = probe.limits().workspace_W;
   }
+  op.picture = sim::CameraPicture::of(scene.scenario.camera);
   sim::RuntimeSettings rs;
   rs.fast = true;
   const auto model =
