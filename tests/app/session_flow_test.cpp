@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 #include <vtkAutoInit.h>
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
 
 #include <QAction>
 #include <QApplication>
@@ -24,6 +26,7 @@
 #include <QTableWidget>
 #include <QTest>
 #include <QWheelEvent>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -232,6 +235,25 @@ TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
   for (int r = 0; r < 5; ++r) {
     EXPECT_TRUE(phases->item(r, 1)->text().endsWith(" s")) << r;  // every phase reached
   }
+  // The main metrics beside the experts' benchmarks (the default scenario's proficiency): the
+  // expert's completion time (about 15.8 s) within the experts' limit, its depth past the
+  // task's 10 mm.
+  auto* metrics = find<QTableWidget>(w.result_page(), "metrics_table");
+  ASSERT_GE(metrics->rowCount(), 8);
+  auto row = [&](const QString& label) {
+    for (int r = 0; r < metrics->rowCount(); ++r) {
+      if (metrics->item(r, 0)->text() == label) return r;
+    }
+    ADD_FAILURE() << "no row " << label.toStdString();
+    return 0;
+  };
+  const int time_row = row("Completion time");
+  EXPECT_NEAR(metrics->item(time_row, 1)->text().section(' ', 0, 0).toDouble(), 15.8, 0.5)
+      << metrics->item(time_row, 1)->text().toStdString();
+  EXPECT_TRUE(metrics->item(time_row, 2)->text().startsWith("≤"))
+      << metrics->item(time_row, 2)->text().toStdString();
+  EXPECT_GE(metrics->item(row("Deepest insertion"), 1)->text().section(' ', 0, 0).toDouble(), 10.0);
+  EXPECT_EQ(metrics->item(row("Catheter drops"), 1)->text(), "0");
   // This attempt, filed, heads the trainee's attempts on this patient.
   auto* attempts = find<QTableWidget>(w.result_page(), "earlier_attempts");
   ASSERT_EQ(attempts->rowCount(), 1);
@@ -420,6 +442,78 @@ TEST_F(SessionFlow, AnAttemptCutShortIsFiledAsInterruptedAtTheNextStart) {
 // of sight (with Shift 0.5 mm). Real key and
 // mouse events on the operative field, read back from the hand's input (what the simulated
 // device then follows at the hand's speeds).
+// The laparoscope's keys on the operative field, as Help > Controls says: W/S slide it 5 mm in and
+// out, D turns it 10 degrees about its axis, Q turns the picture's horizon 10 degrees, + zooms
+// in 10 % (the tangent of the half angle), the right arrow pivots it 2 degrees about its port;
+// the picture's camera follows the scope; R puts it home; C hands it to the camera assistant,
+// which brings the instruments back to the middle of the picture after the scope was turned off
+// them. Real key events; the scope's state read back.
+TEST_F(SessionFlow, TheScopeMovesWithItsKeysAndTheAssistantTakesOver) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  MainWindow w;
+  run_with_keyboard(w, "R-3302 Dr M. Ferreira");
+  if (HasFatalFailure()) return;
+  app::OperativeView* field = w.run_page()->operative();
+  ASSERT_NE(field->scope_model(), nullptr);
+  app::VtkView* view = field->view();
+  view->setFocus();
+  const sim::LaparoscopeState home = field->scope_model()->home;
+  const sim::LaparoscopeState s0 = field->scope_state();
+  EXPECT_FALSE(field->camera_assistant());
+  EXPECT_LT((s0.axis_W - home.axis_W).norm(), 1e-12);
+  constexpr double kDeg = M_PI / 180.0;
+
+  QTest::keyClick(view, Qt::Key_W);
+  EXPECT_NEAR(field->scope_state().insertion_m - s0.insertion_m, 0.005, 1e-12);
+  QTest::keyClick(view, Qt::Key_S);
+  EXPECT_NEAR(field->scope_state().insertion_m, s0.insertion_m, 1e-12);
+  QTest::keyClick(view, Qt::Key_D);
+  EXPECT_NEAR(field->scope_state().roll_rad - s0.roll_rad, 10 * kDeg, 1e-12);
+  QTest::keyClick(view, Qt::Key_Q);
+  EXPECT_NEAR(field->scope_state().horizon_rad - s0.horizon_rad, 10 * kDeg, 1e-12);
+  QTest::keyClick(view, Qt::Key_Plus);
+  const double zoomed = field->scope_state().view_angle_deg;
+  EXPECT_NEAR(std::tan(0.5 * zoomed * kDeg), std::tan(0.5 * s0.view_angle_deg * kDeg) / 1.1, 1e-12);
+  // The picture's camera takes the scope's view angle at the next frame.
+  EXPECT_TRUE(wait_until(
+      [&] { return std::abs(view->renderer()->GetActiveCamera()->GetViewAngle() - zoomed) < 1e-9; },
+      2.0));
+  QTest::keyClick(view, Qt::Key_Right);
+  EXPECT_NEAR(std::acos(std::clamp(field->scope_state().axis_W.dot(s0.axis_W), -1.0, 1.0)),
+              2 * kDeg, 1e-9);
+  QTest::keyClick(view, Qt::Key_R);
+  const sim::LaparoscopeState back = field->scope_state();
+  EXPECT_LT((back.axis_W - home.axis_W).norm(), 1e-12);
+  EXPECT_EQ(back.insertion_m, home.insertion_m);
+  EXPECT_EQ(back.roll_rad, home.roll_rad);
+  EXPECT_EQ(back.horizon_rad, home.horizon_rad);
+  EXPECT_EQ(back.view_angle_deg, home.view_angle_deg);
+
+  // Turned 10 degrees off the instruments, then the assistant: within a few seconds it has
+  // turned back more than half way (it follows with a 0.4 s time constant once the working
+  // point is off by a tenth of the picture).
+  for (int i = 0; i < 5; ++i) QTest::keyClick(view, Qt::Key_Right);
+  const Eigen::Vector3d turned = field->scope_state().axis_W;
+  const double off = std::acos(std::clamp(turned.dot(home.axis_W), -1.0, 1.0));
+  // (Five turns about the picture's up, which tilts with each of them: 10 degrees to 1e-5 rad.)
+  EXPECT_NEAR(off, 10 * kDeg, 1e-4);
+  QTest::keyClick(view, Qt::Key_C);
+  EXPECT_TRUE(field->camera_assistant());
+  EXPECT_TRUE(wait_until(
+      [&] {
+        const double now =
+            std::acos(std::clamp(field->scope_state().axis_W.dot(home.axis_W), -1.0, 1.0));
+        return now < 0.5 * off;
+      },
+      5.0))
+      << "the scope is still "
+      << std::acos(std::clamp(field->scope_state().axis_W.dot(home.axis_W), -1.0, 1.0)) / kDeg
+      << " degrees off its home";
+  QTest::keyClick(view, Qt::Key_C);
+  EXPECT_FALSE(field->camera_assistant());
+  w.close();
+}
+
 TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   MainWindow w;
