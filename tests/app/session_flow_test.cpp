@@ -131,7 +131,24 @@ class SessionFlow : public ::testing::Test {
       if (f->property("stem").toString() == "default") card = f;
     }
     ASSERT_NE(card, nullptr) << "the default patient is not offered";
+    // Every patient's card shows its preview, and the chosen one's large with its name,
+    // difficulty and description.
+    const QList<QFrame*> cards = w.scenario_page()->findChildren<QFrame*>("card");
+    int offered = 0;
+    for (QFrame* f : cards) {
+      if (f->property("stem").toString().isEmpty()) continue;  // the details panel
+      ++offered;
+      bool pictured = false;
+      for (QLabel* l : f->findChildren<QLabel*>()) {
+        pictured = pictured || !l->pixmap().isNull();
+      }
+      EXPECT_TRUE(pictured) << f->property("stem").toString().toStdString() << " has no preview";
+    }
+    EXPECT_GE(offered, 4);
     QTest::mouseClick(card, Qt::LeftButton);
+    EXPECT_FALSE(find<QLabel>(w.scenario_page(), "scenario_preview")->pixmap().isNull());
+    EXPECT_FALSE(find<QLabel>(w.scenario_page(), "scenario_name")->text().isEmpty());
+    EXPECT_FALSE(find<QLabel>(w.scenario_page(), "scenario_description")->text().isEmpty());
     if (!shot_prefix.empty()) screenshot(w, "2-choose-patient");
     QTest::mouseClick(find<QPushButton>(w.scenario_page(), "choose_patient"), Qt::LeftButton);
     ASSERT_EQ(w.step(), MainWindow::Step::kDevices);
