@@ -12,6 +12,7 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QImage>
 #include <QLabel>
@@ -46,6 +47,8 @@
 #include "app/session_archive.h"
 #include "app/station_settings.h"
 #include "app/vtk_view.h"
+#include "hardware/device_spec.h"
+#include "hardware/gripper_selection.h"
 #include "sim/report/session_replay.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/device_factory.h"
@@ -459,6 +462,66 @@ TEST_F(SessionFlow, AnAttemptCutShortIsFiledAsInterruptedAtTheNextStart) {
 // of sight (with Shift 0.5 mm). Real key and
 // mouse events on the operative field, read back from the hand's input (what the simulated
 // device then follows at the hand's speeds).
+// Device set-up addresses two PHANToM arms by their configured names and two USB grippers by
+// serial number or, where the serial cannot be read, by where each is plugged: each hand's DEV
+// text, as typed and chosen on the page, names its arm and its gripper, and parses to them.
+TEST_F(SessionFlow, TheDevicesPageNamesEachArmAndChoosesEachGripper) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  MainWindow w;
+  w.show();
+  sign_in_and_choose_default(w, "R-3303 Dr S. Nakamura", "");
+  if (HasFatalFailure()) return;
+  const QList<app::HandPanel*> panels = w.devices_page()->findChildren<app::HandPanel*>();
+  ASSERT_EQ(panels.size(), 2);
+  // Two grippers on the bus: one with a serial number, one whose serial cannot be read.
+  const std::vector<hardware::FoundGripper> found{{"LG-0001", "1-2"}, {"", "1-3.1"}};
+  const struct {
+    const char* hand;
+    const char* arm;
+    int gripper;  // in the list: 0 the only one, 1 and 2 the two found
+    const char* dev;
+  } want[] = {{"left", "Left Touch", 1, "phantom:Left Touch+gripper:LG-0001"},
+              {"right", "Right Touch", 2, "phantom:Right Touch+gripper@1-3.1"}};
+  for (const auto& h : want) {
+    const std::string hand = h.hand;
+    choose(find<QComboBox>(w.devices_page(), (hand + "_kind").c_str()), app::HandPanel::kPhantom);
+    auto* name = find<QLineEdit>(w.devices_page(), (hand + "_phantom_name").c_str());
+    name->clear();
+    QTest::keyClicks(name, h.arm);
+    auto* gripper = find<QCheckBox>(w.devices_page(), (hand + "_gripper").c_str());
+    if (!gripper->isChecked()) QTest::mouseClick(gripper, Qt::LeftButton);
+    ASSERT_TRUE(gripper->isChecked());
+    for (app::HandPanel* p : panels) p->set_grippers(found);
+    auto* which = find<QComboBox>(w.devices_page(), (hand + "_gripper_choice").c_str());
+    ASSERT_EQ(which->count(), 3);
+    choose(which, h.gripper);
+  }
+  for (const auto& h : want) {
+    const QString dev =
+        find<QLabel>(w.devices_page(), (std::string(h.hand) + "_dev").c_str())->text();
+    EXPECT_EQ(dev.toStdString(), h.dev);
+    const Result<hardware::DeviceSpec> spec = hardware::parse_device_spec(dev.toStdString());
+    ASSERT_TRUE(spec.ok()) << spec.message();
+    EXPECT_EQ(spec.value().kind, hardware::DeviceKind::kPhantom);
+    EXPECT_EQ(spec.value().argument, h.arm);
+    EXPECT_TRUE(spec.value().usb_gripper);
+  }
+  const Result<hardware::DeviceSpec> left =
+      hardware::parse_device_spec(find<QLabel>(w.devices_page(), "left_dev")->text().toStdString());
+  const Result<hardware::DeviceSpec> right = hardware::parse_device_spec(
+      find<QLabel>(w.devices_page(), "right_dev")->text().toStdString());
+  ASSERT_TRUE(left.ok() && right.ok());
+  EXPECT_EQ(left.value().gripper.serial, "LG-0001");
+  EXPECT_EQ(right.value().gripper.bus_path, "1-3.1");
+  // Each names a different gripper among those found.
+  const Result<size_t> li = hardware::select_gripper(found, left.value().gripper);
+  const Result<size_t> ri = hardware::select_gripper(found, right.value().gripper);
+  ASSERT_TRUE(li.ok() && ri.ok());
+  EXPECT_EQ(li.value(), 0U);
+  EXPECT_EQ(ri.value(), 1U);
+  w.close();
+}
+
 // The laparoscope's keys on the operative field, as Help > Controls says: W/S slide it 5 mm in and
 // out, D turns it 10 degrees about its axis, Q turns the picture's horizon 10 degrees, + zooms
 // in 10 % (the tangent of the half angle), the right arrow pivots it 2 degrees about its port;
