@@ -10,6 +10,7 @@
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -40,7 +41,10 @@ OperativeView::OperativeView(QWidget* parent) : QWidget(parent) {
   connect(view_, &VtkView::scope_command, this, &OperativeView::move_scope);
   connect(view_, &VtkView::about_to_render, this, &OperativeView::draw_scene);
 
-  auto mouse = hardware::SpaceMouse::open();
+  // LAP_SPNAV_LIBRARY names another libspnav: one installed elsewhere, or a test's stand-in.
+  const char* spnav = std::getenv("LAP_SPNAV_LIBRARY");
+  auto mouse = spnav != nullptr && *spnav != '\0' ? hardware::SpaceMouse::open(spnav)
+                                                   : hardware::SpaceMouse::open();
   if (mouse.ok()) space_mouse_ = std::move(mouse).value();
 
   // The graphics loop (docs/architecture.md: Qt event loop, 30-60 Hz): redraw at 60 Hz so that

@@ -5,6 +5,7 @@
 // go into a temporary folder (XDG_CONFIG_HOME, XDG_DATA_HOME), never the user's. A screenshot of
 // each step is written to $LAP_FLOW_SHOTS (default /tmp) as flow-N-step.png.
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <vtkAutoInit.h>
 #include <vtkCamera.h>
@@ -677,6 +678,57 @@ TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   wheel(Qt::ControlModifier | Qt::ShiftModifier);
   EXPECT_NEAR((live.input(tool).position_W - before.position_W).norm(), 0.0005, 1e-9);
   w.close();
+}
+
+// The 3D mouse in the window: the operative field polls it every frame and nudges the active
+// instrument (hardware::space_mouse_nudge with the default mapping). Here through the stand-in
+// libspnav (LAP_SPNAV_LIBRARY) that hardware_tests drive too, its puck pushed fully along one
+// axis for half a second, then its left button held: the hand's input moves along that axis and
+// the jaws close.
+TEST_F(SessionFlow, The3DMouseMovesAndClosesTheActiveInstrumentInTheWindow) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  void* fake = dlopen(LAP_FAKE_SPNAV, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(fake, nullptr) << dlerror();
+  // NOLINTBEGIN(*-reinterpret-cast): dlsym returns untyped addresses
+  auto motion = reinterpret_cast<void (*)(int, int, int, int, int, int)>(
+      dlsym(fake, "fake_spnav_push_motion"));
+  auto button = reinterpret_cast<void (*)(int, int)>(dlsym(fake, "fake_spnav_push_button"));
+  auto opened = reinterpret_cast<int (*)()>(dlsym(fake, "fake_spnav_open_count"));
+  // NOLINTEND(*-reinterpret-cast)
+  ASSERT_TRUE(motion != nullptr && button != nullptr && opened != nullptr);
+  setenv("LAP_SPNAV_LIBRARY", LAP_FAKE_SPNAV, 1);
+  {
+    MainWindow w;
+    run_with_keyboard(w, "R-3304 Dr A. Lindqvist");
+    unsetenv("LAP_SPNAV_LIBRARY");
+    if (HasFatalFailure()) return;
+    EXPECT_GE(opened(), 1);
+    app::OperativeView* field = w.run_page()->operative();
+    app::LiveSession& live = field->session();
+    const int tool = field->active_tool();
+    const hardware::SimulatedInput before = live.input(tool);
+    // spacenavd repeats the puck's state while it is deflected: a full push along its x axis
+    // (350 counts) every frame for half a second.
+    for (int i = 0; i < 30; ++i) {
+      motion(350, 0, 0, 0, 0, 0);
+      QTest::qWait(16);
+    }
+    motion(0, 0, 0, 0, 0, 0);
+    QTest::qWait(50);
+    const Eigen::Vector3d moved = live.input(tool).position_W - before.position_W;
+    // The default mapping's full speed is 50 mm/s along the device's x: about 25 mm in 0.5 s
+    // (the frames' own timing decides the exact figure).
+    EXPECT_GT(std::abs(moved.x()), 0.010) << moved.transpose();
+    EXPECT_LT(std::hypot(moved.y(), moved.z()), 1e-9) << moved.transpose();
+    const double open = live.input(tool).gripper_angle_rad;
+    button(1, 0);  // the left button held: close
+    QTest::qWait(300);
+    button(0, 0);
+    QTest::qWait(50);
+    EXPECT_LT(live.input(tool).gripper_angle_rad, open - 0.1);
+    w.close();
+  }
+  dlclose(fake);
 }
 
 // The default patient with the keyboard alone in the window, in real time: the operator of
