@@ -198,8 +198,9 @@ void BriefingPage::set_briefing(const CatalogEntry& s, const std::array<QString,
              "turn the instrument 5° about its shaft (the jaws' plane turns with it)");
     c += row(key("Shift"), "with any of these keys: a quarter of the step, to aim finely");
     c += row(key("Ctrl") + " + drag",
-             "move the instrument in the view's plane; Ctrl + wheel along the view; Ctrl + "
-             "middle drag sideways turns it about its shaft");
+             "move the instrument in the view's plane; Ctrl + wheel along the view (with Shift a "
+             "quarter as far); Ctrl + middle drag sideways turns it about its shaft; Ctrl + right "
+             "drag up opens the jaws, down closes them");
     c += row("3D mouse",
              "moves the active instrument in three dimensions, a twist of its cap turns it; its "
              "buttons close and open the jaws");
