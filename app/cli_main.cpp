@@ -802,9 +802,13 @@ int cmd_plan_expert(int argc, char** argv) {
   }
   std::printf(
       "wrote %s_left.csv, %s_right.csv to %s (%.1f s; the catheter within %.1f deg of "
-      "the planned entry direction; %s)\n",
+      "the planned entry direction, %.1f deg to the duct's axis%s; %s)\n",
       prefix.c_str(), prefix.c_str(), dir.string().c_str(), plan.value().right.duration_s(),
-      plan.value().worst_direction_error_deg, left);
+      plan.value().worst_direction_error_deg, settings.entry_slant_deg,
+      r.value().scenario.task && r.value().scenario.task->expert_entry_slant_deg
+          ? ", the scenario's"
+          : "",
+      left);
   return kExitOk;
 }
 

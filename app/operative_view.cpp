@@ -10,8 +10,8 @@
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <vector>
 
@@ -42,10 +42,16 @@ OperativeView::OperativeView(QWidget* parent) : QWidget(parent) {
   connect(view_, &VtkView::about_to_render, this, &OperativeView::draw_scene);
 
   // LAP_SPNAV_LIBRARY names another libspnav: one installed elsewhere, or a test's stand-in.
+  // Without a 3D mouse the application runs as well; one asked for by name and not opened is
+  // said on the terminal.
   const char* spnav = std::getenv("LAP_SPNAV_LIBRARY");
-  auto mouse = spnav != nullptr && *spnav != '\0' ? hardware::SpaceMouse::open(spnav)
-                                                   : hardware::SpaceMouse::open();
-  if (mouse.ok()) space_mouse_ = std::move(mouse).value();
+  const bool named = spnav != nullptr && *spnav != '\0';
+  auto mouse = named ? hardware::SpaceMouse::open(spnav) : hardware::SpaceMouse::open();
+  if (mouse.ok()) {
+    space_mouse_ = std::move(mouse).value();
+  } else if (named) {
+    qWarning("laptrainer: LAP_SPNAV_LIBRARY: %s", mouse.message().c_str());
+  }
 
   // The graphics loop (docs/architecture.md: Qt event loop, 30-60 Hz): redraw at 60 Hz so that
   // moving tools and deforming organs appear as the other loops publish them.

@@ -178,12 +178,13 @@ void VtkView::wheelEvent(QWheelEvent* e) {
   const double notches = e->angleDelta().y() / 120.0;
   if ((e->modifiers() & Qt::ControlModifier) != 0) {
     // Along the line of sight, away from the viewer for a forward turn. With Shift held some
-    // systems report the wheel as horizontal: either axis counts.
+    // systems report a vertical wheel as horizontal (forward as +x): then that axis counts, and
+    // only then (a sideways tilt or swipe without Shift does not move the tool).
+    const bool fine = (e->modifiers() & Qt::ShiftModifier) != 0;
     const QPoint a = e->angleDelta();
-    const double turned = (a.y() != 0 ? a.y() : a.x()) / 120.0;
+    const double turned = (a.y() != 0 || !fine ? a.y() : a.x()) / 120.0;
     double dir[3];
     renderer_->GetActiveCamera()->GetDirectionOfProjection(dir);
-    const bool fine = (e->modifiers() & Qt::ShiftModifier) != 0;
     emit tool_nudged(hardware::mouse_wheel_nudge(
         turned, Eigen::Vector3d(dir[0], dir[1], dir[2]).normalized(), fine));
     return;

@@ -16,6 +16,7 @@
 
 #include "app/scaled_scene_pass.h"
 #include "core/result.h"
+#include "hardware/mouse_nudge.h"
 #include "hardware/tool_nudge.h"
 
 namespace lap::app {
@@ -51,7 +52,7 @@ struct CameraPose {
 /// (Shift+left) turn it about its axis (an angled optic's view turns with it), Q/E turn the
 /// camera head (the picture's horizon), +/- or the wheel zoom, C switches the camera assistant,
 /// R resets. With Ctrl held the mouse drives the active tool instead (tool_nudged; the table is
-/// hardware/tool_nudge.h's): the left button and the wheel move it (Shift: the wheel's quarter
+/// hardware/mouse_nudge.h's): the left button and the wheel move it (Shift: the wheel's quarter
 /// step), the middle button (or Shift+left) turns it about its shaft, the right button opens and
 /// closes its jaws.
 /// Before each frame it emits about_to_render, for whoever draws the scene.

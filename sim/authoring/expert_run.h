@@ -123,8 +123,10 @@ struct ExpertRun {
 
 /// Fails, saying why, for a scenario without a catheter-insertion task, a catheter port or an
 /// incision, and for the clumsy run into the common bile duct where the task names none.
+/// `settings` has no default: the scenario's own (expert_run_settings) must not be skipped by
+/// omission.
 [[nodiscard]] Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
-                                                const ExpertRunSettings& settings = {});
+                                                const ExpertRunSettings& settings);
 
 /// The trajectory as a keyframe CSV (the format scripted_trajectory.h reads), to `file`.
 [[nodiscard]] Status save_trajectory_csv(const hardware::ScriptedTrajectory& trajectory,

@@ -62,8 +62,10 @@ TEST(LaparoscopeCamera, TheCameraAndTheLightAreAtTheScopesTipAlongItsLineOfSight
   EXPECT_GT(brightness(0.04), 1.5);
 
   // The fast profile: one light at the camera (a headlight), the fill's share added to it.
+  const double spot = light->GetIntensity();
   camera.set_spot_light(false);
   EXPECT_TRUE(light->LightTypeIsHeadlight());
+  EXPECT_GT(light->GetIntensity(), spot);  // the fill's share added to it
   int on = 0;
   renderer->GetLights()->InitTraversal();
   while (vtkLight* l = renderer->GetLights()->GetNextItem()) on += l->GetSwitch() ? 1 : 0;

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "hardware/mouse_nudge.h"
 #include "hardware/scripted_trajectory.h"
 #include "hardware/simulated_device.h"
 #include "hardware/space_mouse.h"
