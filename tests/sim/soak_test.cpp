@@ -10,13 +10,16 @@
 // by Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as sampled (a jaw is
 // 2 cm: longer is the open stretch of haptics/README.md).
 //
-// Proxies inside an organ: the sampler (the graphics snapshots' one reader, as the window would
-// be) takes each tool's three proxies as the haptic loop last placed them (their ideal ends,
+// Proxies inside an organ: every 251st tick (more often in short runs; LAP_SOAK_PROXY_EVERY),
+// on the loop's own thread (Session::observe_fast), so that every run tests the same ticks, each
+// tool's three proxies as the haptic loop placed them (their ideal ends,
 // ToolSnapshot::proxy_a_W/b_W; not the device's segments, which go inside as the hand pushes)
-// and points 2 mm apart along them, and tests each against every closed organ's surface as the
-// newest model snapshot deforms it: inside by parity along a fixed ray, then how deep (the
-// distance to the nearest triangle). The two snapshots may be a modelling step apart, over which
-// a surface moves a fraction of a millimetre, hence the 0.5 mm allowance.
+// are taken at points 2 mm apart and tested against every closed organ's surface as the
+// modelling step that tick felt deformed it: inside by parity along a fixed ray, then how deep
+// (the distance to the nearest triangle). A tick whose modelling step ran after it is skipped
+// (its surfaces are a step newer than the proxies'). The allowance, 0.5 mm, is kept from this
+// check's first version, which compared snapshots up to a modelling step apart; the deepest
+// point found is printed whatever it is.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -207,12 +210,69 @@ void soak(bool check_proxies) {
   int64_t early = -1;
   int catheter_takes = 0, duct_takes = 0;
   int64_t proxy_samples = 0;   // snapshot pairs whose proxies were tested
+  int64_t inside_samples = 0;  // of those, with a proxy point more than 0.5 mm inside an organ
   int64_t mismatched = 0;      // pairs skipped: the model had stepped on since the haptic tick
   double deepest_m = 0.0;      // the deepest any proxy point was inside an organ
   double longest_jaw_m = 0.0;  // the longest a jaw's ideal probe was
   int64_t deepest_tick = -1;
   int deepest_tool = -1, deepest_segment = -1, deepest_organ = -1, deepest_contacts = -1;
   const int64_t ticks_per_step = session->model().timing().ticks_per_model;
+  // The proxies, tested every proxy_every_ticks ticks as the haptic tick left them (in fast mode
+  // the observer runs on the loop's own thread, after the tick and any modelling step due): the
+  // same ticks in every run, whatever the machine's speed. At least 120 times a run, every 251
+  // ticks at most (an hour: 14 342); never a multiple of the modelling step's ticks, so that each
+  // phase of the step comes in turn (the one whose step ran after the tick is skipped, as a
+  // pair a step apart). LAP_SOAK_PROXY_EVERY sets another period (denser, or other ticks).
+  const auto total_ticks = static_cast<int64_t>(std::llround(duration * 1000.0));
+  const char* every = std::getenv("LAP_SOAK_PROXY_EVERY");
+  int64_t proxy_every_ticks = every != nullptr ? std::max<int64_t>(1, std::atoll(every))
+                                               : std::clamp<int64_t>(total_ticks / 120, 1, 251);
+  if (every == nullptr && proxy_every_ticks % ticks_per_step == 0) ++proxy_every_ticks;
+  auto test_proxies = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
+    // The pair is the proxies' own only when the haptic tick felt the surfaces of this
+    // modelling step: the newest step before it (fast mode: one after every
+    // ticks_per_step-th tick, published before the next tick starts).
+    const bool same_surfaces =
+        h.tick > 0 && snap.tick == (h.tick - 1) / ticks_per_step * ticks_per_step;
+    mismatched += same_surfaces ? 0 : 1;
+    if (!same_surfaces || snap.organs.size() != static_cast<size_t>(session->organ_count())) {
+      return;
+    }
+    for (size_t k = 0; k < organs.size(); ++k) {
+      organs[k].deform(snap.organs[static_cast<size_t>(organ_index[k])]);
+    }
+    double sample_deepest = 0.0;
+    for (size_t tool = 0; tool < 2; ++tool) {
+      for (size_t s = 0; s < 3; ++s) {
+        const Eigen::Vector3d a = h.tools[tool].proxy_a_W[s];
+        const Eigen::Vector3d b = h.tools[tool].proxy_b_W[s];
+        if (s > 0) {  // a jaw: §5.3 would keep it 2 cm long (haptics/README.md: open)
+          longest_jaw_m = std::max(longest_jaw_m, (b - a).norm());
+        }
+        const int points = 2 + static_cast<int>((b - a).norm() / 0.002);
+        for (int p = 0; p < points; ++p) {
+          const Eigen::Vector3d x = a + (b - a) * (p / static_cast<double>(points - 1));
+          for (size_t k = 0; k < organs.size(); ++k) {
+            const double depth = organs[k].depth_inside(x);
+            sample_deepest = std::max(sample_deepest, depth);
+            if (depth > deepest_m) {
+              deepest_m = depth;
+              deepest_tick = h.tick;
+              deepest_tool = static_cast<int>(tool);
+              deepest_segment = static_cast<int>(s);
+              deepest_organ = organ_index[k];
+              deepest_contacts = h.tools[tool].contacts;
+            }
+          }
+        }
+      }
+    }
+    ++proxy_samples;
+    if (sample_deepest > 0.0005) ++inside_samples;
+  };
+  session->observe_fast([&](int64_t /*tick*/, const HapticSnapshot& h,
+                            const ModelSnapshot& snap) { test_proxies(h, snap); },
+                        proxy_every_ticks);
   const auto t0 = std::chrono::steady_clock::now();
   std::thread sampler([&] {
     bool catheter_held = false, duct_held = false;
@@ -226,42 +286,6 @@ void soak(bool check_proxies) {
       duct_takes += g && !duct_held ? 1 : 0;
       catheter_held = c;
       duct_held = g;
-      // The pair is the proxies' own only when the haptic tick felt the surfaces of this
-      // modelling step: the newest step before it (fast mode: one after every
-      // ticks_per_step-th tick, published before the next tick starts).
-      const bool same_surfaces =
-          h.tick > 0 && snap.tick == (h.tick - 1) / ticks_per_step * ticks_per_step;
-      mismatched += same_surfaces ? 0 : 1;
-      if (same_surfaces && snap.organs.size() == static_cast<size_t>(session->organ_count())) {
-        for (size_t k = 0; k < organs.size(); ++k) {
-          organs[k].deform(snap.organs[static_cast<size_t>(organ_index[k])]);
-        }
-        for (size_t tool = 0; tool < 2; ++tool) {
-          for (size_t s = 0; s < 3; ++s) {
-            const Eigen::Vector3d a = h.tools[tool].proxy_a_W[s];
-            const Eigen::Vector3d b = h.tools[tool].proxy_b_W[s];
-            if (s > 0) {  // a jaw: §5.3 would keep it 2 cm long (haptics/README.md: open)
-              longest_jaw_m = std::max(longest_jaw_m, (b - a).norm());
-            }
-            const int points = 2 + static_cast<int>((b - a).norm() / 0.002);
-            for (int p = 0; p < points; ++p) {
-              const Eigen::Vector3d x = a + (b - a) * (p / static_cast<double>(points - 1));
-              for (size_t k = 0; k < organs.size(); ++k) {
-                const double depth = organs[k].depth_inside(x);
-                if (depth > deepest_m) {
-                  deepest_m = depth;
-                  deepest_tick = h.tick;
-                  deepest_tool = static_cast<int>(tool);
-                  deepest_segment = static_cast<int>(s);
-                  deepest_organ = organ_index[k];
-                  deepest_contacts = h.tools[tool].contacts;
-                }
-              }
-            }
-          }
-        }
-        ++proxy_samples;
-      }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   });
@@ -297,15 +321,17 @@ void soak(bool check_proxies) {
       "soak: %.1f s simulated in %.1f s; %lld haptic ticks (mean %.2f us, p99.9 %.2f us, worst "
       "%.1f us), %lld modelling steps (mean %.1f us, worst %.1f us); the catheter taken %d "
       "times, the duct %d times (as sampled); proxies tested in %lld snapshots (%lld pairs a "
-      "step apart skipped), deepest inside an organ %.3f mm, longest jaw proxy %.2f mm; largest "
+      "step apart skipped), %lld with a proxy inside an organ, deepest %.3f mm, longest jaw proxy "
+      "%.2f mm; largest "
       "force %.2f N; resident memory %.1f MB once settled, %.1f MB at the end (%+.3f %%)\n",
       duration, wall_s, static_cast<long long>(m.haptic.ticks()), m.haptic.mean_step_s() * 1e6,
       m.haptic.step_quantile_s(0.999) * 1e6, m.haptic.worst_step_s() * 1e6,
       static_cast<long long>(m.model.ticks()), m.model.mean_step_s() * 1e6,
       m.model.worst_step_s() * 1e6, catheter_takes, duct_takes,
-      static_cast<long long>(proxy_samples), static_cast<long long>(mismatched), deepest_m * 1e3,
-      longest_jaw_m * 1e3, m.max_force_sent_n, static_cast<double>(early) / 1e6,
-      static_cast<double>(late) / 1e6, growth * 100.0);
+      static_cast<long long>(proxy_samples), static_cast<long long>(mismatched),
+      static_cast<long long>(inside_samples), deepest_m * 1e3, longest_jaw_m * 1e3,
+      m.max_force_sent_n, static_cast<double>(early) / 1e6, static_cast<double>(late) / 1e6,
+      growth * 100.0);
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
