@@ -96,6 +96,16 @@ struct KeyboardOperator {
     return (x - x.dot(s) * s).normalized();
   }
 
+  // The roll about the shaft (towards the port, from the handle at `at`) that turns at's jaws'
+  // opening direction to want's [rad, (-pi, pi]].
+  [[nodiscard]] double roll_error(int tool, const hardware::SimulatedInput& at,
+                                  const hardware::DeviceSample& want) const {
+    const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
+    const Eigen::Vector3d now = opening_dir(tool, at.orientation_W, at.position_W);
+    const Eigen::Vector3d goal = opening_dir(tool, want.orientation_W, at.position_W);
+    return std::atan2(now.cross(goal).dot(s), now.dot(goal));
+  }
+
   // The press that most reduces tool's largest error, measured in fine presses (Shift: a
   // quarter step); a whole press while that error is at least three quarters of one. None
   // within half a fine press.
@@ -121,10 +131,7 @@ struct KeyboardOperator {
       worst = std::abs(open) / (kFine * hardware::kKeyOpeningRad);
       key = open > 0.0 ? hardware::ToolKey::kOpen : hardware::ToolKey::kClose;
     }
-    const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
-    const Eigen::Vector3d now = opening_dir(tool, at.orientation_W, at.position_W);
-    const Eigen::Vector3d goal = opening_dir(tool, want.orientation_W, at.position_W);
-    const double roll = std::atan2(now.cross(goal).dot(s), now.dot(goal));
+    const double roll = roll_error(tool, at, want);
     if (std::abs(roll) / (kFine * hardware::kKeyRollRad) > worst) {
       worst = std::abs(roll) / (kFine * hardware::kKeyRollRad);
       key = roll > 0.0 ? hardware::ToolKey::kRollPlus : hardware::ToolKey::kRollMinus;
@@ -241,10 +248,7 @@ struct PuckOperator {
   [[nodiscard]] std::optional<hardware::SpaceMouseState> puck(
       int tool, const hardware::SimulatedInput& at, const hardware::DeviceSample& want) const {
     const Eigen::Vector3d e = want.position_W - at.position_W;
-    const Eigen::Vector3d s = (op->ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
-    const Eigen::Vector3d now = op->opening_dir(tool, at.orientation_W, at.position_W);
-    const Eigen::Vector3d goal = op->opening_dir(tool, want.orientation_W, at.position_W);
-    const double roll = std::atan2(now.cross(goal).dot(s), now.dot(goal));
+    const double roll = op->roll_error(tool, at, want);
     const double jaws = want.gripper_angle_rad - at.gripper_angle_rad;
     const double frame_jaws = mapping.jaw_rate_rad_per_s / frame_hz;
     if (e.norm() < kSettledM && std::abs(roll) < kSettledRollRad &&
@@ -295,11 +299,7 @@ struct MouseOperator {
     const double px_y = -e.dot(v.view_up_W) / hardware::kMouseMetresPerPixel;  // screen y down
     constexpr double kFineNotch = hardware::kKeyFineFraction;
     const double notches = e.dot(v.view_dir_W) / hardware::kMouseWheelMetresPerNotch;
-    const Eigen::Vector3d s = (op->ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
-    const Eigen::Vector3d now = op->opening_dir(tool, at.orientation_W, at.position_W);
-    const Eigen::Vector3d goal = op->opening_dir(tool, want.orientation_W, at.position_W);
-    const double roll_px =
-        std::atan2(now.cross(goal).dot(s), now.dot(goal)) / hardware::kMouseRollRadPerPixel;
+    const double roll_px = op->roll_error(tool, at, want) / hardware::kMouseRollRadPerPixel;
     const double jaws_px =
         -(want.gripper_angle_rad - at.gripper_angle_rad) / hardware::kMouseJawsRadPerPixel;
     const double plane = std::max(std::abs(px_x), std::abs(px_y));
