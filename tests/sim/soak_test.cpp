@@ -6,9 +6,10 @@
 // model fault, no device fault), every tick run, the largest force finite and within the
 // devices' limit, the catheter taken and the duct taken (each on its own), the resident memory
 // at the end within 1 % of what it was once the storage reserved at set-up had been touched; the
-// worst tick and the deepest a proxy was found inside an organ are printed (the latter asserted
-// by Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as sampled (a jaw is
-// 2 cm: longer is the open stretch of haptics/README.md).
+// worst tick, the deepest a proxy was found inside an organ and in how many tested ticks are
+// printed (asserted by Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as
+// sampled (a jaw is 2 cm: longer is the open stretch of haptics/README.md). The memory, the
+// takes and the proxies are sampled at the same ticks, by the observer below.
 //
 // Proxies inside an organ: every 251st tick (more often in short runs; LAP_SOAK_PROXY_EVERY),
 // on the loop's own thread (Session::observe_fast), so that every run tests the same ticks, each
@@ -25,14 +26,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <random>
-#include <thread>
 
 #include "haptics/closest_point.h"
 #include "haptics/segment_triangle.h"
@@ -192,8 +191,8 @@ void soak(bool check_proxies) {
 
   // The resident memory once the storage reserved at set-up has been touched (the first
   // record_s of inputs; at least a fifth of the way in), and what the tools hold, sampled while
-  // it runs by this thread, the graphics snapshots' one reader as the window would be. Nothing
-  // here grows as it samples (its own growth would read as the session's).
+  // it runs by the observer below (which takes the graphics snapshots' one reader's place).
+  // Nothing here grows as it samples (its own growth would read as the session's).
   const double settled = std::max(0.2, rs.record_s / duration + 0.05);
   const auto settled_tick = static_cast<int64_t>(settled * duration * 1000.0);
   // The closed organs, for the proxies' inside test.
@@ -206,7 +205,6 @@ void soak(bool check_proxies) {
     organ_index.push_back(o);
   }
   ASSERT_FALSE(organs.empty());
-  std::atomic<bool> done{false};
   int64_t early = -1;
   int catheter_takes = 0, duct_takes = 0;
   int64_t proxy_samples = 0;   // snapshot pairs whose proxies were tested
@@ -220,14 +218,15 @@ void soak(bool check_proxies) {
   // The proxies, tested every proxy_every_ticks ticks as the haptic tick left them (in fast mode
   // the observer runs on the loop's own thread, after the tick and any modelling step due): the
   // same ticks in every run, whatever the machine's speed. At least 120 times a run, every 251
-  // ticks at most (an hour: 14 342); never a multiple of the modelling step's ticks, so that each
-  // phase of the step comes in turn (the one whose step ran after the tick is skipped, as a
-  // pair a step apart). LAP_SOAK_PROXY_EVERY sets another period (denser, or other ticks).
+  // ticks at most (an hour: 14 343 calls, tick 0 among them). Never a multiple of the modelling
+  // step's ticks (one more if so, LAP_SOAK_PROXY_EVERY's too), so that each phase of the step
+  // comes in turn; the one whose step ran after the tick is skipped, as a pair a step apart.
+  // LAP_SOAK_PROXY_EVERY sets another period (denser, or other ticks).
   const auto total_ticks = static_cast<int64_t>(std::llround(duration * 1000.0));
   const char* every = std::getenv("LAP_SOAK_PROXY_EVERY");
   int64_t proxy_every_ticks = every != nullptr ? std::max<int64_t>(1, std::atoll(every))
                                                : std::clamp<int64_t>(total_ticks / 120, 1, 251);
-  if (every == nullptr && proxy_every_ticks % ticks_per_step == 0) ++proxy_every_ticks;
+  if (proxy_every_ticks % ticks_per_step == 0) ++proxy_every_ticks;
   auto test_proxies = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
     // The pair is the proxies' own only when the haptic tick felt the surfaces of this
     // modelling step: the newest step before it (fast mode: one after every
@@ -270,28 +269,22 @@ void soak(bool check_proxies) {
     ++proxy_samples;
     if (sample_deepest > 0.0005) ++inside_samples;
   };
+  bool catheter_held = false, duct_held = false;
+  auto sample = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
+    if (early < 0 && h.tick >= settled_tick) early = resident_bytes();
+    const bool c = snap.grasps[0].grasping() || snap.grasps[1].grasping();
+    const bool g = snap.duct_grasps[0].grasping() || snap.duct_grasps[1].grasping();
+    catheter_takes += c && !catheter_held ? 1 : 0;
+    duct_takes += g && !duct_held ? 1 : 0;
+    catheter_held = c;
+    duct_held = g;
+    test_proxies(h, snap);
+  };
   session->observe_fast([&](int64_t /*tick*/, const HapticSnapshot& h,
-                            const ModelSnapshot& snap) { test_proxies(h, snap); },
+                            const ModelSnapshot& snap) { sample(h, snap); },
                         proxy_every_ticks);
   const auto t0 = std::chrono::steady_clock::now();
-  std::thread sampler([&] {
-    bool catheter_held = false, duct_held = false;
-    while (!done.load()) {
-      const ModelSnapshot& snap = session->graphics_model();
-      const HapticSnapshot& h = session->graphics_haptic();
-      if (early < 0 && h.tick >= settled_tick) early = resident_bytes();
-      const bool c = snap.grasps[0].grasping() || snap.grasps[1].grasping();
-      const bool g = snap.duct_grasps[0].grasping() || snap.duct_grasps[1].grasping();
-      catheter_takes += c && !catheter_held ? 1 : 0;
-      duct_takes += g && !duct_held ? 1 : 0;
-      catheter_held = c;
-      duct_held = g;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  });
   const SessionMetrics m = session->run();
-  done.store(true);
-  sampler.join();
   const int64_t late = resident_bytes();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -308,7 +301,7 @@ void soak(bool check_proxies) {
     EXPECT_GE(catheter_takes, 1) << "the catheter was never taken";
     EXPECT_GE(duct_takes, 1) << "the duct was never taken";
   }
-  // No proxy inside an organ, beyond the two snapshots' step apart.
+  // No proxy inside an organ, beyond the allowance.
   EXPECT_GT(proxy_samples, 10);
   if (check_proxies) {
     EXPECT_LT(deepest_m, 0.0005) << "tool " << deepest_tool << " segment " << deepest_segment

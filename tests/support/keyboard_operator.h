@@ -97,7 +97,7 @@ struct KeyboardOperator {
   }
 
   // The roll about the shaft (towards the port, from the handle at `at`) that turns at's jaws'
-  // opening direction to want's [rad, (-pi, pi]].
+  // opening direction to want's [rad, -pi..pi].
   [[nodiscard]] double roll_error(int tool, const hardware::SimulatedInput& at,
                                   const hardware::DeviceSample& want) const {
     const Eigen::Vector3d s = (ports_W[static_cast<size_t>(tool)] - at.position_W).normalized();
