@@ -809,6 +809,25 @@ int cmd_plan_expert(int argc, char** argv) {
           ? ", the scenario's"
           : "",
       left);
+  // How near the right hand comes to the organs it must not touch: an author placing a new
+  // patient's ports sees where it would press into one (the planner does not steer round them).
+  const std::vector<std::string>& names = model.value()->organ_names();
+  for (const auto& [what, c] : {std::pair{"the right tool's shaft", plan.value().right_shaft},
+                                std::pair{"the held catheter", plan.value().held_catheter}}) {
+    if (c.organ < 0) continue;
+    const std::string organ = static_cast<size_t>(c.organ) < names.size()
+                                  ? names[static_cast<size_t>(c.organ)]
+                                  : "organ " + std::to_string(c.organ);
+    std::printf("%s comes within %.1f mm of the %s (at %.1f s)\n", what, c.least_m * 1e3,
+                organ.c_str(), c.time_s);
+    if (c.pressed_in_m() > 0.0) {
+      std::fprintf(stderr,
+                   "laptrainer-cli: warning: %s presses %.1f mm into the %s at %.1f s (its axis "
+                   "%.1f mm from it, its radius %.1f mm): move the port or the catheter's start\n",
+                   what, c.pressed_in_m() * 1e3, organ.c_str(), c.time_s, c.least_m * 1e3,
+                   c.radius_m * 1e3);
+    }
+  }
   return kExitOk;
 }
 

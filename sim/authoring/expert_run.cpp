@@ -164,9 +164,58 @@ struct Planner {
   const haptics::MeshDatabase* duct_surface = nullptr;  ///< the cystic duct, at rest
   V camera_W = V::Zero();
 
+  // The right hand's hinges and rolls as keyed, and from which keyframe it holds the catheter
+  // (`hold_J`: the held catheter in the jaws' frame), for the clearances measured afterwards.
+  std::vector<std::pair<V, V>> right_poses{};
+  size_t holding_from = SIZE_MAX;
+  HeldCatheter hold_J{};
+
   void key(hardware::ScriptedTrajectory* traj, const PortTool& tool, double time, const V& hinge,
            const V& roll_x, double grip) {
     traj->keyframes.push_back(tool.keyframe(time, hinge, roll_x, grip));
+    if (traj == &run.right) right_poses.emplace_back(hinge, roll_x);
+  }
+
+  // The least distance from the points of segment a-b (every 1 mm) to every organ but the duct,
+  // into *c where nearer than it already holds.
+  static void measure_clearance(const std::vector<const haptics::MeshDatabase*>& organs,
+                                int32_t duct, const V& a, const V& b, double time_s,
+                                PlannedClearance* c) {
+    // At most 1 mm apart: a length of whole millimetres (the held catheter's 25 mm) rounded
+    // a little over is not one more interval.
+    const double length = (b - a).norm();
+    const int n = std::max(1, static_cast<int>(std::ceil(length / 0.001 - 1e-6)));
+    for (size_t o = 0; o < organs.size(); ++o) {
+      if (static_cast<int32_t>(o) == duct) continue;
+      for (int i = 0; i <= n; ++i) {
+        const V x = a + (b - a) * (static_cast<double>(i) / n);
+        V q;
+        if (organs[o]->nearest_face(x, &q, nullptr) < 0) continue;
+        const double d = (q - x).norm();
+        if (d < c->least_m) {
+          c->least_m = d;
+          c->organ = static_cast<int32_t>(o);
+          c->time_s = time_s;
+        }
+      }
+    }
+  }
+
+  // The right hand's clearances (ExpertRun::right_shaft, held_catheter), keyframe by keyframe.
+  void measure_right_clearances(const SessionModel& model) {
+    const std::vector<const haptics::MeshDatabase*> organs = model.rest_databases();
+    const int32_t duct = model.tissue().duct_organ();
+    const auto& keys = run.right.keyframes;
+    for (size_t k = 0; k < right_poses.size() && k < keys.size(); ++k) {
+      const auto& [hinge, roll_x] = right_poses[k];
+      const double t = keys[k].time_s;
+      measure_clearance(organs, duct, right.port_W, hinge, t, &run.right_shaft);
+      if (k < holding_from || keys[k].gripper_angle_rad > s.grip_closed_rad) continue;
+      const Eigen::Matrix3d frame = right.frame(hinge, roll_x);
+      const V tip = hinge + frame * hold_J.tip_J;
+      const V held = hinge + frame * V(0.0, -s.grasp_depth * 2.0 * g.jaw_mid_m, 0.0);
+      measure_clearance(organs, duct, held, tip, t, &run.held_catheter);
+    }
   }
   [[nodiscard]] int steps(double duration) const {
     return std::max(1, static_cast<int>(std::lround(duration / s.keyframe_step_s)));
@@ -205,6 +254,8 @@ struct Planner {
     key(&r, right, 0.0, entry, x, open);
     move(&r, right, 1.5, entry, above, x, x, open, open);
     move(&r, right, 1.0, above, hinge, x, x, open, open);
+    holding_from = right_poses.size();  // from the jaws' closing on (once shut: closed)
+    hold_J = hold;
     move(&r, right, 0.5, hinge, hinge, x, x, open, closed);
     move(&r, right, 0.5, hinge, hinge, x, x, closed, closed);
     Pose pose{hinge, x, 0.0, g.cath_dir};
@@ -490,7 +541,18 @@ Result<ExpertRun> plan_expert_run(const Scene& scene, const SessionModel& model,
   }
   const double end_s = p.catheter_hand();
   p.steadying_hand(model, end_s);
-  if (settings.mistake == ExpertMistake::kTearsDuct) p.duct_tearing_hand(end_s);
+  if (settings.mistake == ExpertMistake::kTearsDuct) {
+    p.duct_tearing_hand(end_s);  // keyed afresh: its poses are the last ones, holding no catheter
+    p.right_poses.erase(p.right_poses.begin(),
+                        p.right_poses.end() - static_cast<ptrdiff_t>(p.run.right.keyframes.size()));
+    p.holding_from = SIZE_MAX;
+  }
+  p.run.right_shaft.radius_m = 0.0025;  // the scenario's default (ToolSpec)
+  for (const ToolSpec& t : sc.tools) {
+    if (t.side == ToolSpec::Side::kRight) p.run.right_shaft.radius_m = t.shaft_radius_m;
+  }
+  p.run.held_catheter.radius_m = 0.5 * sc.catheter->diameter_m;
+  p.measure_right_clearances(model);
   return std::move(p.run);
 }
 

@@ -20,7 +20,9 @@
 /// hole while it advances.
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -105,9 +107,28 @@ struct ExpertRunSettings {
   double cbd_clear_m = 0.015;
 };
 
+/// How near the planned right hand comes to the organs it must not touch (every organ but the
+/// target duct), over its keyframes (every 0.1 s): the least distance, from which organ, and
+/// when. The planner does not steer round them; it measures, so that an author placing a new
+/// patient's ports sees where the hand presses into an organ on its way.
+struct PlannedClearance {
+  double least_m = std::numeric_limits<double>::infinity();
+  int32_t organ = -1;  ///< the scene's organ index, -1 where none was measured
+  double time_s = 0.0;
+  double radius_m = 0.0;  ///< of what was measured (its axis): nearer than this, it presses in
+  /// How far it presses into that organ at the least distance [m] (0: clear).
+  [[nodiscard]] double pressed_in_m() const { return std::max(0.0, radius_m - least_m); }
+};
+
 struct ExpertRun {
   hardware::ScriptedTrajectory left;
   hardware::ScriptedTrajectory right;
+  /// The right tool's shaft (its axis, from the port to the hinge, every 1 mm; radius the
+  /// scenario's shaft_radius_m).
+  PlannedClearance right_shaft;
+  /// The held catheter from where the jaws hold it to its tip (every 1 mm), from the grasp on
+  /// (radius half the catheter's diameter_m; the duct, which it enters, is not measured).
+  PlannedClearance held_catheter;
   /// The largest angle between the catheter's wanted and achieved directions on the way in
   /// (the fulcrum's limit) [deg].
   double worst_direction_error_deg = 0.0;

@@ -6,11 +6,15 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "haptics/closest_point.h"
 #include "sim/authoring/expert_run.h"
 #include "sim/runtime/session.h"
 #include "tests/sim/session_test_support.h"
@@ -230,6 +234,112 @@ std::vector<Patient> patients() {
   if (test::kSanitizerDivisor > 1) return {Patient{"default", false}, Patient{"patient_hard"}};
   return {Patient{"default", false}, Patient{"patient_easy"}, Patient{"patient_moderate", false},
           Patient{"patient_hard"}};
+}
+
+// The right hand's clearances the planner reports (ExpertRun::right_shaft, held_catheter) are
+// the least distances, found here by brute force over every face of every organ but the duct,
+// from its keyframes as written: the shaft from the port to the hinge, and from the grasp on the
+// held catheter from where the jaws hold it to its tip (rigid in the jaws' frame,
+// models/catheter_grasp.h: where its tip lay when they closed on it), each every 1 mm.
+TEST_P(PatientRun, ThePlannedRightHandsClearancesAreTheLeastDistancesOverItsKeyframes) {
+  const Scene& scene = scene_of(GetParam());
+  RuntimeSettings rs;
+  rs.fast = true;
+  const auto model = SessionModel::build(scene, rs, {DeviceDescription{"left", {}}, {"right", {}}});
+  ASSERT_TRUE(model.ok()) << model.message();
+  const ExpertRunSettings settings = expert_run_settings(scene.scenario);
+  const Result<ExpertRun> plan = plan_expert_run(scene, *model.value(), settings);
+  ASSERT_TRUE(plan.ok()) << plan.message();
+  const std::vector<const haptics::MeshDatabase*> organs = model.value()->rest_databases();
+  const int32_t duct = model.value()->tissue().duct_organ();
+  // Each face's bounding sphere (its centroid, the farthest corner from it): a face farther than
+  // the nearest one found so far by its sphere is skipped, the rest measured exactly.
+  std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> spheres(organs.size());
+  for (size_t o = 0; o < organs.size(); ++o) {
+    const haptics::MeshDatabase& db = *organs[o];
+    for (int32_t f = 0; f < db.face_count(); ++f) {
+      const auto& fv = db.face_vertices(f);
+      const Eigen::Vector3d c = (db.position(fv[0]) + db.position(fv[1]) + db.position(fv[2])) / 3;
+      double r = 0.0;
+      for (const int32_t v : fv) r = std::max(r, (db.position(v) - c).norm());
+      spheres[o].emplace_back(c, r);
+    }
+  }
+  // The least distance from segment a-b (every 1 mm) to every face of every organ but the duct.
+  auto least_to_organs = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    PlannedClearance c;
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.001 - 1e-6)));
+    for (size_t o = 0; o < organs.size(); ++o) {
+      if (static_cast<int32_t>(o) == duct) continue;
+      const haptics::MeshDatabase& db = *organs[o];
+      for (int i = 0; i <= n; ++i) {
+        const Eigen::Vector3d x = a + (b - a) * (static_cast<double>(i) / n);
+        for (int32_t f = 0; f < db.face_count(); ++f) {
+          const auto& [centre, radius] = spheres[o][static_cast<size_t>(f)];
+          if ((x - centre).norm() - radius > c.least_m) continue;
+          const auto& fv = db.face_vertices(f);
+          haptics::TriangleFeature feature{};
+          const double d = (haptics::closest_on_triangle(x, db.position(fv[0]), db.position(fv[1]),
+                                                         db.position(fv[2]), &feature) -
+                            x)
+                               .norm();
+          if (d < c.least_m) {
+            c.least_m = d;
+            c.organ = static_cast<int32_t>(o);
+          }
+        }
+      }
+    }
+    return c;
+  };
+  const TrocarToolSettings& trocar = model.value()->tool(1).trocar;
+  const TissueWorldSettings& ws = model.value()->tissue().settings();
+  const Eigen::Vector3d cath_dir = ws.catheter_direction_W.normalized();
+  const Eigen::Vector3d cath_tip = ws.catheter_start_W + ws.catheter.length_m * cath_dir;
+  const double held_depth = settings.grasp_depth * model.value()->tool(1).gripper.jaw_length_m;
+  // Per keyframe time, each clearance; and the least over the run.
+  std::map<double, std::array<PlannedClearance, 2>> at;
+  std::array<PlannedClearance, 2> least;
+  std::optional<Eigen::Vector3d> tip_J;
+  for (const hardware::Keyframe& k : plan.value().right.keyframes) {
+    // The handle is on the port's line, the shaft's length from the hinge.
+    const Eigen::Vector3d y = (k.position_W - trocar.port_W).normalized();  // to the handle
+    const Eigen::Vector3d hinge = k.position_W - trocar.shaft_length_m * y;
+    std::array<PlannedClearance, 2>& here = at[k.time_s];
+    here[0] = least_to_organs(trocar.port_W, hinge);
+    if (k.gripper_angle_rad <= settings.grip_closed_rad) {
+      Eigen::Vector3d x = k.orientation_W * Eigen::Vector3d::UnitX();
+      x = (x - x.dot(y) * y).normalized();
+      Eigen::Matrix3d frame;
+      frame << x, y, x.cross(y);
+      if (!tip_J) tip_J = frame.transpose() * (cath_tip - hinge);  // closing on it as it lies
+      here[1] = least_to_organs(hinge + frame * Eigen::Vector3d(0.0, -held_depth, 0.0),
+                                hinge + frame * *tip_J);
+    }
+    for (size_t i = 0; i < 2; ++i) {
+      if (here[i].least_m < least[i].least_m) least[i] = here[i];
+    }
+  }
+  // The poses rebuilt here from the keyframes (a handle position and a quaternion) agree with the
+  // planner's to about 1e-15 m.
+  constexpr double kToleranceM = 1e-9;
+  const std::vector<std::string>& names = model.value()->organ_names();
+  const std::array<PlannedClearance, 2> got = {plan.value().right_shaft,
+                                               plan.value().held_catheter};
+  for (size_t i = 0; i < 2; ++i) {
+    SCOPED_TRACE(i == 0 ? "shaft" : "held catheter");
+    ASSERT_GE(least[i].organ, 0);
+    EXPECT_NEAR(got[i].least_m, least[i].least_m, kToleranceM);
+    EXPECT_EQ(got[i].organ, least[i].organ);
+    ASSERT_EQ(at.count(got[i].time_s), 1U) << got[i].time_s;  // a keyframe's time
+    EXPECT_NEAR(at[got[i].time_s][i].least_m, got[i].least_m, kToleranceM);
+    std::printf("[ clearance ] %s: the right %s within %.2f mm of the %s at %.1f s (%.2f mm in)\n",
+                GetParam().stem.c_str(), i == 0 ? "shaft" : "held catheter", got[i].least_m * 1e3,
+                names[static_cast<size_t>(got[i].organ)].c_str(), got[i].time_s,
+                got[i].pressed_in_m() * 1e3);
+  }
+  EXPECT_EQ(plan.value().right_shaft.radius_m, 0.0025);  // the scenarios' default shaft
+  EXPECT_EQ(plan.value().held_catheter.radius_m, 0.5 * scene.scenario.catheter->diameter_m);
 }
 
 // The hardest patient's expert comes in at the slant its scenario names (task.
