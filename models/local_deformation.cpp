@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "haptics/closest_point.h"
+#include "haptics/segment_segment.h"
 
 namespace lap::models {
 
@@ -38,6 +39,18 @@ LocalDeformationModel LocalDeformationModel::build(const haptics::MeshDatabase& 
   for (int32_t v = 0; v < n; ++v) m.rest_[v] = rest.position(v);
   m.face_vertices_.resize(rest.face_count());
   for (int32_t f = 0; f < rest.face_count(); ++f) m.face_vertices_[f] = rest.face_vertices(f);
+  // Area-weighted vertex normals of the rest shape (the cross product's length is twice the
+  // face's area): which way is out of the organ at each vertex.
+  m.rest_normal_.assign(n, Eigen::Vector3d::Zero());
+  for (const std::array<int32_t, 3>& f : m.face_vertices_) {
+    const Eigen::Vector3d area =
+        (m.rest_[f[1]] - m.rest_[f[0]]).cross(m.rest_[f[2]] - m.rest_[f[0]]);
+    for (const int32_t v : f) m.rest_normal_[v] += area;
+  }
+  for (Eigen::Vector3d& normal : m.rest_normal_) {
+    const double length = normal.norm();
+    normal = length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+  }
   for (int32_t e = 0; e < rest.edge_count(); ++e) {
     const auto& ev = rest.edge_vertices(e);
     m.longest_edge_ = std::max(m.longest_edge_, (m.rest_[ev[1]] - m.rest_[ev[0]]).norm());
@@ -156,8 +169,10 @@ DeformationContact rest_contact(const LocalDeformationModel& model,
 LocalDeformationState::LocalDeformationState(const LocalDeformationModel& model)
     : positions(static_cast<size_t>(model.vertex_count())),
       flags(static_cast<size_t>(model.vertex_count()), 0),
-      conforming(static_cast<size_t>(model.vertex_count()), Eigen::Vector3d::Zero()) {
+      conforming(static_cast<size_t>(model.vertex_count()), Eigen::Vector3d::Zero()),
+      previous(static_cast<size_t>(model.vertex_count())) {
   for (int32_t v = 0; v < model.vertex_count(); ++v) positions[v] = model.rest_position(v);
+  previous = positions;
   // Both lists hold at most every vertex once: reserved here, never reallocated by deform().
   displaced.reserve(static_cast<size_t>(model.vertex_count()));
   changed.reserve(static_cast<size_t>(model.vertex_count()));
@@ -166,10 +181,49 @@ LocalDeformationState::LocalDeformationState(const LocalDeformationModel& model)
 namespace {
 constexpr uint8_t kDisplaced = 1U;
 constexpr uint8_t kChanged = 2U;
+// How far short of the level of an obstacle a vertex moving onto it stops [m]: the 0.5 mm the
+// soak allows a proxy inside an organ (estimate).
+constexpr double kObstacleSkinM = 0.0005;
+
+// The vertices this call moved out of the organ stopped where their move from the last call's
+// positions comes level with an obstacle, within one edge of it; each one stopped off rest is
+// listed as displaced. Returns how many stopped.
+int32_t stop_at_obstacles(const LocalDeformationModel& model,
+                          std::span<const DeformationObstacle> obstacles,
+                          LocalDeformationState* state) {
+  const double capture = model.longest_edge_m();
+  int32_t stopped = 0;
+  for (const int32_t v : state->changed) {
+    const Eigen::Vector3d& from = state->previous[v];
+    Eigen::Vector3d& to = state->positions[v];
+    const Eigen::Vector3d move = to - from;
+    const double length = move.norm();
+    if (!(length > 0.0) || !(move.dot(model.rest_normal(v)) > 0.0)) continue;  // not going out
+    const Eigen::Vector3d middle = from + 0.5 * move;
+    double stop = 1.0;
+    for (const DeformationObstacle& o : obstacles) {
+      if (!o.a_O.allFinite() || !o.b_O.allFinite()) continue;  // ignored (the header)
+      // Far apart (the bounding spheres of the move and the segment, and the capture): skip.
+      const Eigen::Vector3d centre = 0.5 * (o.a_O + o.b_O);
+      const double reach = 0.5 * (length + (o.b_O - o.a_O).norm()) + capture;
+      if (!((centre - middle).squaredNorm() < reach * reach)) continue;
+      const haptics::SegmentPair cp = haptics::closest_segment_segment(from, to, o.a_O, o.b_O);
+      if ((cp.p - cp.q).squaredNorm() < capture * capture) stop = std::min(stop, cp.s);
+    }
+    if (stop >= 1.0) continue;
+    to = from + std::max(0.0, stop - kObstacleSkinM / length) * move;
+    ++stopped;
+    if ((state->flags[v] & kDisplaced) == 0 && to != model.rest_position(v)) {
+      state->flags[v] |= kDisplaced;
+      state->displaced.push_back(v);
+    }
+  }
+  return stopped;
+}
 }  // namespace
 
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
-            LocalDeformationState* state) noexcept {
+            LocalDeformationState* state, std::span<const DeformationObstacle> obstacles) noexcept {
   auto& flags = state->flags;
   auto& positions = state->positions;
   // Back to rest where the last call displaced.
@@ -237,6 +291,18 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
     deepest2 = std::max(deepest2, len2);
   }
   state->deepest_m = std::sqrt(deepest2);
+  // The tools' segments the surface must not pass.
+  state->stopped = 0;
+  if (ok && !obstacles.empty()) {
+    state->stopped = stop_at_obstacles(model, obstacles, state);
+    if (state->stopped > 0) {
+      deepest2 = 0.0;
+      for (int32_t v : state->displaced) {
+        deepest2 = std::max(deepest2, (positions[v] - model.rest_position(v)).squaredNorm());
+      }
+      state->deepest_m = std::sqrt(deepest2);
+    }
+  }
   if (!ok) {
     for (int32_t v : state->displaced) {
       positions[v] = model.rest_position(v);
@@ -245,7 +311,10 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
     state->displaced.clear();
     state->deepest_m = 0.0;
   }
-  for (int32_t v : state->changed) flags[v] &= static_cast<uint8_t>(~kChanged);
+  for (int32_t v : state->changed) {
+    flags[v] &= static_cast<uint8_t>(~kChanged);
+    state->previous[v] = positions[v];
+  }
   return ok;
 }
 

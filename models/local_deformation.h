@@ -74,6 +74,19 @@ struct DeformationContact {
   bool conform = false;
 };
 
+/// A tool's segment not pressing on this organ (a proxy without a contact on it), object frame:
+/// the surface must not pass it. A vertex whose move from where the last call left it goes out
+/// of the organ (along its rest normal) stops where that move comes level with the segment,
+/// within one edge of it (`LocalDeformationModel::longest_edge_m`): there the segment touches
+/// the surface, and the haptic loop's proxy meets it as a contact, which pushes it on (§5.3).
+/// Without it a dent's far side, or a dent springing back, moved through a tool that lay just
+/// outside (8.3 mm in one modelling step in the hour's soak: docs/benchmarks.md, "Soak"), where
+/// the proxy had no contact to be pushed by and no short way out.
+struct DeformationObstacle {
+  Eigen::Vector3d a_O = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_O = Eigen::Vector3d::Zero();
+};
+
 class LocalDeformationModel {
  public:
   /// Precomputes the neighbour lists. Throws std::invalid_argument naming the bad setting.
@@ -83,6 +96,8 @@ class LocalDeformationModel {
   [[nodiscard]] const LocalDeformationSettings& settings() const { return settings_; }
   [[nodiscard]] int32_t vertex_count() const { return static_cast<int32_t>(rest_.size()); }
   [[nodiscard]] const Eigen::Vector3d& rest_position(int32_t v) const { return rest_[v]; }
+  /// Unit, out of the organ: its faces' normals summed by area (zero where they cancel).
+  [[nodiscard]] const Eigen::Vector3d& rest_normal(int32_t v) const { return rest_normal_[v]; }
   /// The vertices within R + h of v (the precomputed list).
   [[nodiscard]] std::span<const int32_t> neighbours(int32_t v) const {
     return {neighbour_index_.data() + neighbour_offset_[v],
@@ -100,6 +115,7 @@ class LocalDeformationModel {
  private:
   LocalDeformationSettings settings_;
   std::vector<Eigen::Vector3d> rest_;                  // n_v x 3 [m], original vertex order
+  std::vector<Eigen::Vector3d> rest_normal_;           // n_v x 3, unit (or zero)
   std::vector<std::array<int32_t, 3>> face_vertices_;  // the database's faces (tree order)
   std::vector<int32_t> neighbour_offset_;              // n_v + 1 (CSR)
   std::vector<int32_t> neighbour_index_;               // vertices within R + h, per vertex
@@ -112,7 +128,9 @@ struct LocalDeformationState {
   std::vector<int32_t> changed;             ///< vertices whose position the last call changed
   std::vector<uint8_t> flags;               ///< n_v: bit 0 displaced, bit 1 changed (scratch)
   std::vector<Eigen::Vector3d> conforming;  ///< n_v: the largest conforming displacement (scratch)
+  std::vector<Eigen::Vector3d> previous;    ///< n_v: the positions the last call left
   int32_t clamped = 0;                      ///< vertices held at max_displacement_m, last call
+  int32_t stopped = 0;                      ///< vertices stopped at an obstacle, last call
   double deepest_m = 0.0;  ///< largest displacement of any vertex from rest, last call [m]
   /// Sized and at rest for a model (setup; allocates).
   explicit LocalDeformationState(const LocalDeformationModel& model);
@@ -147,8 +165,11 @@ struct LocalDeformationState {
 /// rest). Afterwards `changed` lists every vertex whose position changed since the previous call
 /// (what MeshDatabase::set_positions(positions, changed) needs) and `deepest_m` the largest
 /// displacement. A contact that is not finite or names no face makes the call return false and
-/// leave the surface at rest (`changed` then lists the vertices that went back).
+/// leave the surface at rest (`changed` then lists the vertices that went back). `obstacles`:
+/// the tools' segments the surface must not pass (DeformationObstacle); a non-finite one is
+/// ignored.
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
-            LocalDeformationState* state) noexcept;
+            LocalDeformationState* state,
+            std::span<const DeformationObstacle> obstacles = {}) noexcept;
 
 }  // namespace lap::models

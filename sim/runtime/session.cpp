@@ -559,6 +559,7 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
       tc.primitive = c.primitive;
       tc.point_W = c.point_W;
       tc.force_on_organ_W = -c.force_W;
+      tc.segment = seg;
     }
   }
   // The stiffness budget at the handle (trocar_tool.h): the three segments' contacts and the
@@ -757,6 +758,9 @@ void Session::model_tick(int64_t tick) noexcept {
     in.jaws = jaw_frame(t.pose);
     in.contact_count = t.organ_contact_count;
     in.contacts = t.organ_contacts;
+    in.has_proxies = true;
+    in.proxy_a_W = t.proxy_a_W;
+    in.proxy_b_W = t.proxy_b_W;
   }
   if (injected_fault_steps_ > 0 && tick >= injected_fault_tick_) {
     world_->inject_non_finite(injected_fault_);

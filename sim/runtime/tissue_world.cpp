@@ -241,7 +241,24 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
     bad.penetration_O.x() = std::numeric_limits<double>::quiet_NaN();
     injected_ = ModelFaultKind::kNone;  // the first locally deformed organ only
   }
-  const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get());
+  // The tools' segments without a contact on this organ: its surface does not pass them.
+  std::array<models::DeformationObstacle, 6> obstacles;
+  size_t obstacle_count = 0;
+  for (const ToolModelInput& tool : tools) {
+    if (!tool.valid || !tool.has_proxies) continue;
+    for (int32_t seg = 0; seg < 3; ++seg) {
+      bool touching = false;
+      for (int32_t c = 0; c < tool.contact_count; ++c) {
+        const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
+        touching = touching || (tc.organ == organ && tc.segment == seg);
+      }
+      if (touching) continue;
+      obstacles[obstacle_count++] = {tool.proxy_a_W[static_cast<size_t>(seg)],
+                                     tool.proxy_b_W[static_cast<size_t>(seg)]};
+    }
+  }
+  const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get(),
+                                 {obstacles.data(), obstacle_count});
   deepest_dent_ = std::max(deepest_dent_, s.local->deepest_m);
   return ok;
 }

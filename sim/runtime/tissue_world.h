@@ -62,6 +62,7 @@ struct ToolContact {
   /// tuned it live that tick): the tissue model infers the tool's displacement from the force
   /// with it (§4: force / k). 0: not known, the organ's (TissueWorld::stiffness_n_per_m).
   double stiffness_n_per_m = 0.0;
+  int32_t segment = -1;  ///< the tool's segment that touches (0 shaft, 1 and 2 the jaws)
 };
 
 /// What the modelling loop needs of one tool.
@@ -71,6 +72,14 @@ struct ToolModelInput {
   models::JawFrame jaws;
   int32_t contact_count = 0;
   std::array<ToolContact, kMaxContacts> contacts{};
+  /// Where its three segment proxies are (shaft, jaw 0, jaw 1; ToolSnapshot::proxy_a_W): an
+  /// organ's dent does not pass the ones without a contact on it (models::DeformationObstacle).
+  /// False: not known (none is an obstacle).
+  bool has_proxies = false;
+  std::array<Eigen::Vector3d, 3> proxy_a_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 3> proxy_b_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d::Zero()};
 };
 
 /// Which model met a non-finite value in a step.

@@ -411,3 +411,78 @@ TEST(LocalDeformation, APressingToolFeelsOneMinusShareTimesTheStiffness) {
 
 }  // namespace
 }  // namespace lap::models
+
+namespace lap::models {
+namespace {
+
+// A dent does not carry the surface through a tool's segment that has no contact on the organ
+// (DeformationObstacle): a thin slab (2 cm) pressed 1 cm down at the middle of its top, R = 3 cm,
+// moves its bottom down too (the far side: by (1 − 2/3) of the dent's 5 mm there, 1.67 mm); a
+// segment 1 mm under the bottom stops every vertex whose way down comes within one edge of it
+// 0.5 mm short of its level, exactly, and leaves the rest as without it; the pressing tool's own
+// segment, lying in the dent, stops nothing (those vertices move into the slab); the same call
+// again keeps them there, without the segment they go where the formula puts them, and with no
+// contact back to rest (the bottom moving up, away from the segment).
+TEST(LocalDeformation, TheSurfaceDoesNotPassAToolThatDoesNotPressOnIt) {
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.02, 0.1), 20));
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.03;
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  Eigen::Vector3d on_top;
+  DeformationContact press;
+  press.face = db.nearest_face(Eigen::Vector3d(0.0, 0.011, 0.0), &on_top, nullptr);
+  ASSERT_GE(press.face, 0);
+  press.point_O = on_top;
+  press.penetration_O = Eigen::Vector3d(0.0, -0.01, 0.0);
+  const double level = -0.011;  // the segment: 1 mm under the bottom, along x
+  const DeformationObstacle under{Eigen::Vector3d(-0.02, level, 0.0),
+                                  Eigen::Vector3d(0.02, level, 0.0)};
+  // The pressing tool's own segment, in the dent it makes (5 mm below the top's rest).
+  const DeformationObstacle own{Eigen::Vector3d(-0.01, 0.005, 0.0),
+                                Eigen::Vector3d(0.01, 0.005, 0.0)};
+  LocalDeformationState free_state(model);
+  ASSERT_TRUE(deform(model, {&press, 1}, &free_state));
+  LocalDeformationState state(model);
+  const std::array<DeformationObstacle, 2> obstacles{under, own};
+  ASSERT_TRUE(deform(model, {&press, 1}, &state, obstacles));
+  const double capture = model.longest_edge_m();
+  int32_t stopped = 0;
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    const Eigen::Vector3d& rest = model.rest_position(v);
+    const Eigen::Vector3d& free = free_state.positions[v];
+    const Eigen::Vector3d& got = state.positions[v];
+    // A bottom vertex moving straight down comes level with the segment at y = level, its
+    // distance from it then that of its (x, z) from the segment's line piece.
+    const double dx = std::max(0.0, std::abs(rest.x()) - 0.02);
+    const bool reaches =
+        rest.y() < -0.0099 && free.y() < level && std::hypot(dx, rest.z()) < capture;
+    if (reaches) {
+      ++stopped;
+      ASSERT_NEAR(got.y(), level + 0.0005, 1e-12) << "vertex " << v;
+      ASSERT_EQ(got.x(), rest.x());
+      ASSERT_EQ(got.z(), rest.z());
+    } else {
+      ASSERT_EQ(got, free) << "vertex " << v;
+    }
+  }
+  EXPECT_GT(stopped, 10);
+  EXPECT_EQ(state.stopped, stopped);
+  // Held there while the segment stays; free once it goes.
+  const std::vector<Eigen::Vector3d> held = state.positions;
+  ASSERT_TRUE(deform(model, {&press, 1}, &state, obstacles));
+  EXPECT_EQ(state.positions, held);
+  ASSERT_TRUE(deform(model, {&press, 1}, &state));
+  EXPECT_EQ(state.positions, free_state.positions);
+  EXPECT_EQ(state.stopped, 0);
+  // And back at rest with no contact, the segment under it still there (the bottom moves up,
+  // into the slab, away from it).
+  ASSERT_TRUE(deform(model, {}, &state, {&under, 1}));
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    ASSERT_EQ(state.positions[v], model.rest_position(v));
+  }
+  std::printf("[ local deformation ] a segment 1 mm under the slab stopped %d vertices\n", stopped);
+}
+
+}  // namespace
+}  // namespace lap::models
