@@ -811,19 +811,28 @@ int cmd_plan_expert(int argc, char** argv) {
       left);
   // How near the right hand comes to the organs it must not touch: an author placing a new
   // patient's ports sees where it would press into one (the planner does not steer round them).
+  // (The expert's run only: a clumsy run may press where it goes wrong, into the common bile
+  // duct.)
   const std::vector<std::string>& names = model.value()->organ_names();
+  if (mistake_run != lap::sim::ExpertMistake::kNone) return kExitOk;
   for (const auto& [what, c] : {std::pair{"the right tool's shaft", plan.value().right_shaft},
                                 std::pair{"the held catheter", plan.value().held_catheter}}) {
     if (c.organ < 0) continue;
     const std::string organ = static_cast<size_t>(c.organ) < names.size()
                                   ? names[static_cast<size_t>(c.organ)]
                                   : "organ " + std::to_string(c.organ);
-    std::printf("%s comes within %.1f mm of the %s (at %.1f s)\n", what, c.least_m * 1e3,
-                organ.c_str(), c.time_s);
+    if (c.least_m >= 0.0) {
+      std::printf("%s comes within %.2f mm of the %s (at %.1f s)\n", what, c.least_m * 1e3,
+                  organ.c_str(), c.time_s);
+    } else {
+      std::printf("%s passes %.2f mm inside the %s (at %.1f s)\n", what, -c.least_m * 1e3,
+                  organ.c_str(), c.time_s);
+    }
     if (c.pressed_in_m() > 0.0) {
       std::fprintf(stderr,
-                   "laptrainer-cli: warning: %s presses %.1f mm into the %s at %.1f s (its axis "
-                   "%.1f mm from it, its radius %.1f mm): move the port or the catheter's start\n",
+                   "laptrainer-cli: warning: %s presses %.2f mm into the %s at %.1f s (its axis "
+                   "%+.2f mm from the surface, negative inside; its radius %.2f mm): move the "
+                   "port or the catheter's start\n",
                    what, c.pressed_in_m() * 1e3, organ.c_str(), c.time_s, c.least_m * 1e3,
                    c.radius_m * 1e3);
     }

@@ -3,7 +3,9 @@
 // The swept checks (segment_proxy_sweep.cpp) keep the ideal probe out of every object while the
 // probe moves, and a rigid object's motion is swept too (its previous pose, §6.4). A deforming
 // organ's new shape (§6.5) arrives as a whole, once per modelling step: where it rises onto a
-// part of the probe that has no contact there — a dent springing back under a shaft that lay
+// part of the probe that has no contact there (for a locally deformed organ the model now stops
+// short of such a part, models/local_deformation.h; not for the duct, nor between vertices) —
+// a dent springing back under a shaft that lay
 // above it, one jaw's dent filling under the other jaw — that part is inside at once and no
 // sweep ever crosses the surface again. The probe would then rest inside, the tool feel nothing
 // there, and the tissue be drawn through it. So on each tick whose surface differs from the one

@@ -76,12 +76,16 @@ struct DeformationContact {
 
 /// A tool's segment not pressing on this organ (a proxy without a contact on it), object frame:
 /// the surface must not pass it. A vertex whose move from where the last call left it goes out
-/// of the organ (along its rest normal) stops where that move comes level with the segment,
-/// within one edge of it (`LocalDeformationModel::longest_edge_m`): there the segment touches
-/// the surface, and the haptic loop's proxy meets it as a contact, which pushes it on (§5.3).
-/// Without it a dent's far side, or a dent springing back, moved through a tool that lay just
-/// outside (8.3 mm in one modelling step in the hour's soak: docs/benchmarks.md, "Soak"), where
-/// the proxy had no contact to be pushed by and no short way out.
+/// of the organ (along its rest normal) and comes within one edge of the segment
+/// (`LocalDeformationModel::longest_edge_m`) stops 0.5 mm before its nearest approach to it; so
+/// it is held while the segment stays, and a vertex that starts within that edge of it (beside or
+/// beyond it) does not move out at all. Without it a dent's far side, or a dent springing back,
+/// moved through a tool that lay just outside (8.3 mm in one modelling step in the hour's soak:
+/// docs/benchmarks.md, "Soak"), where the proxy had no contact to be pushed by and no short way
+/// out. The hold is without force: the tool, not touching, feels nothing of the tissue it holds
+/// back (an open limit). Two narrower rules made the hour's soak worse (docs/benchmarks.md): a
+/// stop 0.2 mm past the segment, so that the proxy met the surface as a contact; and letting a
+/// move that starts beside or beyond the segment go.
 struct DeformationObstacle {
   Eigen::Vector3d a_O = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_O = Eigen::Vector3d::Zero();
@@ -162,12 +166,13 @@ struct LocalDeformationState {
                                               double stiffness_n_per_m) noexcept;
 
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
-/// rest). Afterwards `changed` lists every vertex whose position changed since the previous call
-/// (what MeshDatabase::set_positions(positions, changed) needs) and `deepest_m` the largest
-/// displacement. A contact that is not finite or names no face makes the call return false and
-/// leave the surface at rest (`changed` then lists the vertices that went back). `obstacles`:
-/// the tools' segments the surface must not pass (DeformationObstacle); a non-finite one is
-/// ignored.
+/// rest), each vertex then stopped at the obstacles on its way from where the last call left it
+/// (so with obstacles the result depends on that too). Afterwards `changed` lists every vertex
+/// whose position changed since the previous call (what MeshDatabase::set_positions(positions,
+/// changed) needs) and `deepest_m` the largest displacement. A contact that is not finite or names
+/// no face makes the call return false and leave the surface at rest (`changed` then lists the
+/// vertices that went back). `obstacles`: the tools' segments the surface must not pass
+/// (DeformationObstacle); a non-finite one is ignored.
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
             LocalDeformationState* state,
             std::span<const DeformationObstacle> obstacles = {}) noexcept;

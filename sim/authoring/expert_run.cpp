@@ -176,8 +176,8 @@ struct Planner {
     if (traj == &run.right) right_poses.emplace_back(hinge, roll_x);
   }
 
-  // The least distance from the points of segment a-b (every 1 mm) to every organ but the duct,
-  // into *c where nearer than it already holds.
+  // The least signed distance (negative inside) from the points of segment a-b (every 1 mm) to
+  // every organ but the duct, into *c where less than it already holds.
   static void measure_clearance(const std::vector<const haptics::MeshDatabase*>& organs,
                                 int32_t duct, const V& a, const V& b, double time_s,
                                 PlannedClearance* c) {
@@ -191,7 +191,13 @@ struct Planner {
         const V x = a + (b - a) * (static_cast<double>(i) / n);
         V q;
         if (organs[o]->nearest_face(x, &q, nullptr) < 0) continue;
-        const double d = (q - x).norm();
+        // Signed: inside the (closed) organ when the first face a ray from the point meets is
+        // met from behind. The ray's direction is fixed and askew to the axes, so that it seldom
+        // grazes an edge of the generated meshes. (The nearest face's side says nothing where
+        // the nearest point is on an edge or a corner.)
+        const V ray = V(0.31, 0.83, 0.47).normalized();
+        const haptics::MeshDatabase::Crossing out = organs[o]->first_crossing(x, x + ray, true);
+        const double d = out.face >= 0 && !out.from_front ? -(q - x).norm() : (q - x).norm();
         if (d < c->least_m) {
           c->least_m = d;
           c->organ = static_cast<int32_t>(o);

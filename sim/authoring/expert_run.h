@@ -112,6 +112,8 @@ struct ExpertRunSettings {
 /// when. The planner does not steer round them; it measures, so that an author placing a new
 /// patient's ports sees where the hand presses into an organ on its way.
 struct PlannedClearance {
+  /// The least distance from the axis to the organ's surface; negative where the axis is inside
+  /// it, by that much (a ray from the point meets the surface first from behind) [m].
   double least_m = std::numeric_limits<double>::infinity();
   int32_t organ = -1;  ///< the scene's organ index, -1 where none was measured
   double time_s = 0.0;

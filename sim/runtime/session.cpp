@@ -758,7 +758,7 @@ void Session::model_tick(int64_t tick) noexcept {
     in.jaws = jaw_frame(t.pose);
     in.contact_count = t.organ_contact_count;
     in.contacts = t.organ_contacts;
-    in.has_proxies = true;
+    in.has_proxies = t.kind == ToolKind::kGripper;  // a probe's proxy is not kept there
     in.proxy_a_W = t.proxy_a_W;
     in.proxy_b_W = t.proxy_b_W;
   }

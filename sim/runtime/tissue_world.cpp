@@ -252,9 +252,11 @@ bool TissueWorld::dent_local_organ(int32_t organ, const std::array<ToolModelInpu
         const ToolContact& tc = tool.contacts[static_cast<size_t>(c)];
         touching = touching || (tc.organ == organ && tc.segment == seg);
       }
-      if (touching) continue;
-      obstacles[obstacle_count++] = {tool.proxy_a_W[static_cast<size_t>(seg)],
-                                     tool.proxy_b_W[static_cast<size_t>(seg)]};
+      const Eigen::Vector3d& a = tool.proxy_a_W[static_cast<size_t>(seg)];
+      const Eigen::Vector3d& b = tool.proxy_b_W[static_cast<size_t>(seg)];
+      // A segment of no length is none (the session writes zeros for a proxy not finite).
+      if (touching || a == b) continue;
+      obstacles[obstacle_count++] = {a, b};
     }
   }
   const bool ok = models::deform(*t.local, {s.dents.data(), static_cast<size_t>(n)}, s.local.get(),

@@ -15,7 +15,8 @@
 /// 4. organs under local deformation (`model: local`) are dented by the tools' contacts (the
 ///    proxies' reactions mapped back to the rest shape, surface_share of the tool's displacement
 ///    into the rest surface: the tool feels (1 − share) k, local_deformation.h) and by
-///    the catheter (conforming: the groove meets it);
+///    the catheter (conforming: the groove meets it); their surface moving out stops short of
+///    the tools' segments that have no contact on them (models::DeformationObstacle);
 /// 5. the duct (`model: modal-shell`; its shell fitted to the organ's mesh, duct_fit.h) takes the
 ///    tools' and the catheter's reactions and its grasp anchors, and its modes step.
 ///

@@ -417,12 +417,14 @@ namespace {
 
 // A dent does not carry the surface through a tool's segment that has no contact on the organ
 // (DeformationObstacle): a thin slab (2 cm) pressed 1 cm down at the middle of its top, R = 3 cm,
-// moves its bottom down too (the far side: by (1 − 2/3) of the dent's 5 mm there, 1.67 mm); a
-// segment 1 mm under the bottom stops every vertex whose way down comes within one edge of it
+// moves its bottom down too (the far side: by (1 - 2/3) of the dent's 5 mm there, 1.67 mm); a
+// segment 1 mm under the bottom stops every vertex whose way down comes within one edge of it,
 // 0.5 mm short of its level, exactly, and leaves the rest as without it; the pressing tool's own
 // segment, lying in the dent, stops nothing (those vertices move into the slab); the same call
-// again keeps them there, without the segment they go where the formula puts them, and with no
-// contact back to rest (the bottom moving up, away from the segment).
+// again keeps them there; without the segment they go where the formula puts them. Released, the
+// dent springs back: a segment lying across it 3 mm below the top stops the vertices coming up
+// under it 0.5 mm short of its level, holds those that start within an edge of it above it
+// (their nearest approach is where they are), and lets the rest go back to rest.
 TEST(LocalDeformation, TheSurfaceDoesNotPassAToolThatDoesNotPressOnIt) {
   const haptics::MeshDatabase db =
       haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.02, 0.1), 20));
@@ -453,7 +455,8 @@ TEST(LocalDeformation, TheSurfaceDoesNotPassAToolThatDoesNotPressOnIt) {
     const Eigen::Vector3d& free = free_state.positions[v];
     const Eigen::Vector3d& got = state.positions[v];
     // A bottom vertex moving straight down comes level with the segment at y = level, its
-    // distance from it then that of its (x, z) from the segment's line piece.
+    // distance from it then that of its (x, z) from the segment's line piece; it stops 0.5 mm
+    // short of that.
     const double dx = std::max(0.0, std::abs(rest.x()) - 0.02);
     const bool reaches =
         rest.y() < -0.0099 && free.y() < level && std::hypot(dx, rest.z()) < capture;
@@ -475,13 +478,43 @@ TEST(LocalDeformation, TheSurfaceDoesNotPassAToolThatDoesNotPressOnIt) {
   ASSERT_TRUE(deform(model, {&press, 1}, &state));
   EXPECT_EQ(state.positions, free_state.positions);
   EXPECT_EQ(state.stopped, 0);
-  // And back at rest with no contact, the segment under it still there (the bottom moves up,
-  // into the slab, away from it).
+  // Released with a segment lying across the dent 3 mm below the top (the bottom moves up, into
+  // the slab, away from the one under it).
+  const double across = 0.007;
+  const DeformationObstacle over{Eigen::Vector3d(-0.01, across, 0.0),
+                                 Eigen::Vector3d(0.01, across, 0.0)};
+  const std::array<DeformationObstacle, 2> released{under, over};
+  ASSERT_TRUE(deform(model, {}, &state, released));
+  int32_t held_up = 0;
+  int32_t held_beside = 0;
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    const Eigen::Vector3d& rest = model.rest_position(v);
+    const Eigen::Vector3d& from = free_state.positions[v];
+    const double dx = std::max(0.0, std::abs(rest.x()) - 0.01);
+    const bool top = rest.y() > 0.0099;
+    if (top && from.y() < across && std::hypot(dx, rest.z()) < capture) {
+      ++held_up;  // comes up level with it: 0.5 mm short (or stays, nearer than that)
+      ASSERT_NEAR(state.positions[v].y(), std::max(from.y(), across - 0.0005), 1e-12)
+          << "vertex " << v;
+    } else if (top && std::hypot(std::hypot(dx, from.y() - across), rest.z()) < capture) {
+      ++held_beside;  // starts beside it, within an edge: its nearest approach is where it is
+      ASSERT_EQ(state.positions[v], from) << "vertex " << v;
+    } else {
+      ASSERT_EQ(state.positions[v], rest) << "vertex " << v;
+    }
+  }
+  EXPECT_GT(held_up, 3);
+  EXPECT_GT(held_beside, 0);
+  EXPECT_EQ(state.stopped, held_up + held_beside);
+  // Taken away, every vertex goes back to rest.
   ASSERT_TRUE(deform(model, {}, &state, {&under, 1}));
   for (int32_t v = 0; v < model.vertex_count(); ++v) {
     ASSERT_EQ(state.positions[v], model.rest_position(v));
   }
-  std::printf("[ local deformation ] a segment 1 mm under the slab stopped %d vertices\n", stopped);
+  std::printf(
+      "[ local deformation ] a segment 1 mm under the slab stopped %d vertices; one across the "
+      "released dent %d coming up to it and %d beside it\n",
+      stopped, held_up, held_beside);
 }
 
 }  // namespace

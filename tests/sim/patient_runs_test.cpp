@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -265,7 +267,36 @@ TEST_P(PatientRun, ThePlannedRightHandsClearancesAreTheLeastDistancesOverItsKeyf
       spheres[o].emplace_back(c, r);
     }
   }
-  // The least distance from segment a-b (every 1 mm) to every face of every organ but the duct.
+  // Each organ's bounding box: a point outside it is outside the organ.
+  std::vector<Eigen::AlignedBox3d> boxes(organs.size());
+  for (size_t o = 0; o < organs.size(); ++o) {
+    for (int32_t v = 0; v < organs[o]->vertex_count(); ++v) boxes[o].extend(organs[o]->position(v));
+  }
+  // Inside organ o: a ray from x crosses its (closed) surface an odd number of times (the
+  // planner's ray direction: askew to the axes; Moller-Trumbore against every face).
+  const Eigen::Vector3d ray = Eigen::Vector3d(0.31, 0.83, 0.47).normalized();
+  auto inside = [&](size_t o, const Eigen::Vector3d& x) {
+    if (!boxes[o].contains(x)) return false;
+    const haptics::MeshDatabase& db = *organs[o];
+    int crossings = 0;
+    for (int32_t f = 0; f < db.face_count(); ++f) {
+      const auto& fv = db.face_vertices(f);
+      const Eigen::Vector3d e1 = db.position(fv[1]) - db.position(fv[0]);
+      const Eigen::Vector3d e2 = db.position(fv[2]) - db.position(fv[0]);
+      const Eigen::Vector3d p = ray.cross(e2);
+      const double det = e1.dot(p);
+      if (std::abs(det) < 1e-300) continue;
+      const Eigen::Vector3d s0 = x - db.position(fv[0]);
+      const double u = s0.dot(p) / det;
+      const Eigen::Vector3d qv = s0.cross(e1);
+      const double w = ray.dot(qv) / det;
+      const double t = e2.dot(qv) / det;
+      if (u >= 0.0 && w >= 0.0 && u + w <= 1.0 && t > 0.0) ++crossings;
+    }
+    return crossings % 2 == 1;
+  };
+  // The least signed distance (negative inside) from segment a-b (every 1 mm) to every organ
+  // but the duct: the nearest point over every face, the sign by the ray's crossings.
   auto least_to_organs = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     PlannedClearance c;
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.001 - 1e-6)));
@@ -274,19 +305,22 @@ TEST_P(PatientRun, ThePlannedRightHandsClearancesAreTheLeastDistancesOverItsKeyf
       const haptics::MeshDatabase& db = *organs[o];
       for (int i = 0; i <= n; ++i) {
         const Eigen::Vector3d x = a + (b - a) * (static_cast<double>(i) / n);
+        double nearest = std::numeric_limits<double>::infinity();
         for (int32_t f = 0; f < db.face_count(); ++f) {
           const auto& [centre, radius] = spheres[o][static_cast<size_t>(f)];
-          if ((x - centre).norm() - radius > c.least_m) continue;
+          if ((x - centre).norm() - radius > nearest) continue;
           const auto& fv = db.face_vertices(f);
           haptics::TriangleFeature feature{};
-          const double d = (haptics::closest_on_triangle(x, db.position(fv[0]), db.position(fv[1]),
-                                                         db.position(fv[2]), &feature) -
-                            x)
-                               .norm();
-          if (d < c.least_m) {
-            c.least_m = d;
-            c.organ = static_cast<int32_t>(o);
-          }
+          nearest = std::min(
+              nearest, (haptics::closest_on_triangle(x, db.position(fv[0]), db.position(fv[1]),
+                                                     db.position(fv[2]), &feature) -
+                        x)
+                           .norm());
+        }
+        const double d = inside(o, x) ? -nearest : nearest;
+        if (d < c.least_m) {
+          c.least_m = d;
+          c.organ = static_cast<int32_t>(o);
         }
       }
     }
