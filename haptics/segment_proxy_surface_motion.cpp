@@ -3,18 +3,18 @@
 // The swept checks (segment_proxy_sweep.cpp) keep the ideal probe out of every object while the
 // probe moves, and a rigid object's motion is swept too (its previous pose, §6.4). A deforming
 // organ's new shape (§6.5) arrives as a whole, once per modelling step: where it rises onto a
-// part of the probe that has no contact there (for a locally deformed organ the model now stops
-// short of such a part, models/local_deformation.h; not for the duct, nor between vertices) —
-// a dent springing back under a shaft that lay
+// part of the probe that has no contact there — a dent springing back under a shaft that lay
 // above it, one jaw's dent filling under the other jaw — that part is inside at once and no
 // sweep ever crosses the surface again. The probe would then rest inside, the tool feel nothing
-// there, and the tissue be drawn through it. So on each tick whose surface differs from the one
-// the probe last saw, a closed object is tested for the probe crossing its surface, and the
-// probe is translated out of it, the way it went in (along the outward normals where it crosses
-// the surface) and as far as its deepest part inside needs: the organ pushed it. The rest of the
-// tick then meets the surface from outside, as a contact that pushes the tool back. (Pushing the
-// deepest point to its nearest surface point instead sent shafts out of the gallbladder through
-// its side against the liver bed, into the liver.)
+// there, and the tissue be drawn through it. (For a locally deformed organ and a gripper's
+// segment the model now stops the surface short of it: models/local_deformation.h,
+// DeformationObstacle. Not for a probe, the duct, or the surface between vertices.) So on each
+// tick whose surface differs from the one the probe last saw, a closed object is tested for the
+// probe crossing its surface, and the probe is translated out of it, the way it went in (along the
+// outward normals where it crosses the surface) and as far as its deepest part inside needs: the
+// organ pushed it. The rest of the tick then meets the surface from outside, as a contact that
+// pushes the tool back. (Pushing the deepest point to its nearest surface point instead sent shafts
+// out of the gallbladder through its side against the liver bed, into the liver.)
 //
 // A probe that starts inside an object (set there by a reset) is not in contact with it, as in
 // the thesis: it is left inside until a check finds it clear. A push is not swept: it may end

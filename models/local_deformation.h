@@ -74,13 +74,15 @@ struct DeformationContact {
   bool conform = false;
 };
 
-/// A tool's segment not pressing on this organ (a proxy without a contact on it), object frame:
-/// the surface must not pass it. A vertex whose move from where the last call left it goes out
-/// of the organ (along its rest normal) and comes within one edge of the segment
+/// A gripper's segment not pressing on this organ (a proxy without a contact on it), object
+/// frame: the surface must not pass it. A vertex whose move from where the last call left it goes
+/// out of the organ (along its rest normal) and comes within one edge of the segment
 /// (`LocalDeformationModel::longest_edge_m`) stops 0.5 mm before its nearest approach to it; so
-/// it is held while the segment stays, and a vertex that starts within that edge of it (beside or
-/// beyond it) does not move out at all. Without it a dent's far side, or a dent springing back,
-/// moved through a tool that lay just outside (8.3 mm in one modelling step in the hour's soak:
+/// it is held while the segment stays, and a vertex whose nearest approach is where it starts
+/// (the segment within that edge, beside or beyond it) does not move out at all. The segment is
+/// the ideal proxy as the haptic loop left it (a stretched jaw is a stretched obstacle). Without
+/// it a dent's far side, or a dent springing back, moved through a tool that lay just outside
+/// (8.1 mm in one modelling step in the hour's soak:
 /// docs/benchmarks.md, "Soak"), where the proxy had no contact to be pushed by and no short way
 /// out. The hold is without force: the tool, not touching, feels nothing of the tissue it holds
 /// back (an open limit). Two narrower rules made the hour's soak worse (docs/benchmarks.md): a
@@ -171,7 +173,7 @@ struct LocalDeformationState {
 /// whose position changed since the previous call (what MeshDatabase::set_positions(positions,
 /// changed) needs) and `deepest_m` the largest displacement. A contact that is not finite or names
 /// no face makes the call return false and leave the surface at rest (`changed` then lists the
-/// vertices that went back). `obstacles`: the tools' segments the surface must not pass
+/// vertices that went back). `obstacles`: the grippers' segments the surface must not pass
 /// (DeformationObstacle); a non-finite one is ignored.
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
             LocalDeformationState* state,

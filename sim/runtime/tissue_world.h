@@ -16,7 +16,7 @@
 ///    proxies' reactions mapped back to the rest shape, surface_share of the tool's displacement
 ///    into the rest surface: the tool feels (1 − share) k, local_deformation.h) and by
 ///    the catheter (conforming: the groove meets it); their surface moving out stops short of
-///    the tools' segments that have no contact on them (models::DeformationObstacle);
+///    the grippers' segments that have no contact on them (models::DeformationObstacle);
 /// 5. the duct (`model: modal-shell`; its shell fitted to the organ's mesh, duct_fit.h) takes the
 ///    tools' and the catheter's reactions and its grasp anchors, and its modes step.
 ///
@@ -75,7 +75,7 @@ struct ToolModelInput {
   std::array<ToolContact, kMaxContacts> contacts{};
   /// Where its three segment proxies are (shaft, jaw 0, jaw 1; ToolSnapshot::proxy_a_W): an
   /// organ's dent does not pass the ones without a contact on it (models::DeformationObstacle).
-  /// False: not known (none is an obstacle).
+  /// False: not known, or a probe's (none is an obstacle).
   bool has_proxies = false;
   std::array<Eigen::Vector3d, 3> proxy_a_W{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                            Eigen::Vector3d::Zero()};
