@@ -173,6 +173,42 @@ TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
   EXPECT_EQ(d[static_cast<size_t>(liver)].count, 0);
 }
 
+// A gripper's segment without a contact on the liver is an obstacle to its dent
+// (models::DeformationObstacle); the segment that makes the contact is not. A push 2 mm deep (by
+// the liver's stiffness) on face 100 dents it 1 mm (the share); halved, the dent rises to 0.5 mm
+// past a segment of the same tool lying 0.75 mm down across it. Where the contact is that
+// segment's own, the dent rises freely; where it is another segment's, the rising vertices
+// stop short of it and the dent stays 1 mm deep.
+TEST(TissueWorld, ADentRisesPastTheSegmentThatPressesItNotPastAnother) {
+  const Scene& scene = default_scene();
+  for (const int32_t pressing_segment : {0, 1}) {
+    SCOPED_TRACE(pressing_segment == 0 ? "the segment's own contact" : "another segment's");
+    const auto lw = liver_world();
+    ASSERT_GE(lw->liver, 0);
+    TissueWorld& world = *lw->world;
+    const double liver_k = scene.organs[static_cast<size_t>(lw->liver)].material.stiffness_n_per_m;
+    std::array<ToolModelInput, 2> tools = push_on_face_100(*lw, 0.002 * liver_k);
+    ToolContact& c = tools[0].contacts[0];
+    c.segment = pressing_segment;
+    const Eigen::Vector3d n = lw->db.face_normal(100);
+    const Eigen::Vector3d along = n.unitOrthogonal();
+    const Eigen::Vector3d middle = c.point_W - 0.00075 * n;
+    tools[0].has_proxies = true;
+    tools[0].proxy_a_W[0] = middle - 0.005 * along;
+    tools[0].proxy_b_W[0] = middle + 0.005 * along;
+    const double share = world.settings().local.surface_share;
+    for (int step = 0; step < 3; ++step) world.step(tools, 0.005);
+    EXPECT_NEAR(world.deepest_dent_m(), share * 0.002, 0.1 * share * 0.002);
+    c.force_on_organ_W *= 0.5;
+    for (int step = 0; step < 3; ++step) world.step(tools, 0.005);
+    if (pressing_segment == 0) {
+      EXPECT_NEAR(world.deepest_dent_m(), share * 0.001, 0.1 * share * 0.001);
+    } else {
+      EXPECT_NEAR(world.deepest_dent_m(), share * 0.002, 0.1 * share * 0.002);
+    }
+  }
+}
+
 // An author's live stiffness (TissueWorld::set_stiffness): the same push on a liver tuned to half
 // its stiffness implies twice the tool's displacement, so it dents twice as deep; a stiffness
 // that is not finite and positive, or an organ that is not one, changes nothing.
