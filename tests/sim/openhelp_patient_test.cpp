@@ -45,8 +45,9 @@ TEST(RealMeshes, TheExpertInsertsTheCatheterInTheOpenHelpPatient) {
   REQUIRE_SCANS_BESIDE_THE_SOURCE_TREE();
   // The narrowest of the scenes (the scenario's catheter note): the right port and the
   // catheter's port were moved so that the planner's carry keeps the liver under organ_injury's
-  // 5 N (1.64 N) and the catheter reaches the depth; the planner itself does not check the
-  // right hand's or the held catheter's clearance.
+  // 5 N (1.64 N) and the catheter reaches the depth; the planner measures the right hand's and
+  // the held catheter's clearances (ExpertRun::right_shaft, held_catheter) but does not steer
+  // round the organs.
   const SceneLoadResult scene = load_scene_file(kScenario);
   ASSERT_TRUE(scene.ok()) << scene.message();
   const TaskSpec& task = *scene.value().scenario.task;
