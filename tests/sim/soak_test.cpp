@@ -1,15 +1,17 @@
 // Soak (issue 25): a --fast session of the default scenario with both tools in random smooth
 // motion about the duct — in and out along their ports, sideways, the jaws opening and closing
-// at random, so that they take and let go of the catheter and the duct again and again — for
-// LAP_SOAK_S simulated seconds (30 by default; a twentieth under the sanitizers; an hour for the
-// figures in docs/benchmarks.md). Checked: no watchdog event (no non-finite value anywhere, no
-// model fault, no device fault), every tick run, the largest force finite and within the
-// devices' limit, the catheter taken and the duct taken (each on its own), the resident memory
-// at the end within 1 % of what it was once the storage reserved at set-up had been touched; the
-// worst tick, the deepest a proxy was found inside an organ and in how many tested ticks are
-// printed (asserted by Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as
-// sampled (a jaw is 2 cm: longer is the open stretch of haptics/README.md). The memory, the
-// takes and the proxies are sampled at the same ticks, by the observer below.
+// at random, so that they take and let go of the duct again and again — and the right hand
+// taking the catheter every 12 s (take_and_wander; LAP_SOAK_RIGHT_HAND=seek: where it lies,
+// CatheterTakes), for LAP_SOAK_S simulated seconds (30 by default; a twentieth under the
+// sanitizers; an hour for the figures in docs/benchmarks.md). Checked: no watchdog event (no
+// non-finite value anywhere, no model fault, no device fault), every tick run, the largest force
+// finite and within the devices' limit, the catheter taken and the duct taken (each on its own),
+// the resident memory at the end within 1 % of what it was once the storage reserved at set-up had
+// been touched (the first tick's is printed too); the worst tick, the deepest a proxy was found
+// inside an organ and in how many tested ticks are printed (asserted by Soak.NoProxyInsideAnOrgan),
+// and the longest a jaw's ideal probe was as sampled (a jaw is 2 cm: longer is the open stretch of
+// haptics/README.md). The memory, the takes and the proxies are sampled at the same ticks, by the
+// observer below.
 //
 // Proxies inside an organ: every 251st tick (more often in short runs; LAP_SOAK_PROXY_EVERY),
 // on the loop's own thread (Session::observe_fast), so that every run tests the same ticks, each
@@ -32,6 +34,8 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <string>
+#include <string_view>
 
 #include "haptics/closest_point.h"
 #include "haptics/segment_triangle.h"
@@ -81,32 +85,58 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
   return t;
 }
 
-/// The right hand takes the catheter and lets it go again and again: each 10 s, the first 4.5 s
-/// of the expert's right-hand script (it grasps the catheter at about 2.8 s), the jaws opened,
-/// then 5 s of wandering about the duct (wander's keyframes of that span).
+/// The right hand takes the catheter and lets it go again and again, by script (the soak's
+/// default): each 12 s, the first 4.5 s of the expert's right-hand script (its jaws close on the
+/// catheter from 2.5 to 3.0 s, then it carries it towards the incision), the carry played back
+/// to where the jaws closed, the jaws opened there (the catheter is left about where it lay at
+/// the start, so that the next cycle's take finds it), the approach played back out, then 3 s
+/// of wandering about the duct (wander's keyframes of that span). Letting go where the carry
+/// ended instead left the catheter where the next take missed it: 3 takes in the hour (stop
+/// 49); this way 9, until a take drops it on the way and it falls out of the script's reach
+/// (CatheterTakes below goes to where it lies).
 hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration_s, uint32_t seed) {
   const auto expert = hardware::load_scripted_trajectory(
       test::source_dir() / "scenarios/scripts/default/expert_right.csv");
   EXPECT_TRUE(expert.ok()) << expert.message();
   if (!expert.ok()) return wander(scene, 1, duration_s, seed);
+  const std::vector<hardware::Keyframe>& script = expert.value().keyframes;
   const hardware::ScriptedTrajectory roam = wander(scene, 1, duration_s, seed);
-  constexpr double kCycleS = 10.0;
-  constexpr double kTakeS = 4.5;
+  constexpr double kCycleS = 12.0;
+  constexpr double kOpenS = 2.5;    // the jaws start closing (open before it)
+  constexpr double kClosedS = 3.0;  // and are closed on the catheter
+  constexpr double kTakeS = 4.5;    // the carry's end
+  constexpr double kBackS = kTakeS + (kTakeS - kClosedS);  // back where the jaws closed
+  constexpr double kLetGoS = kBackS + 0.5;                 // opened there
+  constexpr double kOutS = kLetGoS + kOpenS;               // back out along the approach
   hardware::ScriptedTrajectory t;
+  auto add = [&](const hardware::Keyframe& k, double time_s) {
+    if (time_s >= duration_s) return;
+    if (!t.keyframes.empty() && time_s <= t.keyframes.back().time_s) return;
+    hardware::Keyframe copy = k;
+    copy.time_s = time_s;
+    t.keyframes.push_back(copy);
+  };
   for (double start = 0.0; start < duration_s; start += kCycleS) {
-    for (const hardware::Keyframe& e : expert.value().keyframes) {
-      if (e.time_s > kTakeS || start + e.time_s >= duration_s) break;
-      hardware::Keyframe k = e;
-      k.time_s = start + e.time_s;
-      t.keyframes.push_back(k);
+    for (const hardware::Keyframe& e : script) {  // the take and the carry
+      if (e.time_s <= kTakeS) add(e, start + e.time_s);
     }
-    hardware::Keyframe open = t.keyframes.back();  // let go where it is
-    open.time_s = std::min(start + kTakeS + 0.2, duration_s);
-    open.gripper_angle_rad = 0.8;
-    t.keyframes.push_back(open);
+    for (auto e = script.rbegin(); e != script.rend(); ++e) {  // the carry back, closed
+      if (e->time_s >= kClosedS && e->time_s < kTakeS) add(*e, start + kTakeS + kTakeS - e->time_s);
+    }
+    if (!t.keyframes.empty()) {  // the jaws opened where they closed
+      hardware::Keyframe open = t.keyframes.back();
+      open.gripper_angle_rad = script.front().gripper_angle_rad;
+      add(open, start + kLetGoS);
+    }
+    for (auto e = script.rbegin(); e != script.rend(); ++e) {  // the approach back out, open
+      if (e->time_s <= kOpenS) {
+        hardware::Keyframe k = *e;
+        k.gripper_angle_rad = script.front().gripper_angle_rad;
+        add(k, start + kLetGoS + kOpenS - e->time_s);
+      }
+    }
     for (const hardware::Keyframe& w : roam.keyframes) {
-      if (w.time_s <= start + kTakeS + 0.6 || w.time_s >= start + kCycleS - 0.4) continue;
-      t.keyframes.push_back(w);
+      if (w.time_s > start + kOutS + 0.4 && w.time_s < start + kCycleS - 0.4) add(w, w.time_s);
     }
   }
   if (t.keyframes.back().time_s < duration_s) {
@@ -116,6 +146,138 @@ hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration
   }
   return t;
 }
+
+/// Where the catheter lies, as the observer below last saw it (every few hundred ticks). In
+/// fast mode the observer and the devices run on the loop's one thread: no lock.
+struct CatheterSighting {
+  std::vector<Eigen::Vector3d> particles;  ///< from the fixed end to the tip [m]
+};
+
+/// The right hand takes the catheter where it lies and lets it go again and again. Each 12 s it
+/// plans, from the latest sighting, a take of the catheter 25 mm behind its tip (as the expert
+/// does): the jaws opened, 12 mm short of it along the line from the port, their middle on it
+/// and the jaws across it (the opening direction perpendicular to both the shaft and the
+/// catheter); closed on it; the catheter carried 15 mm back towards the port and brought back;
+/// let go; the jaws drawn back out; then wandering about the duct until the next cycle: about
+/// 300 takes in the hour. Not the default: with it the hour finds a proxy inside an organ (the
+/// left shaft's ideal probe in the liver, 24.5 mm; docs/benchmarks.md "Soak", stop 50, open), so
+/// it is asked for with LAP_SOAK_RIGHT_HAND=seek. No allocation in read(): each cycle's
+/// keyframes fit the storage reserved at start.
+class CatheterTakes final : public hardware::InputDevice {
+ public:
+  CatheterTakes(const Scene& scene, const CatheterSighting* seen, double duration_s, uint32_t seed)
+      : InputDevice("right catheter takes", {}),
+        seen_(seen),
+        roam_(wander(scene, 1, duration_s, seed)) {
+    const ToolSpec* tool = scene.scenario.tool(ToolSpec::Side::kRight);
+    port_W_ = scene.scenario.trocar(tool->trocar)->position_m;
+    shaft_length_m_ = tool->shaft_length_m;
+    jaw_length_m_ = tool->jaw_length_m;
+    cycle_.keyframes.reserve(kMaxKeyframes);
+  }
+
+  Status start() override {
+    cycle_index_ = -1;
+    last_ = {};
+    size_t cursor = 0;
+    roam_.sample(0.0, &cursor, &last_);
+    return {};
+  }
+
+  hardware::DeviceStatus read(int64_t tick, double period_s,
+                              hardware::DeviceSample* out) noexcept override {
+    const double t = static_cast<double>(tick) * period_s;
+    const auto index = static_cast<int64_t>(std::floor(t / kCycleS));
+    if (index != cycle_index_) {
+      cycle_index_ = index;
+      plan(static_cast<double>(index) * kCycleS);
+      cycle_cursor_ = 0;
+    }
+    cycle_.sample(t, &cycle_cursor_, out);
+    last_ = *out;
+    return hardware::DeviceStatus::kOk;
+  }
+
+  [[nodiscard]] int attempts() const { return attempts_; }
+
+ private:
+  static constexpr double kCycleS = 12.0;
+  static constexpr size_t kMaxKeyframes = 64;
+  static constexpr double kOpenRad = 0.8;    // the expert's open and closed jaws
+  static constexpr double kClosedRad = 0.1;  // (sim/authoring/expert_run.h)
+
+  // The handle's keyframe that puts the hinge at `hinge_W` (through the port, as wander does).
+  hardware::Keyframe at(double time_s, const Eigen::Vector3d& hinge_W,
+                        const Eigen::Quaterniond& roll, double jaws_rad) const {
+    hardware::Keyframe k;
+    k.time_s = time_s;
+    k.position_W = hinge_W - shaft_length_m_ * (hinge_W - port_W_).normalized();
+    k.orientation_W = roll;
+    k.gripper_angle_rad = jaws_rad;
+    return k;
+  }
+
+  // This cycle's keyframes, from where the hand is now.
+  void plan(double start_s) {
+    cycle_.keyframes.clear();
+    hardware::Keyframe now;
+    now.time_s = start_s;
+    now.position_W = last_.position_W;
+    now.orientation_W = last_.orientation_W;
+    now.gripper_angle_rad = kOpenRad;
+    cycle_.keyframes.push_back(now);
+    double roam_from_s = start_s + 0.4;
+    const std::vector<Eigen::Vector3d>& c = seen_->particles;
+    // The particle 25 mm behind the tip, and the catheter's direction there.
+    size_t i = c.size() >= 3 ? c.size() - 1 : 0;
+    for (double behind = 0.0; i > 1 && behind < 0.025; --i) behind += (c[i] - c[i - 1]).norm();
+    if (i >= 1 && i + 1 < c.size()) {
+      ++attempts_;
+      const Eigen::Vector3d p = c[i];
+      const Eigen::Vector3d along = (c[i + 1] - c[i - 1]).normalized();
+      const Eigen::Vector3d out_W = (port_W_ - p).normalized();  // towards the port
+      Eigen::Vector3d open = along.cross(out_W);
+      if (open.norm() < 1e-6) open = out_W.unitOrthogonal();
+      const Eigen::Quaterniond roll =
+          Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), open.normalized());
+      const Eigen::Vector3d grasp_W = p + 0.5 * jaw_length_m_ * out_W;  // the jaws' middle on p
+      const Eigen::Vector3d short_W = grasp_W + 0.012 * out_W;
+      const Eigen::Vector3d carried_W = grasp_W + 0.015 * out_W;
+      for (const hardware::Keyframe& k : {
+               at(start_s + 1.5, short_W, roll, kOpenRad),
+               at(start_s + 2.3, grasp_W, roll, kOpenRad),
+               at(start_s + 2.8, grasp_W, roll, kClosedRad),
+               at(start_s + 3.3, grasp_W, roll, kClosedRad),
+               at(start_s + 4.3, carried_W, roll, kClosedRad),
+               at(start_s + 5.3, grasp_W, roll, kClosedRad),
+               at(start_s + 5.8, grasp_W, roll, kOpenRad),
+               at(start_s + 6.3, short_W, roll, kOpenRad),
+           }) {
+        cycle_.keyframes.push_back(k);
+      }
+      roam_from_s = start_s + 6.7;
+    }
+    for (const hardware::Keyframe& w : roam_.keyframes) {
+      if (cycle_.keyframes.size() + 2 > kMaxKeyframes) break;
+      if (w.time_s > roam_from_s && w.time_s < start_s + kCycleS - 0.4)
+        cycle_.keyframes.push_back(w);
+    }
+    hardware::Keyframe hold = cycle_.keyframes.back();  // still until the next cycle
+    hold.time_s = start_s + kCycleS;
+    cycle_.keyframes.push_back(hold);
+  }
+
+  const CatheterSighting* seen_;
+  hardware::ScriptedTrajectory roam_;
+  hardware::ScriptedTrajectory cycle_;
+  size_t cycle_cursor_ = 0;
+  int64_t cycle_index_ = -1;
+  hardware::DeviceSample last_;
+  Eigen::Vector3d port_W_ = Eigen::Vector3d::Zero();
+  double shaft_length_m_ = 0.0;
+  double jaw_length_m_ = 0.0;
+  int attempts_ = 0;
+};
 
 /// An organ's surface as the proxies feel it: at rest, deformed by a model snapshot (no
 /// allocation once built), with its bounding box.
@@ -178,9 +340,21 @@ int64_t resident_bytes() {
 void soak(bool check_proxies) {
   const double duration = soak_s();
   const Scene& scene = default_scene();
-  Devices d{
-      std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, 11), "left"),
-      std::make_unique<hardware::ScriptedDevice>(take_and_wander(scene, duration, 12), "right")};
+  CatheterSighting seen;
+  const char* right_hand = std::getenv("LAP_SOAK_RIGHT_HAND");
+  const bool seek = right_hand != nullptr && std::string_view(right_hand) == "seek";
+  std::unique_ptr<hardware::HapticDevice> right;
+  const CatheterTakes* seeking = nullptr;
+  if (seek) {
+    auto takes = std::make_unique<CatheterTakes>(scene, &seen, duration, 12);
+    seeking = takes.get();
+    right = std::move(takes);
+  } else {
+    right =
+        std::make_unique<hardware::ScriptedDevice>(take_and_wander(scene, duration, 12), "right");
+  }
+  Devices d{std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, 11), "left"),
+            std::move(right)};
   RuntimeSettings rs = fast(duration);
   rs.end_with_task = false;  // the task fails soon enough; the soak goes on
   // An hour's inputs would be 0.8 GB: the first fifth (10 s at most) are enough here.
@@ -205,6 +379,7 @@ void soak(bool check_proxies) {
     organ_index.push_back(o);
   }
   ASSERT_FALSE(organs.empty());
+  int64_t first = -1;  // at the first sample: tick 0, before most storage has been touched
   int64_t early = -1;
   int catheter_takes = 0, duct_takes = 0;
   int64_t proxy_samples = 0;   // snapshot pairs whose proxies were tested
@@ -271,7 +446,10 @@ void soak(bool check_proxies) {
   };
   bool catheter_held = false, duct_held = false;
   auto sample = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
+    if (first < 0) first = resident_bytes();
     if (early < 0 && h.tick >= settled_tick) early = resident_bytes();
+    if (seen.particles.size() != snap.catheter.size()) seen.particles.resize(snap.catheter.size());
+    std::copy(snap.catheter.begin(), snap.catheter.end(), seen.particles.begin());
     const bool c = snap.grasps[0].grasping() || snap.grasps[1].grasping();
     const bool g = snap.duct_grasps[0].grasping() || snap.duct_grasps[1].grasping();
     catheter_takes += c && !catheter_held ? 1 : 0;
@@ -315,16 +493,21 @@ void soak(bool check_proxies) {
       "%.1f us), %lld modelling steps (mean %.1f us, worst %.1f us); the catheter taken %d "
       "times, the duct %d times (as sampled); proxies tested in %lld snapshots (%lld pairs a "
       "step apart skipped), %lld with a proxy inside an organ, deepest %.3f mm, longest jaw proxy "
-      "%.2f mm; largest "
-      "force %.2f N; resident memory %.1f MB once settled, %.1f MB at the end (%+.3f %%)\n",
+      "%.2f mm; largest force %.2f N; resident memory %.1f MB at the first tick, %.1f MB once "
+      "settled (at %.0f s), %.1f MB at the end (%+.3f %% since settled); the right hand %s\n",
       duration, wall_s, static_cast<long long>(m.haptic.ticks()), m.haptic.mean_step_s() * 1e6,
       m.haptic.step_quantile_s(0.999) * 1e6, m.haptic.worst_step_s() * 1e6,
       static_cast<long long>(m.model.ticks()), m.model.mean_step_s() * 1e6,
       m.model.worst_step_s() * 1e6, catheter_takes, duct_takes,
       static_cast<long long>(proxy_samples), static_cast<long long>(mismatched),
       static_cast<long long>(inside_samples), deepest_m * 1e3, longest_jaw_m * 1e3,
-      m.max_force_sent_n, static_cast<double>(early) / 1e6, static_cast<double>(late) / 1e6,
-      growth * 100.0);
+      m.max_force_sent_n, static_cast<double>(first) / 1e6, static_cast<double>(early) / 1e6,
+      static_cast<double>(settled_tick) / 1000.0, static_cast<double>(late) / 1e6, growth * 100.0,
+      seeking != nullptr
+          ? ("went to take the catheter where it lay " + std::to_string(seeking->attempts()) +
+             " times (LAP_SOAK_RIGHT_HAND=seek)")
+                .c_str()
+          : "replayed the expert's take every 12 s");
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
