@@ -109,6 +109,8 @@ hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration
   constexpr double kLetGoS = kBackS + 0.5;                 // opened there
   constexpr double kOutS = kLetGoS + kOpenS;               // back out along the approach
   hardware::ScriptedTrajectory t;
+  // Appends k at time_s; a keyframe at or before the last one is left out (the script's 2.5 s
+  // one, where the jaws start closing, falls on the let-go keyframe when played back out).
   auto add = [&](const hardware::Keyframe& k, double time_s) {
     if (time_s >= duration_s) return;
     if (!t.keyframes.empty() && time_s <= t.keyframes.back().time_s) return;
@@ -161,7 +163,10 @@ struct CatheterSighting {
 /// let go; the jaws drawn back out; then wandering about the duct until the next cycle: about
 /// 300 takes in the hour. Not the default: with it the hour finds a proxy inside an organ (the
 /// left shaft's ideal probe in the liver, 24.5 mm; docs/benchmarks.md "Soak", stop 50, open), so
-/// it is asked for with LAP_SOAK_RIGHT_HAND=seek. No allocation in read(): each cycle's
+/// it is asked for with LAP_SOAK_RIGHT_HAND=seek. The first cycle only wanders (the observer has
+/// not yet seen the catheter at tick 0), so a run takes at 12, 24, ... s; and where the hand goes
+/// depends on when the observer last looked (LAP_SOAK_PROXY_EVERY): unlike the default's, this
+/// hand's course changes with the proxies' testing period. No allocation in read(): each cycle's
 /// keyframes fit the storage reserved at start.
 class CatheterTakes final : public hardware::InputDevice {
  public:
@@ -224,7 +229,7 @@ class CatheterTakes final : public hardware::InputDevice {
     now.time_s = start_s;
     now.position_W = last_.position_W;
     now.orientation_W = last_.orientation_W;
-    now.gripper_angle_rad = kOpenRad;
+    now.gripper_angle_rad = last_.gripper_angle_rad;  // opened smoothly by the next keyframe
     cycle_.keyframes.push_back(now);
     double roam_from_s = start_s + 0.4;
     const std::vector<Eigen::Vector3d>& c = seen_->particles;
@@ -240,18 +245,19 @@ class CatheterTakes final : public hardware::InputDevice {
       if (open.norm() < 1e-6) open = out_W.unitOrthogonal();
       const Eigen::Quaterniond roll =
           Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), open.normalized());
-      const Eigen::Vector3d grasp_W = p + 0.5 * jaw_length_m_ * out_W;  // the jaws' middle on p
-      const Eigen::Vector3d short_W = grasp_W + 0.012 * out_W;
-      const Eigen::Vector3d carried_W = grasp_W + 0.015 * out_W;
+      const Eigen::Vector3d hinge_grasp_W =
+          p + 0.5 * jaw_length_m_ * out_W;  // the jaws' middle on p
+      const Eigen::Vector3d hinge_short_W = hinge_grasp_W + 0.012 * out_W;
+      const Eigen::Vector3d hinge_carried_W = hinge_grasp_W + 0.015 * out_W;
       for (const hardware::Keyframe& k : {
-               at(start_s + 1.5, short_W, roll, kOpenRad),
-               at(start_s + 2.3, grasp_W, roll, kOpenRad),
-               at(start_s + 2.8, grasp_W, roll, kClosedRad),
-               at(start_s + 3.3, grasp_W, roll, kClosedRad),
-               at(start_s + 4.3, carried_W, roll, kClosedRad),
-               at(start_s + 5.3, grasp_W, roll, kClosedRad),
-               at(start_s + 5.8, grasp_W, roll, kOpenRad),
-               at(start_s + 6.3, short_W, roll, kOpenRad),
+               at(start_s + 1.5, hinge_short_W, roll, kOpenRad),
+               at(start_s + 2.3, hinge_grasp_W, roll, kOpenRad),
+               at(start_s + 2.8, hinge_grasp_W, roll, kClosedRad),
+               at(start_s + 3.3, hinge_grasp_W, roll, kClosedRad),
+               at(start_s + 4.3, hinge_carried_W, roll, kClosedRad),
+               at(start_s + 5.3, hinge_grasp_W, roll, kClosedRad),
+               at(start_s + 5.8, hinge_grasp_W, roll, kOpenRad),
+               at(start_s + 6.3, hinge_short_W, roll, kOpenRad),
            }) {
         cycle_.keyframes.push_back(k);
       }
@@ -507,7 +513,7 @@ void soak(bool check_proxies) {
           ? ("went to take the catheter where it lay " + std::to_string(seeking->attempts()) +
              " times (LAP_SOAK_RIGHT_HAND=seek)")
                 .c_str()
-          : "replayed the expert's take every 12 s");
+          : "tried the expert's take every 12 s");
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
