@@ -158,11 +158,19 @@ Status check_off(const fs::path& file) {
   LineReader r(file, '#');
   if (!r.next()) return {};
   const std::string_view head = r[0];
+  // Vertex normals (N in the header): OpenMesh reads a vertex's three after its coordinates from
+  // the next lines when its own line has fewer (the fuzzer's NOFF with three values a vertex
+  // then read a face of 5.6 billion corners); colours and texture coordinates it does not.
+  bool normals = false;
+  const std::string header(head);  // `head` views the reader's line, gone at the next
   if (head.find("OFF") != std::string_view::npos) {
     // [ST][C][N][4][n]OFF [BINARY], as OpenMesh reads it; anything else it half-reads.
     std::string_view rest = head;
     for (std::string_view prefix : {"ST", "C", "N", "4", "n"}) {
-      if (rest.substr(0, prefix.size()) == prefix) rest.remove_prefix(prefix.size());
+      if (rest.substr(0, prefix.size()) == prefix) {
+        rest.remove_prefix(prefix.size());
+        normals = normals || prefix == "N";
+      }
     }
     if (rest != "OFF") {
       return r.fail("header", "expected OFF (or COFF, NOFF, STOFF), got '" + shown(head) + "'");
@@ -231,6 +239,11 @@ Status check_off(const fs::path& file) {
     }
     if (r.size() < 3) {
       return r.fail("vertex", "expected 3 coordinates, got " + std::to_string(r.size()));
+    }
+    if (normals && r.size() < 6) {
+      return r.fail("vertex", "expected 3 coordinates and 3 normal components (the header '" +
+                                  shown(header) + "' says the vertices have normals), got " +
+                                  std::to_string(r.size()) + " values");
     }
     for (size_t k = 0; k < r.size(); ++k) {
       if (Problem p = number_problem(r[k], k < 3 ? "coordinate" : "value")) {
