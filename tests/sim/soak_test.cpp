@@ -162,7 +162,7 @@ struct CatheterSighting {
 /// catheter); closed on it; the catheter carried 15 mm back towards the port and brought back;
 /// let go; the jaws drawn back out; then wandering about the duct until the next cycle: about
 /// 300 takes in the hour. Not the default: with it the hour finds a proxy inside an organ (the
-/// left shaft's ideal probe in the liver, 24.5 mm; docs/benchmarks.md "Soak", stop 50, open), so
+/// left shaft's ideal probe in the liver, 12-29 mm; docs/benchmarks.md "Soak", stop 50, open), so
 /// it is asked for with LAP_SOAK_RIGHT_HAND=seek. The first cycle only wanders (the observer has
 /// not yet seen the catheter at tick 0), so a run takes at 12, 24, ... s; and where the hand goes
 /// depends on when the observer last looked (LAP_SOAK_PROXY_EVERY): unlike the default's, this
