@@ -158,9 +158,10 @@ Status check_off(const fs::path& file) {
   LineReader r(file, '#');
   if (!r.next()) return {};
   const std::string_view head = r[0];
-  // Vertex normals (N in the header): OpenMesh reads a vertex's three after its coordinates from
-  // the next lines when its own line has fewer (the fuzzer's NOFF with three values a vertex
-  // then read a face of 5.6 billion corners); colours and texture coordinates it does not.
+  // Vertex normals (N in the header): a vertex line with fewer than its three after the
+  // coordinates throws OpenMesh's reading of the file out of step (the fuzzer's NOFF with three
+  // values a vertex asked for 2 GiB); a line short of colours or texture coordinates it reads
+  // right (both tried by hand, docs/benchmarks.md "Fuzzing").
   bool normals = false;
   const std::string header(head);  // `head` views the reader's line, gone at the next
   if (head.find("OFF") != std::string_view::npos) {

@@ -41,6 +41,7 @@
 #include "haptics/segment_triangle.h"
 #include "haptics/setup/mesh_validation.h"
 #include "hardware/scripted_device.h"
+#include "sim/authoring/expert_run.h"
 #include "sim/runtime/session.h"
 #include "sim/setup/device_factory.h"
 #include "tests/sim/session_test_support.h"
@@ -54,6 +55,15 @@ double soak_s() {
   const char* s = std::getenv("LAP_SOAK_S");
   const double requested = s != nullptr ? std::atof(s) : 30.0;
   return std::max(1.0, requested / static_cast<double>(test::kSanitizerDivisor));
+}
+
+/// The right hand's take of the catheter comes round every this many seconds (both hands below).
+constexpr double kTakeCycleS = 12.0;
+
+/// The handle's position that puts the hinge at `hinge_W`, the shaft through the port.
+Eigen::Vector3d handle_for_hinge(const Eigen::Vector3d& port_W, double shaft_length_m,
+                                 const Eigen::Vector3d& hinge_W) {
+  return hinge_W - shaft_length_m * (hinge_W - port_W).normalized();
 }
 
 /// Keyframes every 0.4 s: the tip within ±20 mm (along the port) and ±25 mm (across it) of the
@@ -77,8 +87,7 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
     const double inside = reach - 0.01 + 0.02 * u(rng);  // the tip's depth past the port
     const Eigen::Vector3d tip =
         port->position_m + inside * axis + 0.025 * u(rng) * across + 0.025 * u(rng) * across2;
-    // The handle: the shaft's length back from the tip through the port.
-    k.position_W = tip - tool->shaft_length_m * (tip - port->position_m).normalized();
+    k.position_W = handle_for_hinge(port->position_m, tool->shaft_length_m, tip);
     k.gripper_angle_rad = u(rng) > 0.0 ? 0.8 : 0.1;
     t.keyframes.push_back(k);
   }
@@ -101,7 +110,6 @@ hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration
   if (!expert.ok()) return wander(scene, 1, duration_s, seed);
   const std::vector<hardware::Keyframe>& script = expert.value().keyframes;
   const hardware::ScriptedTrajectory roam = wander(scene, 1, duration_s, seed);
-  constexpr double kCycleS = 12.0;
   constexpr double kOpenS = 2.5;    // the jaws start closing (open before it)
   constexpr double kClosedS = 3.0;  // and are closed on the catheter
   constexpr double kTakeS = 4.5;    // the carry's end
@@ -118,7 +126,7 @@ hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration
     copy.time_s = time_s;
     t.keyframes.push_back(copy);
   };
-  for (double start = 0.0; start < duration_s; start += kCycleS) {
+  for (double start = 0.0; start < duration_s; start += kTakeCycleS) {
     for (const hardware::Keyframe& e : script) {  // the take and the carry
       if (e.time_s <= kTakeS) add(e, start + e.time_s);
     }
@@ -138,7 +146,7 @@ hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration
       }
     }
     for (const hardware::Keyframe& w : roam.keyframes) {
-      if (w.time_s > start + kOutS + 0.4 && w.time_s < start + kCycleS - 0.4) add(w, w.time_s);
+      if (w.time_s > start + kOutS + 0.4 && w.time_s < start + kTakeCycleS - 0.4) add(w, w.time_s);
     }
   }
   if (t.keyframes.back().time_s < duration_s) {
@@ -192,10 +200,10 @@ class CatheterTakes final : public hardware::InputDevice {
   hardware::DeviceStatus read(int64_t tick, double period_s,
                               hardware::DeviceSample* out) noexcept override {
     const double t = static_cast<double>(tick) * period_s;
-    const auto index = static_cast<int64_t>(std::floor(t / kCycleS));
+    const auto index = static_cast<int64_t>(std::floor(t / kTakeCycleS));
     if (index != cycle_index_) {
       cycle_index_ = index;
-      plan(static_cast<double>(index) * kCycleS);
+      plan(static_cast<double>(index) * kTakeCycleS);
       cycle_cursor_ = 0;
     }
     cycle_.sample(t, &cycle_cursor_, out);
@@ -206,17 +214,14 @@ class CatheterTakes final : public hardware::InputDevice {
   [[nodiscard]] int attempts() const { return attempts_; }
 
  private:
-  static constexpr double kCycleS = 12.0;
   static constexpr size_t kMaxKeyframes = 64;
-  static constexpr double kOpenRad = 0.8;    // the expert's open and closed jaws
-  static constexpr double kClosedRad = 0.1;  // (sim/authoring/expert_run.h)
 
   // The handle's keyframe that puts the hinge at `hinge_W` (through the port, as wander does).
   hardware::Keyframe at(double time_s, const Eigen::Vector3d& hinge_W,
                         const Eigen::Quaterniond& roll, double jaws_rad) const {
     hardware::Keyframe k;
     k.time_s = time_s;
-    k.position_W = hinge_W - shaft_length_m_ * (hinge_W - port_W_).normalized();
+    k.position_W = handle_for_hinge(port_W_, shaft_length_m_, hinge_W);
     k.orientation_W = roll;
     k.gripper_angle_rad = jaws_rad;
     return k;
@@ -249,31 +254,38 @@ class CatheterTakes final : public hardware::InputDevice {
           p + 0.5 * jaw_length_m_ * out_W;  // the jaws' middle on p
       const Eigen::Vector3d hinge_short_W = hinge_grasp_W + 0.012 * out_W;
       const Eigen::Vector3d hinge_carried_W = hinge_grasp_W + 0.015 * out_W;
+      const double open_rad = jaws_.grip_open_rad;  // the expert's open and closed jaws
+      const double closed_rad = jaws_.grip_closed_rad;
       for (const hardware::Keyframe& k : {
-               at(start_s + 1.5, hinge_short_W, roll, kOpenRad),
-               at(start_s + 2.3, hinge_grasp_W, roll, kOpenRad),
-               at(start_s + 2.8, hinge_grasp_W, roll, kClosedRad),
-               at(start_s + 3.3, hinge_grasp_W, roll, kClosedRad),
-               at(start_s + 4.3, hinge_carried_W, roll, kClosedRad),
-               at(start_s + 5.3, hinge_grasp_W, roll, kClosedRad),
-               at(start_s + 5.8, hinge_grasp_W, roll, kOpenRad),
-               at(start_s + 6.3, hinge_short_W, roll, kOpenRad),
+               at(start_s + 1.5, hinge_short_W, roll, open_rad),
+               at(start_s + 2.3, hinge_grasp_W, roll, open_rad),
+               at(start_s + 2.8, hinge_grasp_W, roll, closed_rad),
+               at(start_s + 3.3, hinge_grasp_W, roll, closed_rad),
+               at(start_s + 4.3, hinge_carried_W, roll, closed_rad),
+               at(start_s + 5.3, hinge_grasp_W, roll, closed_rad),
+               at(start_s + 5.8, hinge_grasp_W, roll, open_rad),
+               at(start_s + 6.3, hinge_short_W, roll, open_rad),
            }) {
         cycle_.keyframes.push_back(k);
       }
       roam_from_s = start_s + 6.7;
     }
-    for (const hardware::Keyframe& w : roam_.keyframes) {
-      if (cycle_.keyframes.size() + 2 > kMaxKeyframes) break;
-      if (w.time_s > roam_from_s && w.time_s < start_s + kCycleS - 0.4)
-        cycle_.keyframes.push_back(w);
+    // The wandering's keyframes of the rest of the cycle (found by their times, not scanned).
+    const auto from = std::upper_bound(
+        roam_.keyframes.begin(), roam_.keyframes.end(), roam_from_s,
+        [](double time_s, const hardware::Keyframe& k) { return time_s < k.time_s; });
+    for (auto w = from; w != roam_.keyframes.end() && w->time_s < start_s + kTakeCycleS - 0.4 &&
+                        cycle_.keyframes.size() + 2 <= kMaxKeyframes;
+         ++w) {
+      cycle_.keyframes.push_back(*w);
     }
     hardware::Keyframe hold = cycle_.keyframes.back();  // still until the next cycle
-    hold.time_s = start_s + kCycleS;
+    hold.time_s = start_s + kTakeCycleS;
     cycle_.keyframes.push_back(hold);
   }
 
   const CatheterSighting* seen_;
+  const ExpertRunSettings jaws_;  // the expert's grip angles
   hardware::ScriptedTrajectory roam_;
   hardware::ScriptedTrajectory cycle_;
   size_t cycle_cursor_ = 0;
