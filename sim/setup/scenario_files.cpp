@@ -83,8 +83,18 @@ std::optional<fs::path> ScenarioFiles::resolve(const YAML::Node& n, const std::s
   // The error_code overload: a component longer than NAME_MAX threw (ENAMETOOLONG) through the
   // loader (found by fuzz_scenario; tests/fuzz/regressions/scenario).
   const fs::path p(text);
+  // A scenario names its files and folders relative to its own folder (issue 25: no absolute
+  // paths), so that one passed on cannot point at a file of the machine it is opened on; a
+  // folder elsewhere is allowed by whoever runs it (--allow-path), not by the file.
+  if (p.is_absolute()) {
+    fields_.problem(n, field,
+                    "path " + quote_excerpt(text) +
+                        " is absolute (expected a path relative to the scenario's folder, " +
+                        dir_.string() + "; allow a folder elsewhere with --allow-path)");
+    return std::nullopt;
+  }
   std::error_code ec;
-  fs::path resolved = fs::weakly_canonical(p.is_absolute() ? p : dir_ / p, ec);
+  fs::path resolved = fs::weakly_canonical(dir_ / p, ec);
   if (ec) {
     fields_.problem(n, field,
                     "path " + quote_excerpt(text) + " cannot be resolved (" + ec.message() + ")");

@@ -273,12 +273,15 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
   EXPECT_EQ(json_field(replay.out, "task"), json_field(r.out, "task"));
 }
 
-// The default scenario rewritten into a temporary folder (its meshes by absolute path), with
-// `edit` applied to its text.
+// The default scenario rewritten into a temporary folder (its meshes by a path from there: a
+// scenario names no absolute path), with `edit` applied to its text.
 std::filesystem::path default_scenario_copy(const TempDir& dir,
                                             const std::function<void(std::string&)>& edit) {
   std::string text = read_file(source_dir() / "scenarios/default.yaml");
-  const std::string assets = (source_dir() / "assets").string();
+  const std::string assets =
+      std::filesystem::relative(std::filesystem::absolute(source_dir() / "assets"),
+                                std::filesystem::absolute(dir.path()))
+          .string();
   for (size_t at = 0; (at = text.find("../assets", at)) != std::string::npos;) {
     text.replace(at, 9, assets);
     at += assets.size();
@@ -1050,17 +1053,24 @@ TEST(CliReport, TheScenarioARecordingNamesIsReadOnlyFromTheAllowedFolders) {
             std::string::npos)
       << named.err;
   // A scenario that came with the recording may not open other folders through its own
-  // allowed_paths.
+  // allowed_paths (no scenario may name an absolute path: `..` up to the root instead).
   const std::filesystem::path carried = rec / "carried.yaml";
-  std::ofstream(carried) << "version: 1\nname: carried\nallowed_paths: [/]\norgans:\n"
-                            "  - name: liver\n    mesh: /etc/passwd.obj\n";
+  std::string up_to_root;
+  for (const auto& part : rec) {
+    if (part != rec.root_path() && !part.empty()) up_to_root += "../";
+  }
+  up_to_root += "..";
+  std::ofstream(carried) << "version: 1\nname: carried\nallowed_paths: [" << up_to_root
+                         << "]\norgans:\n  - name: liver\n    mesh: " << up_to_root
+                         << "/etc/passwd.obj\n";
   name_scenario("carried.yaml");
   const CommandResult carried_run = run_command(cli() + " report --session " + rec.string());
   EXPECT_EQ(carried_run.exit_code, 2) << carried_run.err;
-  EXPECT_NE(carried_run.err.find(carried.string() +
-                                 ":3: allowed_paths[0]: directory '/' is outside the scenario's "
-                                 "folder, and this scenario may not open others"),
-            std::string::npos)
+  EXPECT_NE(
+      carried_run.err.find(carried.string() + ":3: allowed_paths[0]: directory '" + up_to_root +
+                           "' is outside the scenario's folder, and this scenario may not "
+                           "open others"),
+      std::string::npos)
       << carried_run.err;
 }
 
@@ -1206,16 +1216,16 @@ TEST(CliLimits, DevicesFifosAndFoldersAreRefusedUnreadWithExitTwo) {
     const size_t m = t.find(at);
     ASSERT_NE(m, std::string::npos);
     const size_t indent = m - t.rfind('\n', m) - 1;
-    t.insert(m + at.size(), std::string(indent + 2, ' ') + "texture: {kind: image, image: " + fifo +
-                                ", amplitude_m: 0.0002}\n");
+    t.insert(m + at.size(), std::string(indent + 2, ' ') +
+                                "texture: {kind: image, image: pipe, amplitude_m: 0.0002}\n");
   });
   const CommandResult image =
       run_command("timeout 20 " + cli() + " validate --scenario " + textured.string() +
                   " --allow-path " + dir.path().string());
   EXPECT_EQ(image.exit_code, 2) << image.err;
-  EXPECT_NE(image.err.find("texture.image: '" + fifo +
-                           "' is a FIFO (named pipe); expected a "
-                           "regular file"),
+  EXPECT_NE(image.err.find("texture.image: 'pipe' is a FIFO (named pipe); expected a regular file "
+                           "(looked at " +
+                           fifo + ")"),
             std::string::npos)
       << image.err;
   // A recording whose record or stream is a FIFO.
