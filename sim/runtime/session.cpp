@@ -205,17 +205,24 @@ Result<std::unique_ptr<Session>> Session::create(
   s->model_to_haptic_.reset(m0);
   s->model_to_graphics_.reset(m0);
 
-  // Recording and event space for the whole duration (the haptic loop never allocates).
+  // Recording and event space for the whole duration (the haptic loop never allocates), each
+  // written once here so that its pages are the process's from the start: the loops take no
+  // page fault on them (as mlockall does it live) and the resident memory is what it will be
+  // (the soak's growth, issue 25).
+  const auto touched = [](auto* v, size_t n) {
+    v->resize(n);
+    v->clear();
+  };
   for (hardware::DeviceRecording& r : s->recordings_) {
     r.period_s = timing.dt_s;
-    r.samples.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
+    touched(&r.samples, static_cast<size_t>(timing.recorded_ticks) + 1);
   }
-  s->tick_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + 1);
+  touched(&s->tick_log_, static_cast<size_t>(timing.recorded_ticks) + 1);
   // Live, the modelling loop steps on its own clock: more steps than ticks / 5 when the haptic
   // loop runs behind it (a loaded machine, a sanitizer's build); one per tick is room for a
   // haptic loop five times slower than its rate.
-  s->step_log_.reserve(static_cast<size_t>(timing.recorded_ticks) + kStepsBeyondTicks);
-  s->events_.reserve(1024);
+  touched(&s->step_log_, static_cast<size_t>(timing.recorded_ticks) + kStepsBeyondTicks);
+  touched(&s->events_, size_t{1024});
 
   for (Tool& tool : s->tools_) {
     if (Status started = tool.device->start(); !started.ok()) {

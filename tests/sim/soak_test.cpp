@@ -6,12 +6,13 @@
 // sanitizers; an hour for the figures in docs/benchmarks.md). Checked: no watchdog event (no
 // non-finite value anywhere, no model fault, no device fault), every tick run, the largest force
 // finite and within the devices' limit, the catheter taken and the duct taken (each on its own),
-// the resident memory at the end within 1 % of what it was once the storage reserved at set-up had
-// been touched (the first tick's is printed too); the worst tick, the deepest a proxy was found
-// inside an organ and in how many tested ticks are printed (asserted by Soak.NoProxyInsideAnOrgan),
-// and the longest a jaw's ideal probe was as sampled (a jaw is 2 cm: longer is the open stretch of
-// haptics/README.md). The memory, the takes and the proxies are sampled at the same ticks, by the
-// observer below.
+// the resident memory at the end within 1 % of what it was once settled (a fifth of the way in;
+// Session::create writes the storage it reserves once, so the first tick's is nearly the same, and
+// the growth since the first tick is printed too); the worst tick, the deepest a proxy was found
+// inside an organ and in how many tested ticks are printed (asserted by
+// Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as sampled (a jaw is 2 cm:
+// longer is the open stretch of haptics/README.md). The memory, the takes and the proxies are
+// sampled at the same ticks, by the observer below.
 //
 // Proxies inside an organ: every 251st tick (more often in short runs; LAP_SOAK_PROXY_EVERY),
 // on the loop's own thread (Session::observe_fast), so that every run tests the same ticks, each
@@ -381,8 +382,9 @@ void soak(bool check_proxies) {
   ASSERT_TRUE(created.ok()) << created.message();
   const std::unique_ptr<Session> session = std::move(created).value();
 
-  // The resident memory once the storage reserved at set-up has been touched (the first
-  // record_s of inputs; at least a fifth of the way in), and what the tools hold, sampled while
+  // The resident memory once settled (after the first record_s of inputs, at least a fifth of
+  // the way in; before Session::create wrote its reserved storage once, this was where that
+  // storage had been touched), and what the tools hold, sampled while
   // it runs by the observer below (which takes the graphics snapshots' one reader's place).
   // Nothing here grows as it samples (its own growth would read as the session's).
   const double settled = std::max(0.2, rs.record_s / duration + 0.05);
@@ -512,7 +514,8 @@ void soak(bool check_proxies) {
       "times, the duct %d times (as sampled); proxies tested in %lld snapshots (%lld pairs a "
       "step apart skipped), %lld with a proxy inside an organ, deepest %.3f mm, longest jaw proxy "
       "%.2f mm; largest force %.2f N; resident memory %.1f MB at the first tick, %.1f MB once "
-      "settled (at %.0f s), %.1f MB at the end (%+.3f %% since settled); the right hand %s\n",
+      "settled (at %.0f s), %.1f MB at the end (%+.3f %% since settled, %+.3f %% since the first "
+      "tick); the right hand %s\n",
       duration, wall_s, static_cast<long long>(m.haptic.ticks()), m.haptic.mean_step_s() * 1e6,
       m.haptic.step_quantile_s(0.999) * 1e6, m.haptic.worst_step_s() * 1e6,
       static_cast<long long>(m.model.ticks()), m.model.mean_step_s() * 1e6,
@@ -521,6 +524,7 @@ void soak(bool check_proxies) {
       static_cast<long long>(inside_samples), deepest_m * 1e3, longest_jaw_m * 1e3,
       m.max_force_sent_n, static_cast<double>(first) / 1e6, static_cast<double>(early) / 1e6,
       static_cast<double>(settled_tick) / 1000.0, static_cast<double>(late) / 1e6, growth * 100.0,
+      100.0 * static_cast<double>(late - first) / static_cast<double>(first),
       seeking != nullptr
           ? ("went to take the catheter where it lay " + std::to_string(seeking->attempts()) +
              " times (LAP_SOAK_RIGHT_HAND=seek)")
