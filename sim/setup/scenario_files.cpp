@@ -84,13 +84,16 @@ std::optional<fs::path> ScenarioFiles::resolve(const YAML::Node& n, const std::s
   // loader (found by fuzz_scenario; tests/fuzz/regressions/scenario).
   const fs::path p(text);
   // A scenario names its files and folders relative to its own folder (issue 25: no absolute
-  // paths), so that one passed on cannot point at a file of the machine it is opened on; a
-  // folder elsewhere is allowed by whoever runs it (--allow-path), not by the file.
+  // paths). Its reach beyond that folder is then only what it declares, visibly, in its own
+  // allowed_paths (relative too) and what the person running it allows (--allow-path); a
+  // scenario that came with a recording may not declare any (confine_allowed_paths).
   if (p.is_absolute()) {
     fields_.problem(n, field,
                     "path " + quote_excerpt(text) +
                         " is absolute (expected a path relative to the scenario's folder, " +
-                        dir_.string() + "; allow a folder elsewhere with --allow-path)");
+                        dir_.string() +
+                        "; a file elsewhere is named by a relative path, its folder listed in "
+                        "allowed_paths or passed with --allow-path)");
     return std::nullopt;
   }
   std::error_code ec;

@@ -1223,9 +1223,7 @@ TEST(CliLimits, DevicesFifosAndFoldersAreRefusedUnreadWithExitTwo) {
       run_command("timeout 20 " + cli() + " validate --scenario " + textured.string() +
                   " --allow-path " + dir.path().string());
   EXPECT_EQ(image.exit_code, 2) << image.err;
-  EXPECT_NE(image.err.find("texture.image: 'pipe' is a FIFO (named pipe); expected a regular file "
-                           "(looked at " +
-                           fifo + ")"),
+  EXPECT_NE(image.err.find("texture.image: 'pipe' is a FIFO (named pipe); expected a regular file"),
             std::string::npos)
       << image.err;
   // A recording whose record or stream is a FIFO.
