@@ -207,8 +207,8 @@ Result<std::unique_ptr<Session>> Session::create(
 
   // Recording and event space for the whole duration (the haptic loop never allocates), each
   // written once here so that its pages are the process's from the start: the loops take no
-  // page fault on them (as mlockall does it live) and the resident memory is what it will be
-  // (the soak's growth, issue 25).
+  // page fault on them (as a permitted mlockall does it live; the default memlock limit refuses
+  // it) and the resident memory is what it will be (the soak's growth, issue 25).
   const auto touched = [](auto* v, size_t n) {
     v->resize(n);
     v->clear();
