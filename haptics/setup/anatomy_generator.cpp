@@ -149,34 +149,51 @@ GallbladderShape retracted(const GallbladderShape& gb, double deg) {
 
 // The height of the gallbladder fossa's floor over the underside point q: the gallbladder's top
 // with a 1 mm gap, wider than the gallbladder; false away from it. Over the ring nearest q
-// across, or (highest) the highest over all rings, for a gallbladder tilted out of the
-// horizontal, whose rings stack over one another.
-bool fossa_floor(const GallbladderShape& gb, const V3& q, bool highest, double* floor_y) {
-  auto over_ring = [&](double s, double d, double* y) {
-    const double r = gb.ring_radius(s) + 0.002;
-    const double width = 1.5 * r;
-    if (d >= width) return false;
-    *y = gb.centre(s).y() + r * std::sqrt(1.0 - std::pow(d / width, 2)) + 0.001;
-    return true;
-  };
+// across (the fossa of a gallbladder lying in it).
+bool fossa_floor(const GallbladderShape& gb, const V3& q, double* floor_y) {
   double best_d = 1e9;
   double best_s = 0.0;
-  bool found = false;
   for (int i = 0; i <= 128; ++i) {
     const double s = i / 128.0;
     const V3 c = gb.centre(s);
     const double d = std::hypot(q.x() - c.x(), q.z() - c.z());
-    double y = 0.0;
-    if (highest && over_ring(s, d, &y) && (!found || y > *floor_y)) {
-      *floor_y = y;
-      found = true;
-    }
     if (d < best_d) {
       best_d = d;
       best_s = s;
     }
   }
-  return highest ? found : over_ring(best_s, best_d, floor_y);
+  const double r = gb.ring_radius(best_s) + 0.002;
+  const double width = 1.5 * r;
+  if (best_d >= width) return false;
+  *floor_y = gb.centre(best_s).y() + r * std::sqrt(1.0 - std::pow(best_d / width, 2)) + 0.001;
+  return true;
+}
+
+// The height of the liver's edge draped over a retracted gallbladder at the underside point q:
+// the highest over all rings (a gallbladder tilted out of the horizontal stacks its rings) of
+// a drape that clears each ring's top by 1 mm and falls away from it at a slope of kDrape. A
+// circular floor cut off at a width (fossa_floor) leaves a wall as high as the fundus stands
+// over the liver (about 4 cm at 30 degrees), which the surface drew as pleated curtains; the
+// drape falls smoothly until it passes under the liver, where the lift fades out (make_liver).
+double draped_floor(const GallbladderShape& gb, const V3& q) {
+  // Rise over run of the drape's sides, about 35 degrees: a look, not a measurement. At 1.2 the
+  // rings' drapes met in a crease that a tool's shaft could lie along (docs/anatomy.md).
+  constexpr double kDrape = 0.7;
+  double highest = -1e9;
+  for (int i = 0; i <= 128; ++i) {
+    const double s = i / 128.0;
+    const V3 c = gb.centre(s);
+    const double d = std::hypot(q.x() - c.x(), q.z() - c.z());
+    // Over the ring: the parabola osculating its top (radius r, 1 mm clear), which lies over
+    // the circle everywhere; from where its slope reaches kDrape, a straight fall at kDrape.
+    const double r = gb.ring_radius(s) + 0.001;
+    const double d0 = kDrape * r;
+    const double top = c.y() + r;
+    const double y =
+        d <= d0 ? top - d * d / (2.0 * r) : top - d0 * d0 / (2.0 * r) - kDrape * (d - d0);
+    highest = std::max(highest, y);
+  }
+  return highest;
 }
 
 // The liver over the gallbladder. In its fossa (lift_edge false) the visceral face is lifted
@@ -190,13 +207,16 @@ TriangleMesh make_liver(const LiverShape& shape, double scale, const V3& anchor,
     if (u.y() < 0.0 || lift_edge) {
       const V3 under = anchor + scale * (shape.at(V3(u.x(), -std::abs(u.y()), u.z())) - anchor);
       const V3 top = anchor + scale * (shape.at(V3(u.x(), std::abs(u.y()), u.z())) - anchor);
-      double floor_y = 0.0;
-      if (!fossa_floor(gb, under, lift_edge, &floor_y)) return p;
       if (!lift_edge) {
+        double floor_y = 0.0;
+        if (!fossa_floor(gb, under, &floor_y)) return p;
         const double limit = p.y() + 0.5 * (top.y() - p.y());
         p.y() = smooth_max(p.y(), std::min(floor_y, limit), 0.001);
         return p;
       }
+      const double floor_y = draped_floor(gb, under);
+      // Well under the liver the drape lifts nothing (smooth_max would add 0.025 mm at 1 cm).
+      if (floor_y < under.y() - 0.01) return p;
       const double lift = smooth_max(under.y(), floor_y, 0.001) - under.y();
       p.y() += u.y() < 0.0 ? lift : std::max(0.0, lift - 0.5 * (top.y() - under.y()));
     }
