@@ -903,7 +903,10 @@ void Session::run_fast() {
   const SessionTiming& timing = model_->timing();
   const auto t0 = std::chrono::steady_clock::now();
   for (int64_t tick = 0; tick < timing.max_ticks; ++tick) {
-    if (stop_.load(std::memory_order_relaxed)) break;
+    if (stop_.load(std::memory_order_relaxed)) {
+      zero_forces();
+      break;
+    }
     const double late = injected_lateness(tick);
     const auto a = std::chrono::steady_clock::now();
     haptic_tick(tick, late);
@@ -1020,7 +1023,7 @@ bool Session::scheduled_tick(int64_t t) {
   scheduled_model_ = model;
   scheduled_resume_ = r.resumed;
   if (r.after_hold) {
-    zero_for_hold();
+    zero_forces();
     ramp_after_hold();
     after_hold_ = true;
   }
@@ -1094,7 +1097,10 @@ void Session::run_realtime() {
     const int64_t start_ns = monotonic_ns() + 5 * period_ns;
     start.store(start_ns, std::memory_order_release);
     for (int64_t tick = 0; tick < timing.max_ticks; ++tick) {
-      if (stop_.load(std::memory_order_relaxed)) break;
+      if (stop_.load(std::memory_order_relaxed)) {
+        zero_forces();  // first, before the modelling loop is joined (a step may be running)
+        break;
+      }
       int64_t deadline =
           start_ns + hold_offset_ns_.load(std::memory_order_relaxed) + tick * period_ns;
       if (hold_requested_.load(std::memory_order_relaxed)) {
@@ -1164,7 +1170,7 @@ void Session::run_realtime() {
 }
 
 int64_t Session::wait_while_held(int64_t deadline_ns) noexcept {
-  zero_for_hold();
+  zero_forces();
   holding_.store(true, std::memory_order_release);
   const int64_t period_ns = std::llround(model_->timing().dt_s * 1e9);
   // Acquire: what the releasing thread did before release() happens before the ticks after it
@@ -1184,8 +1190,9 @@ int64_t Session::wait_while_held(int64_t deadline_ns) noexcept {
   return deadline_ns;
 }
 
-// Zero first, past the rate limit: the hand feels nothing from the moment the hold is taken.
-void Session::zero_for_hold() noexcept {
+// Zero first, past the rate limit: the hand feels nothing from the moment the hold is taken,
+// or the stop seen.
+void Session::zero_forces() noexcept {
   for (Tool& tool : tools_) (void)tool.device->write(tool.limiter.zero());
 }
 

@@ -204,7 +204,8 @@ class Session {
 
   /// Runs the session to its end (fast or real time) and returns the metrics.
   SessionMetrics run();
-  /// Any thread: end the session at the next tick.
+  /// Any thread: end the session at the next tick, whose first act is to command zero force to
+  /// both devices (the haptic thread; run() writes zero again once the loops are joined).
   void request_stop() { stop_.store(true, std::memory_order_relaxed); }
   /// Scheduling problems the loops met as they started (SCHED_FIFO or mlockall refused: the
   /// loops then run best effort), for showing while the session runs. Any thread.
@@ -387,9 +388,11 @@ class Session {
   /// Haptic thread, real time: zero to both devices, then wait until released (or stopped);
   /// returns when the tick due at `deadline_ns` may run, the schedule moved on by the wait.
   int64_t wait_while_held(int64_t deadline_ns) noexcept;
-  /// The state a hold changes, apart from waiting: zero to both devices past the rate limit as
-  /// it is taken, then the forces' ramp back from zero (live, and in a lockstep replay).
-  void zero_for_hold() noexcept;
+  /// Zero to both devices past the rate limit, on the haptic thread: as a hold is taken, and as
+  /// the loop sees a stop (request_stop: a signal, End Session, the task's end), before the
+  /// other loops are joined. Then, for a hold, the forces' ramp back from zero (live, and in a
+  /// lockstep replay).
+  void zero_forces() noexcept;
   void ramp_after_hold() noexcept;
 
   /// A tool's state: its device, its proxies, its limiter, where its shaft points.

@@ -610,5 +610,38 @@ TEST(Session, ADeviceUnpluggedAndPluggedBackPausesUntilResumedThenRampsBack) {
   EXPECT_EQ(rec.samples[kBack].status, DeviceStatus::kOk);
 }
 
+// A stop (SIGINT or SIGTERM to laptrainer-cli run, End Session in the window, the task's end)
+// zeroes the forces first: the tick after the one that asked is not run; its first act is zero
+// force to both devices, written on the haptic thread before the modelling loop is joined, and
+// run() writes zero again at the end. Fast and real time (issue 25: "forces zeroed first").
+TEST(Session, AStopZeroesTheForcesAtTheNextTickBeforeAnythingElse) {
+  const Scene& scene = default_scene();
+  constexpr int64_t kStop = kPressingTick + 50;  // pressing on the organs
+  for (const bool realtime : {false, true}) {
+    SCOPED_TRACE(realtime ? "real time" : "fast");
+    auto left = std::make_unique<ReconnectingDevice>(push_and_hold(scene, 0),
+                                                     std::numeric_limits<int64_t>::max(),
+                                                     std::numeric_limits<int64_t>::max());
+    left->commands.reserve(4000);
+    ReconnectingDevice* dev = left.get();
+    Session* session = nullptr;
+    dev->on_read = [&session](int64_t tick) {
+      if (tick == kStop) session->request_stop();  // on the haptic thread, in tick kStop
+    };
+    auto created = Session::create(scene, with_left(scene, std::move(left)),
+                                   realtime ? device_fault_run(2.5) : fast(2.5));
+    ASSERT_TRUE(created.ok()) << created.message();
+    session = created.value().get();
+    const SessionMetrics m = created.value()->run();
+    EXPECT_EQ(m.haptic.ticks(), kStop + 1);  // the tick that asked ran whole, no later one
+    // One command per tick up to the one that asked, then the stop's zero, then run()'s.
+    ASSERT_EQ(static_cast<int64_t>(dev->commands.size()), kStop + 3);
+    EXPECT_GT(dev->commands[kStop].force_W.norm(), 0.05) << "pressing when it stops";
+    EXPECT_EQ(dev->commands[kStop + 1].force_W, Eigen::Vector3d::Zero());
+    EXPECT_EQ(dev->commands[kStop + 2].force_W, Eigen::Vector3d::Zero());
+    EXPECT_TRUE(m.events.empty());  // a stop, not a fault
+  }
+}
+
 }  // namespace
 }  // namespace lap::sim
