@@ -531,8 +531,9 @@ int cmd_run(int argc, char** argv) {
       return kExitProblems;
     }
   }
-  // A signal stops the session as the window's End Session does: at the next tick, after which
-  // run() commands zero force to both devices; then the metrics and recording so far are written.
+  // A signal stops the session as the window's End Session does: the next tick only commands zero
+  // force to both devices (Session::request_stop); then the metrics and recording so far are
+  // written.
   std::atomic<bool> ran{false};
   std::thread watcher([&] {
     while (!ran.load()) {

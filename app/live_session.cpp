@@ -105,8 +105,10 @@ Status LiveSession::start(const sim::Scene& scene,
 
 void LiveSession::stop() {
   if (!session_) return;
-  session_->release();  // a held loop must see the stop
+  // Stop, then release: a held loop wakes to the stop and runs no tick (released first, it could
+  // run one at its ramp's gain before it saw the stop).
   session_->request_stop();
+  session_->release();
   if (runner_.joinable()) runner_.join();
   session_.reset();
   devices_ = {};
@@ -115,8 +117,8 @@ void LiveSession::stop() {
 
 Status LiveSession::stop_and_save(const std::string& dir) {
   if (!session_) return diagnostic("no session is running");
+  session_->request_stop();  // then release (stop() says why)
   session_->release();
-  session_->request_stop();
   runner_.join();  // metrics_ is complete from here
   Status saved = sim::save_session(*session_, metrics_, scenario_, options_.fast, dir);
   stop();

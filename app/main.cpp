@@ -45,7 +45,7 @@ constexpr int kExitUsage = 64;
 const char* const kUsage =
     "usage: laptrainer [--scenario FILE] [--left DEV] [--right DEV] [--record DIR]\n"
     "                  [--quit-after S] [--screenshot PNG --frames N] [--size WxH]\n"
-    "                  [--stats FILE] [--render-quality auto|full|fast]\n"
+    "                  [--stats FILE] [--render-quality auto|full|fast] [--no-hud]\n"
     "       laptrainer --review [--trainee NAME]\n"
     "  Without options that name a session, the window opens at sign-in. --scenario, --left,\n"
     "  --right, --record and --screenshot name one: it runs at once, without signing in.\n"
@@ -68,7 +68,9 @@ const char* const kUsage =
     "                    (for a station without a GPU: no mipmaps, one light at the camera,\n"
     "                    the 3D picture at 0.5 to 1 of the field's size, as large as 30\n"
     "                    frames/s allow), auto (fast on a software renderer; the default,\n"
-    "                    or what View > Picture Quality saved)\n";
+    "                    or what View > Picture Quality saved)\n"
+    "  --no-hud          draw the operative field alone, without the heads-up display (the\n"
+    "                    scenario chooser's previews, app/make-previews.sh)\n";
 
 struct Options {
   bool names_session = false;  ///< an option that names a session was given: run it at once
@@ -78,6 +80,7 @@ struct Options {
   std::string stats;
   std::string trainee;
   bool review = false;
+  bool hud = true;  ///< the heads-up display over the field (--no-hud: without)
   std::array<lap::hardware::DeviceSpec, 2> devices{};
   int field_width = 0;  ///< --size: the operative field's size [px]; 0: the window's
   int field_height = 0;
@@ -165,6 +168,8 @@ bool parse(int argc, char** argv, Options& o) {
         std::cerr << "laptrainer: --render-quality expects auto, full or fast, got '" << v << "'\n";
         return false;
       }
+    } else if (a == "--no-hud") {
+      o.hud = false;
     } else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       std::exit(0);
@@ -258,6 +263,7 @@ int main(int argc, char** argv) {
   if (opt.field_width > 0) {
     window.operative_view()->setFixedSize(opt.field_width, opt.field_height);
   }
+  window.operative_view()->set_hud_shown(opt.hud);
   if (opt.names_session) {
     if (const lap::Status opened = window.open_scenario(QString::fromStdString(opt.scenario));
         !opened.ok()) {

@@ -108,7 +108,7 @@ Status OperativeView::start(const sim::Scene& scene,
     }
   }
   overlay_.attach(ren);
-  overlay_.set_visible(hud_ != nullptr);
+  overlay_.set_visible(hud_ != nullptr && hud_shown_);
   set_wireframe(wireframe_);
   profile_applied_ = false;  // the new actors' textures and lights take the profile
   last_haptic_tick_ = -1;
@@ -177,6 +177,11 @@ void OperativeView::apply_render_profile() {
   view_->set_scene_scale(profile_.scene_scale);
 }
 
+void OperativeView::set_hud_shown(bool shown) {
+  hud_shown_ = shown;
+  if (hud_) overlay_.set_visible(hud_shown_);  // else when the session's display is made
+}
+
 void OperativeView::set_wireframe(bool on) {
   wireframe_ = on;
   vtkActorCollection* actors = view_->renderer()->GetActors();
@@ -225,7 +230,7 @@ void OperativeView::draw_scene() {
       }
       assistant_.step(*scope_model_, &scope_, tips, dt);
     }
-    if (hud_) {
+    if (hud_ && hud_shown_) {
       ScopeFigures figures;
       if (scope_model_) {
         figures.optics_deg = scope_model_->optic_angle_rad * 180.0 / M_PI;

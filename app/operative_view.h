@@ -70,6 +70,9 @@ class OperativeView : public QWidget {
   [[nodiscard]] bool has_space_mouse() const { return space_mouse_ != nullptr; }
   /// Draws the organs as wireframes (true) or surfaces.
   void set_wireframe(bool on);
+  /// Whether the heads-up display is drawn over the field (true by default; false for the
+  /// scenario chooser's previews, `laptrainer --no-hud`). The session's state runs either way.
+  void set_hud_shown(bool shown);
   /// How the picture is drawn (render_quality.h), from the next frame; auto decides on the first
   /// frame's renderer.
   void set_render_quality(RenderQualityChoice choice);
@@ -125,6 +128,7 @@ class OperativeView : public QWidget {
   QString loops_text_;
   QString loops_tooltip_;
   bool wireframe_ = false;
+  bool hud_shown_ = true;
   RenderQualityChoice quality_ = RenderQualityChoice::kAuto;
   RenderProfile profile_;
   bool profile_applied_ = false;

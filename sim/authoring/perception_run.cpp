@@ -28,7 +28,7 @@ std::string_view probe_name(ProbeMode mode) {
 }
 
 // Joins the trial's loops whatever ends the wait for the answer: the session is stopped first
-// (forces zeroed by run()).
+// (forces zeroed at its next tick, and again by run()).
 struct LoopsThread {
   Session* session;
   std::thread thread;

@@ -1106,7 +1106,7 @@ void Session::run_realtime() {
       if (hold_requested_.load(std::memory_order_relaxed)) {
         deadline = wait_while_held(deadline);
         after_hold_ = true;
-        if (stop_.load(std::memory_order_relaxed)) break;
+        if (stop_.load(std::memory_order_relaxed)) break;  // the hold's zero was the last command
       }
       // A test's late tick (inject_lateness): the thread wakes that much after its deadline.
       sleep_until_ns(deadline + std::llround(injected_lateness(tick) * 1e9), spin_ns);

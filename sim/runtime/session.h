@@ -388,11 +388,11 @@ class Session {
   /// Haptic thread, real time: zero to both devices, then wait until released (or stopped);
   /// returns when the tick due at `deadline_ns` may run, the schedule moved on by the wait.
   int64_t wait_while_held(int64_t deadline_ns) noexcept;
-  /// Zero to both devices past the rate limit, on the haptic thread: as a hold is taken, and as
-  /// the loop sees a stop (request_stop: a signal, End Session, the task's end), before the
-  /// other loops are joined. Then, for a hold, the forces' ramp back from zero (live, and in a
-  /// lockstep replay).
+  /// Zero to both devices past the rate limit, on the haptic thread: as a hold is taken (live,
+  /// and in a lockstep replay), and as the loop sees a stop (request_stop: a signal, End
+  /// Session, the task's end), before the other loops are joined.
   void zero_forces() noexcept;
+  /// After a hold: the forces ramp back from zero over resume_ramp_s.
   void ramp_after_hold() noexcept;
 
   /// A tool's state: its device, its proxies, its limiter, where its shaft points.

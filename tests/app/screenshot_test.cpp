@@ -258,6 +258,33 @@ TEST(Screenshot, WithoutAnOffScreenBufferTheFastPictureIsDrawnAtTheWindowsSize) 
   }
 }
 
+// `--no-hud` (the scenario chooser's previews, app/make-previews.sh): the operative field alone,
+// none of the display's white text or marks where the full picture has them (the test above:
+// at least 100, 60 and 40 white pixels there), the organs still drawn.
+TEST(Screenshot, WithoutTheHeadsUpDisplayTheFieldIsDrawnAlone) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
+  TempDir dir;
+  const auto png = dir.path() / "shot.png";
+  const CommandResult r =
+      run_command((bin_dir() / "laptrainer").string() + " --scenario " +
+                  (source_dir() / "scenarios/default.yaml").string() + " --screenshot " +
+                  png.string() + " --frames 20 --render-quality full --no-hud");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  QImage image(QString::fromStdString(png.string()));
+  ASSERT_FALSE(image.isNull()) << "the PNG could not be read";
+  const int w = image.width();
+  const int h = image.height();
+  EXPECT_LT(count(image, 0, 0, w / 2, h / 8, white), 10) << "an instruction at the top left";
+  EXPECT_LT(count(image, 3 * w / 4, 0, w, h / 8, white), 10) << "a timer at the top right";
+  EXPECT_LT(count(image, 0, 7 * h / 8, w / 3, h, white), 10) << "a gauge at the bottom left";
+  EXPECT_LT(count(image, 2 * w / 3, 7 * h / 8, w, h, white), 10) << "a gauge at the bottom right";
+  // The field is there: most of the middle is lit tissue, not the dark background.
+  EXPECT_GT(count(image, w / 4, h / 4, 3 * w / 4, 3 * h / 4,
+                  [](const QColor& c) { return c.red() + c.green() + c.blue() > 120; }),
+            w * h / 16)
+      << "no organs in the middle of the field";
+}
+
 // The resident's session is saved when it ends (--record DIR): the inputs of both tools, which
 // a replay device reads back, and the metrics an instructor reviews — the loops' statistics and
 // no watchdog trip at the start (the schedule begins once the haptic thread is running).

@@ -538,12 +538,18 @@ class ReconnectingDevice final : public hardware::HapticDevice {
   }
   DeviceStatus write(const hardware::DeviceCommand& c) noexcept override {
     commands.push_back(c);
+    writers.push_back(std::this_thread::get_id());
     return DeviceStatus::kOk;
   }
   [[nodiscard]] const hardware::DeviceLimits& limits() const override { return inner_.limits(); }
   [[nodiscard]] std::string_view name() const override { return "reconnecting"; }
   [[nodiscard]] std::string last_error() const override { return {}; }
+  void reserve(size_t n) {
+    commands.reserve(n);
+    writers.reserve(n);
+  }
   std::vector<hardware::DeviceCommand> commands;  // reserved by the test
+  std::vector<std::thread::id> writers;           // the thread of each write, reserved too
   std::function<void(int64_t tick)> on_read;      // on the haptic thread (fast mode: the test's)
 
  private:
@@ -558,7 +564,7 @@ TEST(Session, ADeviceUnpluggedAndPluggedBackPausesUntilResumedThenRampsBack) {
   constexpr int64_t kBack = kGone + 300;
   constexpr int64_t kResume = kBack + 200;  // the trainee resumes once it is back
   auto left = std::make_unique<ReconnectingDevice>(push_and_hold(scene, 0), kGone, kBack);
-  left->commands.reserve(4000);
+  left->reserve(4000);
   ReconnectingDevice* dev = left.get();
   Session* session = nullptr;
   // resume() from the read of a tick is taken up at the start of the next.
@@ -612,34 +618,50 @@ TEST(Session, ADeviceUnpluggedAndPluggedBackPausesUntilResumedThenRampsBack) {
 
 // A stop (SIGINT or SIGTERM to laptrainer-cli run, End Session in the window, the task's end)
 // zeroes the forces first: the tick after the one that asked is not run; its first act is zero
-// force to both devices, written on the haptic thread before the modelling loop is joined, and
-// run() writes zero again at the end. Fast and real time (issue 25: "forces zeroed first").
+// force to both devices, written on the haptic thread (in real time, before the modelling loop
+// is joined), and run() writes zero again at the end, on its caller's thread. Fast and real time
+// (issue 25: "forces zeroed first").
 TEST(Session, AStopZeroesTheForcesAtTheNextTickBeforeAnythingElse) {
   const Scene& scene = default_scene();
   constexpr int64_t kStop = kPressingTick + 50;  // pressing on the organs
+  constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
   for (const bool realtime : {false, true}) {
     SCOPED_TRACE(realtime ? "real time" : "fast");
-    auto left = std::make_unique<ReconnectingDevice>(push_and_hold(scene, 0),
-                                                     std::numeric_limits<int64_t>::max(),
-                                                     std::numeric_limits<int64_t>::max());
-    left->commands.reserve(4000);
-    ReconnectingDevice* dev = left.get();
+    Devices devices;
+    std::array<ReconnectingDevice*, 2> dev{};
+    for (int side = 0; side < 2; ++side) {
+      auto d = std::make_unique<ReconnectingDevice>(push_and_hold(scene, side), kNever, kNever);
+      d->reserve(4000);
+      dev[static_cast<size_t>(side)] = d.get();
+      devices[static_cast<size_t>(side)] = std::move(d);
+    }
     Session* session = nullptr;
-    dev->on_read = [&session](int64_t tick) {
+    dev[0]->on_read = [&session](int64_t tick) {
       if (tick == kStop) session->request_stop();  // on the haptic thread, in tick kStop
     };
-    auto created = Session::create(scene, with_left(scene, std::move(left)),
-                                   realtime ? device_fault_run(2.5) : fast(2.5));
+    auto created =
+        Session::create(scene, std::move(devices), realtime ? device_fault_run(2.5) : fast(2.5));
     ASSERT_TRUE(created.ok()) << created.message();
     session = created.value().get();
     const SessionMetrics m = created.value()->run();
     EXPECT_EQ(m.haptic.ticks(), kStop + 1);  // the tick that asked ran whole, no later one
-    // One command per tick up to the one that asked, then the stop's zero, then run()'s.
-    ASSERT_EQ(static_cast<int64_t>(dev->commands.size()), kStop + 3);
-    EXPECT_GT(dev->commands[kStop].force_W.norm(), 0.05) << "pressing when it stops";
-    EXPECT_EQ(dev->commands[kStop + 1].force_W, Eigen::Vector3d::Zero());
-    EXPECT_EQ(dev->commands[kStop + 2].force_W, Eigen::Vector3d::Zero());
-    EXPECT_TRUE(m.events.empty());  // a stop, not a fault
+    EXPECT_TRUE(m.events.empty());           // a stop, not a fault
+    const std::thread::id caller = std::this_thread::get_id();
+    for (size_t side = 0; side < 2; ++side) {
+      SCOPED_TRACE(side == 0 ? "left" : "right");
+      const ReconnectingDevice& d = *dev[side];
+      // One command per tick up to the one that asked, then the stop's zero, then run()'s.
+      ASSERT_EQ(static_cast<int64_t>(d.commands.size()), kStop + 3);
+      EXPECT_EQ(d.commands[kStop + 1].force_W, Eigen::Vector3d::Zero());
+      EXPECT_EQ(d.commands[kStop + 2].force_W, Eigen::Vector3d::Zero());
+      // The stop's zero from the thread that ran the ticks: the haptic thread in real time.
+      EXPECT_EQ(d.writers[kStop + 1], d.writers[kStop]);
+      EXPECT_EQ(d.writers[kStop + 2], caller);
+      if (realtime) {
+        EXPECT_NE(d.writers[kStop + 1], caller);
+      }
+    }
+    EXPECT_GT(dev[0]->commands[kStop].force_W.norm(), 0.05) << "pressing when it stops";
   }
 }
 
