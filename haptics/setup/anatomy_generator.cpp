@@ -186,6 +186,8 @@ double draped_floor(const GallbladderShape& gb, const V3& q) {
     const double d = std::hypot(q.x() - c.x(), q.z() - c.z());
     // Over the ring: the parabola osculating its top (radius r, 1 mm clear), which lies over
     // the circle everywhere; from where its slope reaches kDrape, a straight fall at kDrape.
+    // Hartmann's pouch is not in r: it bulges away from the liver, towards the common bile duct
+    // (AnatomyGenerator.OrgansThatMustNotOverlapDoNot checks no gallbladder vertex is inside).
     const double r = gb.ring_radius(s) + 0.001;
     const double d0 = kDrape * r;
     const double top = c.y() + r;
