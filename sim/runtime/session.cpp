@@ -896,7 +896,10 @@ void Session::step_task_engine(int64_t tick, const HapticSnapshot& h) noexcept {
                       &task_progress_);
   const std::array<double, 2> opening = {h.tools[0].pose.opening_rad, h.tools[1].pose.opening_rad};
   step_metrics(metrics_model_, tm, in, opening, task_, &metrics_);
-  if (task_.done() && model_->settings().end_with_task) request_stop();
+  if (task_.done() && model_->settings().end_with_task) {
+    stop_by_task_.store(true, std::memory_order_relaxed);
+    request_stop();
+  }
 }
 
 void Session::run_fast() {
@@ -966,6 +969,10 @@ void Session::run_scheduled() {
   for (LockstepOrder::Next next = order.next(); next != LockstepOrder::Next::kDone;
        next = order.next()) {
     const int64_t t = order.ticks_done();
+    // Asked from outside (the review's Cancel: ReplayTimeline::replay's progress): end here.
+    if (stop_.load(std::memory_order_relaxed) && !stop_by_task_.load(std::memory_order_relaxed)) {
+      break;
+    }
     if (next == LockstepOrder::Next::kStuck) {
       lockstep_problem_ = "tick " + std::to_string(t) + " read the snapshot of modelling step " +
                           std::to_string(newest[static_cast<size_t>(t)]) + ", which the " +

@@ -205,7 +205,8 @@ class Session {
   /// Runs the session to its end (fast or real time) and returns the metrics.
   SessionMetrics run();
   /// Any thread: end the session at the next tick, whose first act is to command zero force to
-  /// both devices (the haptic thread; run() writes zero again once the loops are joined).
+  /// both devices (the haptic thread; run() writes zero again once the loops are joined). A
+  /// lockstep replay ends before its next tick or step.
   void request_stop() { stop_.store(true, std::memory_order_relaxed); }
   /// Scheduling problems the loops met as they started (SCHED_FIFO or mlockall refused: the
   /// loops then run best effort), for showing while the session runs. Any thread.
@@ -485,6 +486,9 @@ class Session {
   std::atomic<bool> paused_{false};
   std::atomic<bool> resume_requested_{false};
   std::atomic<bool> stop_{false};
+  /// The stop was the task's end (model_tick), not a request from outside: a lockstep replay
+  /// goes on through the ticks the live loops ran after it (they are in its recording).
+  std::atomic<bool> stop_by_task_{false};
   std::atomic<bool> haptic_done_{false};
   // The trainee's pause (hold()): asked for by any thread, taken up by the haptic thread, which
   // then moves both loops' schedules on by the time held (hold_offset_ns_, written before

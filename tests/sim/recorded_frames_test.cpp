@@ -335,6 +335,42 @@ TEST(RecordedFrames, TheReviewShowsTheRecordedFramesAsTheReplayDrawsThem) {
   EXPECT_GT(grasped, 10) << "the catheter moves in the frames once the expert takes it";
 }
 
+// The review's Cancel while a live session is replayed (ReplayTimeline::replay's progress says
+// stop): the replay, which follows the live loops' recorded order, ends there, its frames cover
+// that much, and its notes say so. It went on to the end before (the lockstep replay never
+// looked at the stop).
+TEST(RecordedFrames, ACancelledReplayOfALiveSessionEndsWhereItWasCancelled) {
+  const test::TempDir dir;
+  const Scene& scene = default_scene();
+  const RuntimeSettings rs = device_fault_run(3.0);  // real time: the replay is in lockstep
+  auto created = Session::create(scene, scripted_devices(kScripts, "expert"), rs);
+  ASSERT_TRUE(created.ok()) << created.message();
+  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const Result<std::string> header = session_record_json(scenario, rs);
+  ASSERT_TRUE(header.ok());
+  ASSERT_TRUE(write_session_record(dir.path(), header.value()).ok());
+  ASSERT_TRUE(created.value()->record_to(dir.path() / "session.lrec", header.value()).ok());
+  (void)created.value()->run();
+
+  Result<ReplayTimeline> whole = ReplayTimeline::replay(dir.path(), 0.1);
+  ASSERT_TRUE(whole.ok()) << whole.message();
+  EXPECT_GT(whole.value().duration_s(), 2.8);
+  bool asked = false;
+  Result<ReplayTimeline> cancelled = ReplayTimeline::replay(dir.path(), 0.1, [&asked](double done) {
+    asked = asked || done >= 0.3;
+    return !asked;  // Cancel at 30 %
+  });
+  ASSERT_TRUE(cancelled.ok()) << cancelled.message();
+  const ReplayTimeline& c = cancelled.value();
+  EXPECT_GE(c.duration_s(), 0.8);
+  EXPECT_LT(c.duration_s(), 1.2) << "the replay went on after the Cancel";
+  bool noted = false;
+  for (const std::string& n : c.session().notes) {
+    noted = noted || n.find("the replay was stopped at") != std::string::npos;
+  }
+  EXPECT_TRUE(noted);
+}
+
 // While it keeps frames, the recorded loop allocates nothing on its own thread: counted from
 // tick 1000 to tick 1900 (nine frames taken), the recorder's thread left out.
 TEST(RecordedFrames, KeepingFramesAllocatesNothingOnTheLoopsThread) {
