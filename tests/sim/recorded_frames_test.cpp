@@ -286,21 +286,31 @@ TEST(RecordedFrames, AFrameChunkWithImpossibleFramesIsSkippedNotTrusted) {
   EXPECT_NE(RecordedFrames::decode(bad, count, 1e-3, &frames).find("negative"), std::string::npos);
 }
 
+// The expert's scripted session on the default scenario, run with `rs` and recorded into `dir`
+// as the application saves one (session.json, session.lrec); null, with a failure, if not.
+std::unique_ptr<Session> record_expert_session(const fs::path& dir, const RuntimeSettings& rs) {
+  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  EXPECT_TRUE(created.ok()) << created.message();
+  if (!created.ok()) return nullptr;
+  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const Result<std::string> header = session_record_json(scenario, rs);
+  if (!header.ok() || !write_session_record(dir, header.value()).ok() ||
+      !created.value()->record_to(dir / "session.lrec", header.value()).ok()) {
+    ADD_FAILURE() << "the session could not be recorded into " << dir;
+    return nullptr;
+  }
+  (void)created.value()->run();
+  return std::move(created).value();
+}
+
 // What the review shows at once (ReplayTimeline::from_recorded_frames): the recorded frames over
 // the session's scene, no replay. They are what the replay draws at the same ticks — the expert's
 // session replayed (ReplayTimeline::replay) keeps its own frames through the same ticks.
 TEST(RecordedFrames, TheReviewShowsTheRecordedFramesAsTheReplayDrawsThem) {
   const test::TempDir dir;
   const Scene& scene = default_scene();
-  const RuntimeSettings rs = fast(6.0);
-  auto created = Session::create(scene, scripted_devices(kScripts, "expert"), rs);
-  ASSERT_TRUE(created.ok()) << created.message();
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
-  const Result<std::string> header = session_record_json(scenario, rs);
-  ASSERT_TRUE(header.ok());
-  ASSERT_TRUE(write_session_record(dir.path(), header.value()).ok());
-  ASSERT_TRUE(created.value()->record_to(dir.path() / "session.lrec", header.value()).ok());
-  (void)created.value()->run();
+  const std::unique_ptr<Session> session = record_expert_session(dir.path(), fast(6.0));
+  ASSERT_NE(session, nullptr);
 
   Result<ReplayTimeline> shown = ReplayTimeline::from_recorded_frames(dir.path());
   ASSERT_TRUE(shown.ok()) << shown.message();
@@ -310,12 +320,12 @@ TEST(RecordedFrames, TheReviewShowsTheRecordedFramesAsTheReplayDrawsThem) {
   EXPECT_EQ(at_once.session().scenario_name, scene.scenario.name);
   EXPECT_TRUE(at_once.session().recording_problems.empty());
   const ReplayScene& s = at_once.scene();
-  ASSERT_EQ(s.organ_surfaces.size(), static_cast<size_t>(created.value()->organ_count()));
-  for (int32_t o = 0; o < created.value()->organ_count(); ++o) {
+  ASSERT_EQ(s.organ_surfaces.size(), static_cast<size_t>(session->organ_count()));
+  for (int32_t o = 0; o < session->organ_count(); ++o) {
     EXPECT_EQ(s.organ_surfaces[static_cast<size_t>(o)].positions.size(),
-              created.value()->organ_surface(o).positions.size());
+              session->organ_surface(o).positions.size());
   }
-  EXPECT_EQ(s.catheter_points, created.value()->model().tissue().catheter_model().particle_count());
+  EXPECT_EQ(s.catheter_points, session->model().tissue().catheter_model().particle_count());
 
   Result<ReplayTimeline> replayed = ReplayTimeline::replay(dir.path(), 0.1);
   ASSERT_TRUE(replayed.ok()) << replayed.message();
@@ -341,16 +351,8 @@ TEST(RecordedFrames, TheReviewShowsTheRecordedFramesAsTheReplayDrawsThem) {
 // looked at the stop).
 TEST(RecordedFrames, ACancelledReplayOfALiveSessionEndsWhereItWasCancelled) {
   const test::TempDir dir;
-  const Scene& scene = default_scene();
-  const RuntimeSettings rs = device_fault_run(3.0);  // real time: the replay is in lockstep
-  auto created = Session::create(scene, scripted_devices(kScripts, "expert"), rs);
-  ASSERT_TRUE(created.ok()) << created.message();
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
-  const Result<std::string> header = session_record_json(scenario, rs);
-  ASSERT_TRUE(header.ok());
-  ASSERT_TRUE(write_session_record(dir.path(), header.value()).ok());
-  ASSERT_TRUE(created.value()->record_to(dir.path() / "session.lrec", header.value()).ok());
-  (void)created.value()->run();
+  // Real time: its replay follows the loops' recorded order (lockstep).
+  ASSERT_NE(record_expert_session(dir.path(), device_fault_run(3.0)), nullptr);
 
   Result<ReplayTimeline> whole = ReplayTimeline::replay(dir.path(), 0.1);
   ASSERT_TRUE(whole.ok()) << whole.message();
