@@ -18,6 +18,7 @@
 #include "sim/report/recorded_tunings.h"
 #include "sim/report/recording_reader.h"
 #include "sim/report/session_replay.h"
+#include "sim/setup/gltf_albedo.h"
 #include "sim/setup/height_image_loader.h"
 #include "sim/setup/mesh_loader.h"
 #include "sim/setup/scenario_loader.h"
@@ -132,6 +133,33 @@ bool fuzz_height_image(std::span<const uint8_t> data) {
   require(static_cast<int64_t>(h.width) * h.height <= sim::kMaxHeightMapPixels);
   require(static_cast<int64_t>(h.values.size()) == static_cast<int64_t>(h.width) * h.height);
   for (const float v : h.values) require(v >= 0.0F && v <= 1.0F);
+  return true;
+}
+
+// An organ's colour texture as the scene's set-up reads it (sim/setup/gltf_albedo.h): the bytes
+// are the image a fixed, valid .gltf names as its base colour.
+bool fuzz_gltf_albedo(std::span<const uint8_t> data) {
+  static const std::filesystem::path gltf = [] {
+    const std::filesystem::path dir = scratch_dir() / "albedo";
+    std::filesystem::create_directory(dir);
+    const std::filesystem::path file = dir / "organ.gltf";
+    constexpr std::string_view kGltf =
+        R"({"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {}, )"
+        R"("material": 0}]}], "materials": [{"pbrMetallicRoughness": {"baseColorTexture": )"
+        R"({"index": 0}}}], "textures": [{"source": 0}], "images": [{"uri": "albedo.png"}]})";
+    std::filesystem::rename(
+        as_file({reinterpret_cast<const uint8_t*>(kGltf.data()), kGltf.size()}, "gltf"), file);
+    return file;
+  }();
+  std::filesystem::rename(as_file(data, "png"), gltf.parent_path() / "albedo.png");
+  const Result<std::shared_ptr<const haptics::RgbImage>> image = sim::load_gltf_albedo(gltf);
+  if (!image.ok()) return false;
+  require(image.value() != nullptr);  // the file names an image: decoded or refused
+  const haptics::RgbImage& rgb = *image.value();
+  require(rgb.width > 0 && rgb.height > 0 && rgb.width <= sim::kMaxAlbedoSide &&
+          rgb.height <= sim::kMaxAlbedoSide);
+  require(static_cast<int64_t>(rgb.width) * rgb.height <= sim::kMaxAlbedoPixels);
+  require(rgb.rgb.size() == static_cast<size_t>(rgb.width) * rgb.height * 3);
   return true;
 }
 
@@ -253,6 +281,7 @@ constexpr std::array kTargets = {
     FuzzTarget{"mesh_gltf", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "gltf"); }},
     FuzzTarget{"mesh_glb", [](std::span<const uint8_t> d) { return fuzz_mesh(d, "glb"); }},
     FuzzTarget{"height_image", &fuzz_height_image},
+    FuzzTarget{"gltf_albedo", &fuzz_gltf_albedo},
     FuzzTarget{"keyframes", &fuzz_keyframes},
     FuzzTarget{"device_recording", &fuzz_device_recording},
     FuzzTarget{"session_recording", &fuzz_session_recording},

@@ -71,6 +71,30 @@ TEST(GltfAlbedo, NoTextureMeansNoneAndABadOneIsAClearError) {
   EXPECT_NE(r.message().find("images[0].uri: box.png: not a PNG or JPEG image"), std::string::npos)
       << r.message();
 
+  // Images stb_image would decode but glTF does not allow (a 1 x 1 GIF, a 1 x 1 BMP): refused
+  // by their signatures, not decoded.
+  const std::string gif(
+      "GIF89a\x01\x00\x01\x00\x80\x00\x00\xff\x00\x00\x00\x00\x00"
+      ",\x00\x00\x00\x00\x01\x00\x01\x00\x00\x02\x02D\x01\x00;",
+      35);
+  std::string bmp(
+      "BM\x3a\x00\x00\x00\x00\x00\x00\x00\x36\x00\x00\x00\x28\x00\x00\x00"
+      "\x01\x00\x00\x00\x01\x00\x00\x00\x01\x00\x18\x00\x00\x00\x00\x00"
+      "\x04\x00\x00\x00\x13\x0b\x00\x00\x13\x0b\x00\x00\x00\x00\x00\x00"
+      "\x00\x00\x00\x00\x00\x00\xff\x00",
+      58);
+  for (const std::string& other : {gif, bmp}) {
+    {
+      std::ofstream out(dir.path() / "box.png", std::ios::binary);
+      out << other;
+    }
+    r = load_gltf_albedo(write_textured(dir, "box.png"));
+    ASSERT_FALSE(r.ok()) << other.substr(0, 2);
+    EXPECT_EQ(r.message(), (dir.path() / "box.gltf").string() +
+                               ": images[0].uri: box.png: not a PNG or JPEG image (glTF allows "
+                               "no other)");
+  }
+
   // A PNG whose header asks for 9000 x 9000 pixels: refused before anything is decoded.
   std::string png = "\x89PNG\r\n\x1a\n";
   png += std::string("\x00\x00\x00\x0dIHDR", 8);
