@@ -11,6 +11,7 @@
 #include <string>
 
 #include "sim/setup/gltf_references.h"
+#include "sim/setup/json_lines.h"
 #include "sim/setup/load_error.h"
 #include "sim/setup/mesh_limits.h"
 #include "sim/setup/png_image_data.h"
@@ -129,7 +130,8 @@ Result<std::shared_ptr<const haptics::RgbImage>> load_gltf_albedo(const fs::path
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const bool binary = ext == ".glb";
     const std::vector<unsigned char> bytes = read_bytes(gltf, kMaxMeshFileBytes);
-    const json doc = json::parse(gltf_json_text(bytes, binary), nullptr, false);
+    const std::string text = gltf_json_text(bytes, binary);
+    const json doc = json::parse(text, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return std::shared_ptr<const haptics::RgbImage>();
     const auto image = base_colour_image(doc);
     if (!image) return std::shared_ptr<const haptics::RgbImage>();
@@ -143,10 +145,19 @@ Result<std::shared_ptr<const haptics::RgbImage>> load_gltf_albedo(const fs::path
     const fs::path folder = fs::absolute(gltf).parent_path();
     const fs::path file = folder / percent_decoded(uri);
     // load_mesh checked the reference; checked again here, as the file may have changed since.
+    // A problem names the field's line in a text .gltf (a .glb's JSON has no lines of the
+    // file's), found only when there is one.
+    auto line = [&] { return binary ? 0 : JsonLines::scan(text).line(field); };
     if (!inside_folder(folder, file)) {
-      return Diagnostic{gltf.string(), 0, field, "'" + uri + "' leaves the scene's folder"};
+      return Diagnostic{gltf.string(), line(), field, "'" + uri + "' leaves the scene's folder"};
     }
-    return decode(gltf, field, file);
+    try {
+      return decode(gltf, field, file);
+    } catch (const LoadError& e) {
+      Diagnostic d = e.diagnostic();
+      d.line = line();
+      return d;
+    }
   } catch (const LoadError& e) {
     return e.diagnostic();
   }

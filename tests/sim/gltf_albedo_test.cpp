@@ -32,6 +32,16 @@ std::filesystem::path write_textured(const test::TempDir& dir, const std::string
   return file;
 }
 
+// The 1-based line of `file` that holds `text` (0 when none does).
+int line_holding(const std::filesystem::path& file, const std::string& text) {
+  std::ifstream in(file);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.find(text) != std::string::npos) return n;
+  }
+  return 0;
+}
+
 TEST(GltfAlbedo, TheBaseColourImageIsDecodedToThePixelsWritten) {
   test::TempDir dir;
   haptics::RgbImage written;
@@ -61,7 +71,10 @@ TEST(GltfAlbedo, NoTextureMeansNoneAndABadOneIsAClearError) {
   const std::filesystem::path missing = write_textured(dir, "gone.png");
   auto r = load_gltf_albedo(missing);
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.message(), missing.string() +
+  // Named by the line of the image's uri in the file save_gltf wrote.
+  ASSERT_GT(line_holding(missing, "\"gone.png\""), 0);
+  EXPECT_EQ(r.message(), missing.string() + ":" +
+                             std::to_string(line_holding(missing, "\"gone.png\"")) +
                              ": images[0].uri: gone.png: texture image not found "
                              "(expected a PNG or JPEG)");
 
@@ -90,7 +103,8 @@ TEST(GltfAlbedo, NoTextureMeansNoneAndABadOneIsAClearError) {
     }
     r = load_gltf_albedo(write_textured(dir, "box.png"));
     ASSERT_FALSE(r.ok()) << other.substr(0, 2);
-    EXPECT_EQ(r.message(), (dir.path() / "box.gltf").string() +
+    EXPECT_EQ(r.message(), (dir.path() / "box.gltf").string() + ":" +
+                               std::to_string(line_holding(dir.path() / "box.gltf", "box.png")) +
                                ": images[0].uri: box.png: not a PNG or JPEG image (glTF allows "
                                "no other)");
   }
