@@ -1,0 +1,96 @@
+# Issue 22's speed targets, checked against laptrainer-bench's JSON output:
+#
+#   cmake -DJSON=FILE -P tests/bench/speed_targets.cmake
+#
+# FILE is `laptrainer-bench --benchmark_filter='FullAnatomy/hard|ScenarioLoadToFirstTick/warm'
+# --benchmark_format=json` (packaging/check-speed.sh runs it). With --benchmark_repetitions the
+# median of the repetitions is judged, else the one run. Prints each figure against its target;
+# fails naming every figure over its target and every benchmark missing from the file.
+# The targets are issue 22's ("Speed with the whole anatomy"), for the hardest patient:
+#   BM_HapticTickFullAnatomy   one haptic tick against every organ: median <= 20 us, p99.9 <= 100 us
+#   BM_ModelStepFullAnatomy    one modelling step: median <= 1 ms
+#   BM_ScenarioLoadToFirstTick scenario load to the first haptic tick, modal cache warm: <= 2 s
+# Not run by CI: these figures are the machine's (docs/benchmarks.md), and a shared machine's
+# noise would make a timed check fail at random.
+cmake_minimum_required(VERSION 3.19)  # string(JSON)
+if(NOT DEFINED JSON)
+  message(FATAL_ERROR "speed_targets.cmake: give the benchmark's JSON output: -DJSON=FILE")
+endif()
+if(NOT EXISTS "${JSON}")
+  message(FATAL_ERROR "speed_targets.cmake: ${JSON}: no such file (expected laptrainer-bench's "
+                      "--benchmark_format=json output)")
+endif()
+file(READ "${JSON}" text)
+string(JSON count ERROR_VARIABLE bad LENGTH "${text}" benchmarks)
+if(bad)
+  message(FATAL_ERROR "speed_targets.cmake: ${JSON}: not Google Benchmark's JSON output (${bad})")
+endif()
+
+# Each target: benchmark (its run_name up to the first '/' after the argument), counter, the
+# most it may be, the unit printed, the factor from the counter to that unit.
+set(targets
+  "BM_HapticTickFullAnatomy/hard|median_ns|20|us|0.001"
+  "BM_HapticTickFullAnatomy/hard|p999_ns|100|us|0.001"
+  "BM_ModelStepFullAnatomy/hard|median_ns|1|ms|0.000001"
+  "BM_ScenarioLoadToFirstTick/warm|seconds|2|s|1")
+
+set(misses "")
+foreach(target IN LISTS targets)
+  string(REPLACE "|" ";" t "${target}")
+  list(GET t 0 bench)
+  list(GET t 1 counter)
+  list(GET t 2 limit)
+  list(GET t 3 unit)
+  list(GET t 4 factor)
+  # The repetitions' median if there is one, else the single run (the last one listed).
+  set(value "")
+  set(from "")
+  math(EXPR last "${count} - 1")
+  foreach(i RANGE 0 ${last})
+    string(JSON run_name ERROR_VARIABLE e GET "${text}" benchmarks ${i} run_name)
+    string(FIND "${run_name}" "${bench}/" at)
+    if(e OR NOT at EQUAL 0)
+      continue()
+    endif()
+    string(JSON run_type ERROR_VARIABLE e GET "${text}" benchmarks ${i} run_type)
+    string(JSON aggregate ERROR_VARIABLE e2 GET "${text}" benchmarks ${i} aggregate_name)
+    string(JSON v ERROR_VARIABLE e3 GET "${text}" benchmarks ${i} ${counter})
+    if(e3)
+      continue()
+    endif()
+    if(run_type STREQUAL "aggregate" AND aggregate STREQUAL "median")
+      set(value "${v}")
+      set(from "median of the repetitions")
+      break()
+    elseif(run_type STREQUAL "iteration")
+      set(value "${v}")
+      set(from "one run")
+    endif()
+  endforeach()
+  if(value STREQUAL "")
+    list(APPEND misses "${bench} ${counter}: not in the file (run the benchmark with --benchmark_filter='FullAnatomy/hard|ScenarioLoadToFirstTick/warm')")
+    continue()
+  endif()
+  # The limit in the counter's own unit (CMake's if() compares decimals; its math is integer).
+  if(factor STREQUAL "0.001")
+    math(EXPR limit_in_counter "${limit} * 1000")
+  elseif(factor STREQUAL "0.000001")
+    math(EXPR limit_in_counter "${limit} * 1000000")
+  else()
+    set(limit_in_counter "${limit}")
+  endif()
+  if(value GREATER limit_in_counter)
+    set(verdict "OVER")
+    list(APPEND misses "${bench} ${counter} ${value} > ${limit_in_counter} (${limit} ${unit})")
+  else()
+    set(verdict "ok")
+  endif()
+  message(STATUS "${bench} ${counter} ${value} (${from}); target <= ${limit_in_counter} "
+                 "(${limit} ${unit}): ${verdict}")
+endforeach()
+
+if(misses)
+  list(JOIN misses "\n  " listed)
+  message(FATAL_ERROR "speed targets missed:\n  ${listed}")
+endif()
+message(STATUS "every speed target met")
