@@ -129,8 +129,9 @@ Result<std::shared_ptr<const haptics::RgbImage>> load_gltf_albedo(const fs::path
     std::string ext = gltf.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const bool binary = ext == ".glb";
-    const std::vector<unsigned char> bytes = read_bytes(gltf, kMaxMeshFileBytes);
-    const std::string text = gltf_json_text(bytes, binary);
+    // The JSON text only, kept for the lines of a problem (not the file's bytes as well: a .gltf
+    // may be hundreds of megabytes, and the texture is decoded while this is held).
+    const std::string text = gltf_json_text(read_bytes(gltf, kMaxMeshFileBytes), binary);
     const json doc = json::parse(text, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return std::shared_ptr<const haptics::RgbImage>();
     const auto image = base_colour_image(doc);
