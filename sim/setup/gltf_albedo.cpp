@@ -88,12 +88,9 @@ std::shared_ptr<const haptics::RgbImage> decode(const fs::path& gltf, const std:
   }
   if (bytes.size() > static_cast<size_t>(INT32_MAX)) fail("too large");
   const auto length = static_cast<int>(bytes.size());
-  // PNG or JPEG by their signatures (PNG spec §5.2; JPEG's SOI marker and the next marker's
-  // 0xFF): Debian's stb_image also decodes GIF, BMP, PSD, TGA, HDR, PIC and PNM, which glTF does
-  // not allow for a texture (glTF 2.0 §5.18: image/png or image/jpeg) and which would widen
-  // what an untrusted file reaches.
-  const bool jpeg = bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
-  if (!is_png(bytes) && !jpeg) fail("not a PNG or JPEG image (glTF allows no other)");
+  // PNG or JPEG by their signatures: glTF allows no other texture (glTF 2.0 §5.18: image/png or
+  // image/jpeg), and stb_image's other decoders would widen what an untrusted file reaches.
+  if (!is_png(bytes) && !is_jpeg(bytes)) fail("not a PNG or JPEG image (glTF allows no other)");
   int w = 0;
   int h = 0;
   int channels = 0;

@@ -107,7 +107,7 @@ haptics::HeightImage read_height_image(const std::filesystem::path& file) {
   Header h;
   if (png) {
     h = png_header(file, bytes);
-  } else if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
+  } else if (is_jpeg(bytes)) {
     h = jpeg_header(file, bytes);
   } else {
     fail(file, "not a PNG or JPEG file (expected a greyscale height map)");

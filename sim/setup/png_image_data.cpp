@@ -75,6 +75,10 @@ bool is_png(std::span<const uint8_t> bytes) {
          std::equal(kSignature.begin(), kSignature.end(), bytes.begin());
 }
 
+bool is_jpeg(std::span<const uint8_t> bytes) {
+  return bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+}
+
 uint32_t png_u32(std::span<const uint8_t> bytes, size_t at) {
   return (static_cast<uint32_t>(bytes[at]) << 24U) | (static_cast<uint32_t>(bytes[at + 1]) << 16U) |
          (static_cast<uint32_t>(bytes[at + 2]) << 8U) | static_cast<uint32_t>(bytes[at + 3]);

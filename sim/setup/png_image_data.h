@@ -32,6 +32,11 @@ constexpr uint64_t kPngSlackBytes = 1U << 20U;
 /// Whether the bytes start with PNG's 8-byte signature (PNG spec §5.2).
 [[nodiscard]] bool is_png(std::span<const uint8_t> bytes);
 
+/// Whether the bytes start as a JPEG does: its SOI marker (FF D8) and the next marker's FF
+/// (ITU T.81 §B.1.1.3). With is_png, what the image loaders let reach stb_image, which would also
+/// decode GIF, BMP, PSD, TGA, HDR, PIC and PNM.
+[[nodiscard]] bool is_jpeg(std::span<const uint8_t> bytes);
+
 /// The big-endian 32-bit field at `at` (PNG's lengths, widths and heights); the caller checks
 /// that 4 bytes are there.
 [[nodiscard]] uint32_t png_u32(std::span<const uint8_t> bytes, size_t at);
