@@ -59,7 +59,10 @@ std::mutex g_mutex;
 std::array<Device, 4> g_devices;
 std::array<FrameState, 4> g_frames;
 HHD g_current = 0xFFFFFFFFU;
-unsigned int g_error = 0;
+// The pending error is the calling thread's own: the servo thread polls hdGetError every frame,
+// and with one shared value it could take, and clear, an error that hdInitDevice had just set
+// for the main thread (TSan's slow threads made that happen in CI: "HD error 0x0000").
+thread_local unsigned int t_error = 0;
 unsigned int g_servo_error = 0;  // reported by the next hdGetError in the servo thread
 HDenum g_calibration = 0x5000;
 std::vector<Scheduled> g_callbacks;
@@ -97,7 +100,7 @@ HHD hdInitDevice(const char* name) {
   const std::lock_guard<std::mutex> lock(g_mutex);
   const std::string n = name == nullptr ? "Default Device" : name;
   if (n == "Missing Device") {
-    g_error = 0x0300;  // a device fault
+    t_error = 0x0300;  // a device fault
     return 0xFFFFFFFFU;
   }
   for (HHD i = 0; i < g_devices.size(); ++i) {
@@ -109,7 +112,7 @@ HHD hdInitDevice(const char* name) {
       return i;
     }
   }
-  g_error = 0x0301;
+  t_error = 0x0301;
   return 0xFFFFFFFFU;
 }
 void hdDisableDevice(HHD h) {
@@ -122,11 +125,11 @@ void hdMakeCurrentDevice(HHD h) {
 }
 HDErrorInfo hdGetError() {
   const std::lock_guard<std::mutex> lock(g_mutex);
-  HDErrorInfo e{g_error, 0, g_current};
+  HDErrorInfo e{t_error, 0, g_current};
   if (t_in_callback >= 0 && g_servo_error != 0) {
     e.errorCode = g_servo_error;
   }
-  g_error = 0;
+  t_error = 0;
   return e;
 }
 void hdEnable(HDenum cap) {
@@ -167,7 +170,7 @@ void hdGetDoublev(HDenum what, double* out) {
       *out = 0.88;  // N, a PHANToM Omni's
       break;
     default:
-      g_error = 0x0100;  // invalid enum
+      t_error = 0x0100;  // invalid enum
   }
 }
 void hdGetIntegerv(HDenum what, int* out) {
@@ -247,7 +250,7 @@ void fake_hd_reset() {
   g_callbacks.clear();
   g_calibration = 0x5000;
   g_servo_error = 0;
-  g_error = 0;
+  t_error = 0;
 }
 
 }  // extern "C"
