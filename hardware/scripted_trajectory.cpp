@@ -15,6 +15,12 @@ bool parse_double(std::string_view s, double* v) {
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
     s.remove_suffix(1);
   }
+  // A leading '+', as spreadsheets and hand-written files have it (from_chars takes none); one
+  // sign only.
+  if (!s.empty() && s.front() == '+') {
+    s.remove_prefix(1);
+    if (!s.empty() && (s.front() == '+' || s.front() == '-')) return false;
+  }
   if (s.empty()) return false;
   const char* end = s.data() + s.size();
   const auto r = std::from_chars(s.data(), end, *v);

@@ -86,6 +86,15 @@ TEST(ScriptedTrajectory, HoldsTheLastKeyframeAndSaysItFinished) {
   EXPECT_EQ(s.position_W, Eigen::Vector3d(0.0, 0.1, 0.0));
 }
 
+// A leading '+' is a number's sign, as a spreadsheet writes it.
+TEST(ScriptedTrajectory, ReadsAPlusSignAsASpreadsheetWritesIt) {
+  const ScriptedTrajectory t = parse_ok("+0,+0.01,-0.02,+1e-1,+1,0,0,0,+0.5,+3\n");
+  ASSERT_EQ(t.keyframes.size(), 1U);
+  EXPECT_EQ(t.keyframes[0].position_W, Eigen::Vector3d(0.01, -0.02, 0.1));
+  EXPECT_EQ(t.keyframes[0].gripper_angle_rad, 0.5);
+  EXPECT_EQ(t.keyframes[0].buttons, 3U);
+}
+
 TEST(ScriptedTrajectory, BadFilesNameTheLineAndTheField) {
   EXPECT_EQ(parse_error("0,0,0,0,1,0,0,0,0\n0.01,0,0,0,1,0,0,0\n"),
             "bad.csv:2: expected 9 or 10 comma-separated fields "
@@ -102,6 +111,10 @@ TEST(ScriptedTrajectory, BadFilesNameTheLineAndTheField) {
   EXPECT_EQ(parse_error("0,0,0,nan,1,0,0,0,0\n"),
             "bad.csv:1: z_m: expected a finite number, got 'nan'");
   EXPECT_EQ(parse_error("# nothing\n"), "bad.csv:1: expected at least one keyframe");
+  EXPECT_EQ(parse_error("0,0,0,+-1,1,0,0,0,0\n"),
+            "bad.csv:1: z_m: expected a finite number, got '+-1'");
+  EXPECT_EQ(parse_error("0,0,0,+,1,0,0,0,0\n"),
+            "bad.csv:1: z_m: expected a finite number, got '+'");
   const Result<ScriptedTrajectory> missing = load_scripted_trajectory("/nonexistent/path.csv");
   EXPECT_FALSE(missing.ok());
   EXPECT_EQ(missing.message(),
