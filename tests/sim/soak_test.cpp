@@ -2,17 +2,17 @@
 // motion about the duct — in and out along their ports, sideways, the jaws opening and closing
 // at random, so that they take and let go of the duct again and again — and the right hand
 // taking the catheter every 12 s (take_and_wander; LAP_SOAK_RIGHT_HAND=seek: where it lies,
-// CatheterTakes), for LAP_SOAK_S simulated seconds (30 by default; a twentieth under the
-// sanitizers; an hour for the figures in docs/benchmarks.md). Checked: no watchdog event (no
-// non-finite value anywhere, no model fault, no device fault), every tick run, the largest force
-// finite and within the devices' limit, the catheter taken and the duct taken (each on its own),
-// the resident memory at the end within 1 % of what it was once settled (a fifth of the way in;
-// Session::create writes the storage it reserves once, so the first tick's is nearly the same, and
-// the growth since the first tick is printed too); the worst tick, the deepest a proxy was found
-// inside an organ and in how many tested ticks are printed (asserted by
-// Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as sampled (a jaw is 2 cm:
-// longer is the open stretch of haptics/README.md). The memory, the takes and the proxies are
-// sampled at the same ticks, by the observer below.
+// CatheterTakes), their random motions seeded by LAP_SOAK_SEED (soak_seed), for LAP_SOAK_S
+// simulated seconds (30 by default; a twentieth under the sanitizers; an hour for the figures in
+// docs/benchmarks.md). Checked: no watchdog event (no non-finite value anywhere, no model fault, no
+// device fault), every tick run, the largest force finite and within the devices' limit, the
+// catheter taken and the duct taken (each on its own), the resident memory at the end within 1 % of
+// what it was once settled (a fifth of the way in; Session::create writes the storage it reserves
+// once, so the first tick's is nearly the same, and the growth since the first tick is printed
+// too); the worst tick, the deepest a proxy was found inside an organ and in how many tested ticks
+// are printed (asserted by Soak.NoProxyInsideAnOrgan), and the longest a jaw's ideal probe was as
+// sampled (a jaw is 2 cm: longer is the open stretch of haptics/README.md). The memory, the takes
+// and the proxies are sampled at the same ticks, by the observer below.
 //
 // Proxies inside an organ: every 251st tick (more often in short runs; LAP_SOAK_PROXY_EVERY),
 // on the loop's own thread (Session::observe_fast), so that every run tests the same ticks, each
@@ -354,6 +354,14 @@ int64_t resident_bytes() {
   return resident * sysconf(_SC_PAGESIZE);
 }
 
+/// The hands' random motions: seeds 11 (left) and 12 (right), or with LAP_SOAK_SEED=k the
+/// pair 11 + 2k and 12 + 2k, so that a change can be judged over several courses, not one.
+uint32_t soak_seed(int side) {
+  const char* s = std::getenv("LAP_SOAK_SEED");
+  const long k = s != nullptr ? std::strtol(s, nullptr, 10) : 0;
+  return static_cast<uint32_t>(11 + side + 2 * std::max(0L, k));
+}
+
 /// The soak; `check_proxies`: also fail when a proxy point is found inside an organ (otherwise
 /// the deepest is measured and printed only; NoProxyInsideAnOrgan below asserts it).
 void soak(bool check_proxies) {
@@ -365,15 +373,16 @@ void soak(bool check_proxies) {
   std::unique_ptr<hardware::HapticDevice> right;
   const CatheterTakes* seeking = nullptr;
   if (seek) {
-    auto takes = std::make_unique<CatheterTakes>(scene, &seen, duration, 12);
+    auto takes = std::make_unique<CatheterTakes>(scene, &seen, duration, soak_seed(1));
     seeking = takes.get();
     right = std::move(takes);
   } else {
-    right =
-        std::make_unique<hardware::ScriptedDevice>(take_and_wander(scene, duration, 12), "right");
+    right = std::make_unique<hardware::ScriptedDevice>(
+        take_and_wander(scene, duration, soak_seed(1)), "right");
   }
-  Devices d{std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, 11), "left"),
-            std::move(right)};
+  Devices d{
+      std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, soak_seed(0)), "left"),
+      std::move(right)};
   RuntimeSettings rs = fast(duration);
   rs.end_with_task = false;  // the task fails soon enough; the soak goes on
   // An hour's inputs would be 0.8 GB: the first fifth (10 s at most) are enough here.
