@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -354,13 +355,23 @@ int64_t resident_bytes() {
   return resident * sysconf(_SC_PAGESIZE);
 }
 
-/// The hands' random motions: seeds 11 (left) and 12 (right), or with LAP_SOAK_SEED=k the
-/// pair 11 + 2k and 12 + 2k, so that a change can be judged over several courses, not one.
-uint32_t soak_seed(int side) {
+/// The course: LAP_SOAK_SEED=k, a whole number from 0 (the default) to 1000000.
+uint32_t soak_course() {
   const char* s = std::getenv("LAP_SOAK_SEED");
-  const long k = s != nullptr ? std::strtol(s, nullptr, 10) : 0;
-  return static_cast<uint32_t>(11 + side + 2 * std::max(0L, k));
+  if (s == nullptr) return 0;
+  const std::string_view v(s);
+  uint32_t k = 0;
+  const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), k);
+  if (error != std::errc() || end != v.data() + v.size() || k > 1000000) {
+    ADD_FAILURE() << "LAP_SOAK_SEED: expected a whole number from 0 to 1000000, got '" << v << "'";
+    return 0;
+  }
+  return k;
 }
+
+/// The hands' random motions on course k: seeds 11 + 2k (left) and 12 + 2k (right), so that a
+/// change can be judged over several courses, not one.
+uint32_t soak_seed(int side) { return 11U + static_cast<uint32_t>(side) + 2U * soak_course(); }
 
 /// The soak; `check_proxies`: also fail when a proxy point is found inside an organ (otherwise
 /// the deepest is measured and printed only; NoProxyInsideAnOrgan below asserts it).
@@ -535,7 +546,7 @@ void soak(bool check_proxies) {
       "step apart skipped), %lld with a proxy inside an organ, deepest %.3f mm, longest jaw proxy "
       "%.2f mm; largest force %.2f N; resident memory %.1f MB at the first tick, %.1f MB once "
       "settled (at %.0f s), %.1f MB at the end (%+.3f %% since settled, %+.3f %% since the first "
-      "tick); the right hand %s\n",
+      "tick); the right hand %s; course %u (LAP_SOAK_SEED)\n",
       duration, wall_s, static_cast<long long>(m.haptic.ticks()), m.haptic.mean_step_s() * 1e6,
       m.haptic.step_quantile_s(0.999) * 1e6, m.haptic.worst_step_s() * 1e6,
       static_cast<long long>(m.model.ticks()), m.model.mean_step_s() * 1e6,
@@ -549,7 +560,8 @@ void soak(bool check_proxies) {
           ? ("went to take the catheter where it lay " + std::to_string(seeking->attempts()) +
              " times (LAP_SOAK_RIGHT_HAND=seek)")
                 .c_str()
-          : "tried the expert's take every 12 s");
+          : "tried the expert's take every 12 s",
+      soak_course());
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
