@@ -371,7 +371,9 @@ uint32_t soak_course() {
 
 /// The hands' random motions on course k: seeds 11 + 2k (left) and 12 + 2k (right), so that a
 /// change can be judged over several courses, not one.
-uint32_t soak_seed(int side) { return 11U + static_cast<uint32_t>(side) + 2U * soak_course(); }
+uint32_t soak_seed(int side, uint32_t course) {
+  return 11U + static_cast<uint32_t>(side) + 2U * course;
+}
 
 /// The soak; `check_proxies`: also fail when a proxy point is found inside an organ (otherwise
 /// the deepest is measured and printed only; NoProxyInsideAnOrgan below asserts it).
@@ -381,19 +383,20 @@ void soak(bool check_proxies) {
   CatheterSighting seen;
   const char* right_hand = std::getenv("LAP_SOAK_RIGHT_HAND");
   const bool seek = right_hand != nullptr && std::string_view(right_hand) == "seek";
+  const uint32_t course = soak_course();
   std::unique_ptr<hardware::HapticDevice> right;
   const CatheterTakes* seeking = nullptr;
   if (seek) {
-    auto takes = std::make_unique<CatheterTakes>(scene, &seen, duration, soak_seed(1));
+    auto takes = std::make_unique<CatheterTakes>(scene, &seen, duration, soak_seed(1, course));
     seeking = takes.get();
     right = std::move(takes);
   } else {
     right = std::make_unique<hardware::ScriptedDevice>(
-        take_and_wander(scene, duration, soak_seed(1)), "right");
+        take_and_wander(scene, duration, soak_seed(1, course)), "right");
   }
-  Devices d{
-      std::make_unique<hardware::ScriptedDevice>(wander(scene, 0, duration, soak_seed(0)), "left"),
-      std::move(right)};
+  Devices d{std::make_unique<hardware::ScriptedDevice>(
+                wander(scene, 0, duration, soak_seed(0, course)), "left"),
+            std::move(right)};
   RuntimeSettings rs = fast(duration);
   rs.end_with_task = false;  // the task fails soon enough; the soak goes on
   // An hour's inputs would be 0.8 GB: the first fifth (10 s at most) are enough here.
@@ -561,7 +564,7 @@ void soak(bool check_proxies) {
              " times (LAP_SOAK_RIGHT_HAND=seek)")
                 .c_str()
           : "tried the expert's take every 12 s",
-      soak_course());
+      course);
   // (The sanitizers' allocator keeps freed memory in quarantine: the figure means nothing there.)
   if (test::kSanitizerDivisor == 1) {
     EXPECT_LT(growth, 0.01);
