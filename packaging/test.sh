@@ -51,8 +51,13 @@ if [ "${LAP_SKIP_ASAN:-0}" != "1" ]; then
   # GCC's) follows a different trajectory on which the two tools holding the catheter taut keep
   # a 35-40 Hz oscillation of 0.14-0.16 N RMS (an open defect of the catheter's model-rate coupling,
   # docs/architecture.md "Open"). The session code they run is checked here by the other tests.
+  # Three of the hardest patient's runs are left to the release stage too: the planner's
+  # clearances, its scripts written again, and the minute-long run out of time. They took 157 of
+  # this stage's 1553 CPU-seconds (docs/benchmarks.md "The CI run's stage times"), and the same
+  # code runs here on the other three scenarios' instances of the same tests.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --preset asan --parallel "$jobs"
+    ctest --preset asan --parallel "$jobs" \
+    -E 'PatientRun\.(ThePlannedRightHandsClearances|TheShippedScripts|HesitatingAtTheIncision).*/patient_hard( |$)'
 fi
 
 if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then

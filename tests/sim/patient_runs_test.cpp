@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ struct Patient {
   /// The left hand steadies the duct (else it waits in view: no clear line from its port).
   bool steadies_duct = true;
 };
+
+// The test's name in ctest says the scenario (gtest would print the struct's bytes).
+void PrintTo(const Patient& p, std::ostream* os) { *os << p.stem; }
 
 const Scene& scene_of(const Patient& p) {
   static std::map<std::string, SceneLoadResult> loaded;
@@ -84,29 +88,13 @@ TEST_P(PatientRun, TheShippedScriptsAreWhatThePlannerWritesFromTheScenario) {
   }
 }
 
+// The expert's run ends in success, and the left hand steadies the duct beside the incision while
+// the catheter goes in (issue 22, "the procedure, as it is done"): it has taken the duct before
+// the tip reaches the incision and holds it to the end, gently: its jaws' squeeze below a tenth
+// of the task's threshold, the duct's load below the injury threshold (the run's events have no
+// duct_injury). One test, as both are about the one expert session (it takes a minute per
+// patient in the sanitizer build).
 TEST_P(PatientRun, TheExpertInsertsTheCatheterAndHoldsIt) {
-  const Scene& scene = scene_of(GetParam());
-  const SessionMetrics m = run_scripts(scene, scripts_of(GetParam()), "expert");
-  EXPECT_EQ(m.task.result, TaskResult::kSuccess);
-  EXPECT_EQ(event_kinds(m.task),
-            "catheter_grasped, tip_at_incision, tip_in_lumen, target_depth_reached, success");
-  ASSERT_EQ(m.task.events.size(), 5U);
-  EXPECT_EQ(m.task.events[0].tool, 1);  // the right hand holds the catheter
-  const TaskEvent& depth = m.task.events[3];
-  EXPECT_GE(depth.value, scene.scenario.task->insertion_depth_m);
-  // Held at depth for the scenario's 3 s, and done well within the time limit.
-  EXPECT_NEAR(m.task.end_s - depth.t_s, scene.scenario.task->hold_s, 0.006);
-  EXPECT_LT(m.task.end_s, 20.0);
-  // Gently: a fraction of a newton at the hands (nothing pressed on the way).
-  EXPECT_LT(m.max_force_sent_n, 1.0);
-  EXPECT_FALSE(m.paused);
-}
-
-// The left hand steadies the duct beside the incision while the catheter goes in (issue 22,
-// "the procedure, as it is done"): it has taken the duct before the tip reaches the incision and
-// holds it to the end, gently: its jaws' squeeze below a tenth of the task's threshold, the
-// duct's load below the injury threshold (the run's events above have no duct_injury).
-TEST_P(PatientRun, TheLeftHandSteadiesTheDuctWhileTheCatheterGoesIn) {
   const Scene& scene = scene_of(GetParam());
   Devices devices = scripted_devices(scripts_of(GetParam()), "expert");
   auto left = hardware::load_scripted_trajectory(scripts_of(GetParam()) / "expert_left.csv");
@@ -134,7 +122,19 @@ TEST_P(PatientRun, TheLeftHandSteadiesTheDuctWhileTheCatheterGoesIn) {
     }
   };
   const SessionMetrics m = session.run();
-  ASSERT_EQ(m.task.result, TaskResult::kSuccess);
+  EXPECT_EQ(m.task.result, TaskResult::kSuccess);
+  EXPECT_EQ(event_kinds(m.task),
+            "catheter_grasped, tip_at_incision, tip_in_lumen, target_depth_reached, success");
+  ASSERT_EQ(m.task.events.size(), 5U);
+  EXPECT_EQ(m.task.events[0].tool, 1);  // the right hand holds the catheter
+  const TaskEvent& depth = m.task.events[3];
+  EXPECT_GE(depth.value, scene.scenario.task->insertion_depth_m);
+  // Held at depth for the scenario's 3 s, and done well within the time limit.
+  EXPECT_NEAR(m.task.end_s - depth.t_s, scene.scenario.task->hold_s, 0.006);
+  EXPECT_LT(m.task.end_s, 20.0);
+  // Gently: a fraction of a newton at the hands (nothing pressed on the way).
+  EXPECT_LT(m.max_force_sent_n, 1.0);
+  EXPECT_FALSE(m.paused);
   ASSERT_GE(m.task.phase_s[1], 0.0);
   ASSERT_EQ(steadies(GetParam()), GetParam().steadies_duct);
   if (!GetParam().steadies_duct) {
