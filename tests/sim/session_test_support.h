@@ -179,6 +179,27 @@ inline std::string event_kinds(const TaskState& t) {
   return s;
 }
 
+// An expert's run as every scenario's should end (issue 22): the five phases in order, the right
+// hand holding the catheter, the target depth reached and held for the task's time, well within
+// 20 s, and no pause. Returns false (with the failures added) if the events are not those five.
+inline bool expect_expert_success(const SessionMetrics& m, const TaskSpec& task) {
+  EXPECT_EQ(m.task.result, TaskResult::kSuccess);
+  EXPECT_EQ(event_kinds(m.task),
+            "catheter_grasped, tip_at_incision, tip_in_lumen, target_depth_reached, success");
+  if (m.task.events.size() != 5U) {
+    ADD_FAILURE() << "expected the expert's five events, got " << m.task.events.size();
+    return false;
+  }
+  EXPECT_EQ(m.task.events[0].tool, 1);  // the right hand holds the catheter
+  const TaskEvent& depth = m.task.events[3];
+  EXPECT_GE(depth.value, task.insertion_depth_m);
+  // Held at depth for the scenario's time, and done well within the time limit.
+  EXPECT_NEAR(m.task.end_s - depth.t_s, task.hold_s, 0.006);
+  EXPECT_LT(m.task.end_s, 20.0);
+  EXPECT_FALSE(m.paused);
+  return true;
+}
+
 inline std::string file_text(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream s;
