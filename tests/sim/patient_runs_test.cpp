@@ -92,8 +92,7 @@ TEST_P(PatientRun, TheShippedScriptsAreWhatThePlannerWritesFromTheScenario) {
 // the catheter goes in (issue 22, "the procedure, as it is done"): it has taken the duct before
 // the tip reaches the incision and holds it to the end, gently: its jaws' squeeze below a tenth
 // of the task's threshold, the duct's load below the injury threshold (the run's events have no
-// duct_injury). One test, as both are about the one expert session (it takes a minute per
-// patient in the sanitizer build).
+// duct_injury). One test, as both are about the one expert session.
 TEST_P(PatientRun, TheExpertInsertsTheCatheterAndHoldsIt) {
   const Scene& scene = scene_of(GetParam());
   Devices devices = scripted_devices(scripts_of(GetParam()), "expert");
