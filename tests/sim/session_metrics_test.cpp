@@ -7,9 +7,11 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -19,6 +21,7 @@
 #include "sim/report/session_report.h"
 #include "sim/runtime/session.h"
 #include "tests/sim/session_test_support.h"
+#include "tests/support/small_disk.h"
 
 namespace lap::sim {
 namespace {
@@ -232,6 +235,42 @@ TEST(SessionRecord, IsWrittenOnceWholeAndNeverOverAnother) {
             std::string::npos)
       << on_full_disk.message();
   EXPECT_TRUE(fs::is_empty(full.path()));
+}
+
+// The same on a disk that really has no space left (the kernel's ENOSPC, not the file size
+// limit's EFBIG): a 64 KB tmpfs of the test's own, filled to the last byte first
+// (tests/support/small_disk.h; skipped, saying why, where none can be mounted).
+TEST(SessionRecord, ADiskWithNoSpaceLeftGetsNoHalfWrittenRecord) {
+  const test::TempDir dir;
+  const fs::path disk = dir.path() / "disk";
+  fs::create_directory(disk);
+  RuntimeSettings rs;
+  const std::string text =
+      session_record_json(test::source_dir() / "scenarios/default.yaml", 0x0123456789abcdefULL, rs);
+  const test::SmallDiskRun run = test::run_on_a_small_disk(disk, 64U * 1024U, [&] {
+    {  // the disk filled by another file
+      std::ofstream filler(disk / "filler", std::ios::binary);
+      const std::string block(4096, 'x');
+      while (filler.write(block.data(), static_cast<std::streamsize>(block.size())).flush()) {
+      }
+    }
+    const Status written = write_session_record(disk, text);
+    std::ofstream out(dir.path() / "report.txt");
+    out << (written.ok() ? "written" : written.message()) << "\n";
+    for (const auto& e : fs::directory_iterator(disk)) out << e.path().filename().string() << "\n";
+    return 0;
+  });
+  if (!run.ran) GTEST_SKIP() << "no small disk could be mounted here: " << run.why_not;
+  ASSERT_EQ(run.exit_code, 0);
+  const std::vector<std::string> report =
+      test::lines_of(test::read_file(dir.path() / "report.txt"));
+  ASSERT_EQ(report.size(), 2U) << test::read_file(dir.path() / "report.txt");
+  EXPECT_NE(report[0].find((disk / "session.json").string() +
+                           ": cannot write the session's record: writing"),
+            std::string::npos)
+      << report[0];
+  EXPECT_NE(report[0].find(std::strerror(ENOSPC)), std::string::npos) << report[0];
+  EXPECT_EQ(report[1], "filler");  // neither the record nor its temporary file left
 }
 
 // Within two SDs of the experts' mean on the side that counts: lower is better for the time

@@ -1,14 +1,16 @@
 // The streamed recording (sim/runtime/session_recorder.h) and its reader
 // (sim/report/recording_reader.h): a session recorded as it runs reads back to the very samples
 // it recorded; a damaged chunk is reported by its offset and the rest still reads; a file cut
-// anywhere reads up to its last whole chunk as an interrupted session; a disk that fills up
-// stops the recording, not the session, and what was written stays.
+// anywhere reads up to its last whole chunk as an interrupted session; a disk that fills up (a
+// file size limit, and a real full disk where one can be mounted) stops the recording, not the
+// session, and what was written stays.
 
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -19,6 +21,7 @@
 #include "sim/report/session_replay.h"
 #include "sim/runtime/session.h"
 #include "tests/sim/session_test_support.h"
+#include "tests/support/small_disk.h"
 
 namespace lap::sim {
 namespace {
@@ -303,6 +306,49 @@ TEST(SessionRecording, ADiskThatFillsUpStopsTheRecordingNotTheSession) {
   EXPECT_GT(r.value().ticks.size(), 1000U);  // several whole chunks (40 ms of --fast each)
   EXPECT_LT(static_cast<int64_t>(r.value().ticks.size()), m.recorded_ticks);
   EXPECT_LE(fs::file_size(dir.path() / "session.lrec"), 2U * 1024U * 1024U);
+}
+
+// The same on a disk that really fills up: a 2 MB tmpfs of the test's own (a child process's
+// mount namespace, tests/support/small_disk.h), so that the write fails with the kernel's ENOSPC,
+// as on a trainee's full disk, not with RLIMIT_FSIZE's EFBIG above. Skipped, saying why, where
+// no such disk can be mounted (no root and no unprivileged user namespaces).
+TEST(SessionRecording, ADiskWithNoSpaceLeftStopsTheRecordingNotTheSession) {
+  const test::TempDir dir;
+  const fs::path disk = dir.path() / "disk";
+  fs::create_directory(disk);
+  // In the child: the session recorded onto the small disk, then what the parent checks copied
+  // out beside it (the result, the recorded ticks, the warnings, the recording itself).
+  const test::SmallDiskRun run = test::run_on_a_small_disk(disk, 2U * 1024U * 1024U, [&] {
+    const auto session = expert_session();
+    if (!session->record_to(disk / "session.lrec", "{}").ok()) return 3;
+    const SessionMetrics m = session->run();
+    std::ofstream out(dir.path() / "report.txt");
+    out << (m.task.result == TaskResult::kSuccess ? "success" : "not success") << "\n"
+        << m.recorded_ticks << "\n";
+    for (const std::string& w : m.warnings) out << w << "\n";
+    std::error_code e;
+    fs::copy_file(disk / "session.lrec", dir.path() / "session.lrec", e);
+    return e ? 4 : 0;
+  });
+  if (!run.ran) GTEST_SKIP() << "no small disk could be mounted here: " << run.why_not;
+  ASSERT_EQ(run.exit_code, 0) << "3: the recording could not be opened, 4: not copied out";
+  const std::vector<std::string> report =
+      test::lines_of(test::read_file(dir.path() / "report.txt"));
+  ASSERT_GE(report.size(), 2U);
+  EXPECT_EQ(report[0], "success");  // the session went on
+  std::string warning;
+  for (const std::string& w : report) {
+    if (w.find("the recording") != std::string::npos) warning = w;
+  }
+  EXPECT_NE(warning.find((disk / "session.lrec").string() + " stopped after "), std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find(std::strerror(ENOSPC)), std::string::npos) << warning;
+  EXPECT_NE(warning.find("(what was written before is kept)"), std::string::npos) << warning;
+  const Result<RecordedSession> r = read_session_recording(dir.path() / "session.lrec");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r.value().interrupted);        // no end: it could not be written
+  EXPECT_GT(r.value().ticks.size(), 1000U);  // several whole chunks (40 ms of --fast each)
+  EXPECT_LT(static_cast<int64_t>(r.value().ticks.size()), std::stoll(report[1]));
 }
 
 // A session longer than the recording space reserved for it (record_s): the recording keeps

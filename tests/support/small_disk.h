@@ -1,0 +1,29 @@
+#pragma once
+/// \file
+/// A disk that really fills up: a small tmpfs mounted in a child process's own mount namespace,
+/// so that a write runs out of space with the kernel's ENOSPC (not RLIMIT_FSIZE's EFBIG) and the
+/// mount vanishes with the child, whatever the test does.
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace lap::test {
+
+/// What became of a body run on a small disk.
+struct SmallDiskRun {
+  bool ran = false;     ///< false: no disk could be mounted here (`why_not` says why); skip
+  int exit_code = -1;   ///< the body's return value (or 128 + the signal that ended the child)
+  std::string why_not;  ///< why the disk could not be mounted
+};
+
+/// Forks; the child takes a mount namespace of its own (as root; otherwise a user namespace too,
+/// where the kernel allows it), mounts a tmpfs of `bytes` at `mount_point` (an existing empty
+/// folder) and returns `body()`'s value as its exit code. The body runs in the child: it must not
+/// make gtest assertions (they would be lost) but write what the parent should check to files
+/// outside `mount_point`, which the child sees as the parent does.
+[[nodiscard]] SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point,
+                                               size_t bytes, const std::function<int()>& body);
+
+}  // namespace lap::test
