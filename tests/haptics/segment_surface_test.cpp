@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <vector>
 
 #include "haptics/friction.h"
@@ -52,6 +53,8 @@ struct Body {
 // or lying flat along z (a segment–face contact at its middle). at(x, depth) gives its ends
 // with the contact point at (x, kTop - depth, 0).
 enum class Pose { kTip, kLying };
+// The parameter's name in the tests' listing (gtest would print the enum's bytes).
+void PrintTo(Pose pose, std::ostream* os) { *os << (pose == Pose::kTip ? "tip" : "lying"); }
 void probe_at(Pose pose, double x, double depth, Eigen::Vector3d* a, Eigen::Vector3d* b) {
   const Eigen::Vector3d p(x, kTop - depth, 0.0);
   if (pose == Pose::kTip) {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -24,6 +25,11 @@
 #include "tests/test_support.h"
 
 namespace lap::sim {
+
+// The model in the tests' listing (gtest would print the enum's byte). Here, in the enum's own
+// namespace, where gtest's printer finds it.
+void PrintTo(ModelFaultKind kind, std::ostream* os) { *os << to_string(kind); }
+
 namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
@@ -75,12 +81,20 @@ TEST_P(SessionModelFault, ZeroForceWithinOneTickPausedAndTheModelNamed) {
 INSTANTIATE_TEST_SUITE_P(EachModel, SessionModelFault,
                          ::testing::Values(ModelFaultKind::kCatheter,
                                            ModelFaultKind::kLocalDeformation,
-                                           ModelFaultKind::kModalShell));
+                                           ModelFaultKind::kModalShell),
+                         [](const ::testing::TestParamInfo<ModelFaultKind>& info) {
+                           std::string name(to_string(info.param));
+                           std::replace(name.begin(), name.end(), ' ', '_');
+                           return name;
+                         });
 
 struct FaultCase {
   FaultyDevice::Fault fault;
   WatchdogReason reason;
 };
+
+// The parameter in the tests' listing (gtest would print the struct's bytes).
+void PrintTo(const FaultCase& c, std::ostream* os) { *os << to_string(c.reason); }
 
 class SessionWatchdog : public ::testing::TestWithParam<FaultCase> {};
 

@@ -9,6 +9,7 @@
 #include <QTemporaryDir>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 
 #include "app/store/session_store.h"
@@ -41,6 +42,10 @@ struct PostgresServer {
 };
 
 enum class Backend { kSqlite, kPostgresql };
+/// The backend in the tests' listing (gtest would print the enum's bytes).
+inline void PrintTo(Backend backend, std::ostream* os) {
+  *os << (backend == Backend::kSqlite ? "sqlite" : "postgresql");
+}
 
 /// One test's store set-up: a temporary folder, and for kPostgresql a fresh database on the test
 /// server (dropped at the end). `available()` false: skip with `why_not()`.
