@@ -55,6 +55,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kExitOk = 0;
+// `run --record`: the session ran, but not all it was to write could be written (a full disk);
+// each file is named, and what was written is kept.
+constexpr int kExitNotSaved = 1;
 constexpr int kExitProblems = 2;  // the input has problems (validate contract)
 constexpr int kExitUsage = 64;
 // `run` ended early by SIGINT or SIGTERM, cleanly (the shell's 128 + signal number).
@@ -97,7 +100,8 @@ const char* const kUsage =
     "      replay:FILE or phantom[:NAME]; it ends with the task, at --duration, or (without\n"
     "      it) when scripted and replayed devices run out (10 s with any other device);\n"
     "      prints the metrics as JSON; SIGINT or SIGTERM\n"
-    "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143)\n"
+    "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143);\n"
+    "      exit 1 when not all of the recording could be written (each file named)\n"
     "  devices\n"
     "      list the actuated USB grippers plugged in (serial, bus path), to name each tool's\n"
     "      with DEV+gripper:SERIAL or DEV+gripper@BUS-PORTS\n"
@@ -568,8 +572,13 @@ int cmd_run(int argc, char** argv) {
     const lap::Status saved =
         lap::sim::save_session(*session, m, args.get("--scenario"), rs.fast, args.get("--record"));
     if (!saved.ok()) {
-      std::cerr << "laptrainer-cli run: " << saved.message() << "\n";
-      return kExitProblems;
+      for (const lap::Diagnostic& d : saved.diagnostics()) {
+        std::cerr << "laptrainer-cli run: " << d.to_string() << "\n";
+      }
+      std::cerr << "laptrainer-cli run: the session ran, but not all of its recording was written "
+                   "(above); what was written in "
+                << args.get("--record") << " is kept\n";
+      return kExitNotSaved;
     }
   }
   if (const int sig = g_stop_signal.load(); sig != 0) {

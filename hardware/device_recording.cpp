@@ -3,9 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
+#include <string_view>
 
 #include "core/bounded_file.h"
+#include "core/whole_file.h"
 
 namespace lap::hardware {
 namespace {
@@ -54,12 +55,9 @@ Status write_device_recording(const std::filesystem::path& file, const DeviceRec
     put(&bytes, s.buttons);
     put(&bytes, static_cast<uint32_t>(r.status));
   }
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) return file_diagnostic(file.string(), 0, "", "cannot write the device recording");
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) return file_diagnostic(file.string(), 0, "", "writing the device recording failed");
-  return {};
+  // Whole or not at all: on a full disk no cut-off recording is left to be replayed.
+  return write_file_whole(file, std::string_view(bytes.data(), bytes.size()),
+                          "the device recording");
 }
 
 Result<DeviceRecording> read_device_recording(const std::filesystem::path& file) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/whole_file.h"
 #include "sim/report/proficiency.h"
 #include "sim/report/session_replay.h"
 
@@ -172,10 +173,14 @@ std::string metrics_json(const SessionMetrics& m, const std::string& scenario, b
 
 Status save_session(const Session& session, const SessionMetrics& m, const std::string& scenario,
                     bool fast, const std::string& dir) {
-  // The inputs (for replay) and the metrics, side by side.
-  if (Status written = session.write_recording(dir); !written.ok()) return written;
+  // The inputs (for replay) and the metrics, side by side, each whole or not at all and each
+  // tried whatever became of the others (a full disk, issue 25): every failure is said.
+  std::vector<Diagnostic> failed;
+  auto keep = [&](Status s) {
+    for (Diagnostic& d : std::move(s).diagnostics()) failed.push_back(std::move(d));
+  };
+  keep(session.write_recording(dir));
   const std::filesystem::path metrics = std::filesystem::path(dir) / "metrics.json";
-  std::ofstream f(metrics);
   nlohmann::ordered_json j = metrics_to_json(m, scenario, fast);
   // A scenario changed on disk while the session ran is said in the metrics it leaves (`run`
   // says it in m.warnings already).
@@ -185,20 +190,20 @@ Status save_session(const Session& session, const SessionMetrics& m, const std::
     j["warnings"].push_back(*changed);
   }
   j["series"] = series_to_json(m.series);
-  f << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
-  f.flush();
-  if (!f) return Diagnostic{metrics.string(), 0, "", "cannot write the metrics"};
+  keep(write_file_whole(
+      metrics, j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n",
+      "the metrics"));
   // What it was run with, for `report` to replay it (session_replay.h): written when the session
   // started (`run --record`), and then never again; else now (the window's saved sessions), with
   // the digest of the scenario as it was loaded.
   std::error_code ec;
-  if (std::filesystem::exists(
+  if (!std::filesystem::exists(
           std::filesystem::symlink_status(std::filesystem::path(dir) / "session.json", ec))) {
-    return {};
+    keep(write_session_record(
+        dir, session_record_json(session.model().scenario_file(), session.model().scenario_digest(),
+                                 session.model().settings())));
   }
-  return write_session_record(
-      dir, session_record_json(session.model().scenario_file(), session.model().scenario_digest(),
-                               session.model().settings()));
+  return failed;
 }
 
 }  // namespace lap::sim

@@ -1320,13 +1320,17 @@ Status Session::write_recording(const std::string& dir) const {
   // A trainee's session: readable by its owner only.
   std::filesystem::permissions(dir, std::filesystem::perms::owner_all,
                                std::filesystem::perm_options::replace, ec);
+  // Each hand's inputs whole or not at all, the one tried whatever became of the other (a full
+  // disk may take the first and leave room for neither): every failure is said.
   const std::filesystem::path d(dir);
+  std::vector<Diagnostic> failed;
   for (size_t i = 0; i < 2; ++i) {
     Status written = hardware::write_device_recording(d / (i == 0 ? "left.lapdev" : "right.lapdev"),
                                                       recordings_[i]);
-    if (!written.ok()) return written;
+    for (Diagnostic& problem : std::move(written).diagnostics())
+      failed.push_back(std::move(problem));
   }
-  return {};
+  return failed;
 }
 
 }  // namespace lap::sim

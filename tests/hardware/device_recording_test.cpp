@@ -2,12 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "hardware/replay_device.h"
+#include "tests/support/small_disk.h"
+#include "tests/test_support.h"
 
 namespace lap::hardware {
 namespace {
@@ -66,6 +72,43 @@ TEST(DeviceRecording, RoundTripsBitForBitAndReplaysIt) {
   DeviceSample past;
   EXPECT_EQ(replay.read(100, 0.001, &past), DeviceStatus::kFinished);
   fs::remove(f);
+}
+
+// On a disk with no space left (the kernel's ENOSPC, on a small tmpfs of the test's own:
+// tests/support/small_disk.h), a recording is written whole or not at all: the error names the
+// file and the reason, no cut-off recording or temporary file is left, and an older recording of
+// that name stays as it was. Skipped, saying why, where no such disk can be mounted.
+TEST(DeviceRecording, ADiskWithNoSpaceLeftGetsNoCutOffRecording) {
+  const test::TempDir dir;
+  const fs::path disk = dir.path() / "disk";
+  fs::create_directory(disk);
+  const test::SmallDiskRun run = test::run_on_a_small_disk(disk, 64U * 1024U, [&] {
+    if (!write_device_recording(disk / "old.lapdev", make_recording(10)).ok()) return 3;
+    {  // the rest of the disk filled by another file
+      std::ofstream filler(disk / "filler", std::ios::binary);
+      const std::string block(4096, 'x');
+      while (filler.write(block.data(), static_cast<std::streamsize>(block.size())).flush()) {
+      }
+    }
+    const Status written = write_device_recording(disk / "old.lapdev", make_recording(2000));
+    std::ofstream out(dir.path() / "report.txt");
+    out << (written.ok() ? "written" : written.message()) << "\n";
+    for (const auto& e : fs::directory_iterator(disk)) out << e.path().filename().string() << "\n";
+    std::error_code e;
+    fs::copy_file(disk / "old.lapdev", dir.path() / "old.lapdev", e);
+    return e ? 4 : 0;
+  });
+  if (!run.ran) GTEST_SKIP() << "no small disk could be mounted here: " << run.why_not;
+  ASSERT_EQ(run.exit_code, 0) << "3: the first recording was not written, 4: not copied out";
+  std::vector<std::string> report = test::lines_of(test::read_file(dir.path() / "report.txt"));
+  ASSERT_FALSE(report.empty());
+  EXPECT_EQ(report[0], (disk / "old.lapdev").string() + ": cannot write the device recording: " +
+                           std::strerror(ENOSPC) + " (nothing of it was written)");
+  std::sort(report.begin() + 1, report.end());
+  EXPECT_EQ(report, (std::vector<std::string>{report[0], "filler", "old.lapdev"}));
+  const Result<DeviceRecording> old = read_device_recording(dir.path() / "old.lapdev");
+  ASSERT_TRUE(old.ok()) << old.message();
+  EXPECT_EQ(old->samples.size(), 10U);
 }
 
 TEST(DeviceRecording, TruncatedAndForeignFilesAreClearErrors) {

@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -24,6 +26,7 @@
 #include "sim/report/recording_reader.h"
 #include "sim/runtime/perception_experiment.h"
 #include "sim/setup/content_digest.h"
+#include "tests/support/small_disk.h"
 #include "tests/test_support.h"
 
 namespace lap::test {
@@ -411,6 +414,75 @@ TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
   }
   EXPECT_EQ(metrics["completion_time_s"].get<double>(), done);
   EXPECT_EQ(metrics["catheter_drops"], 0.0);
+}
+
+// A recorded run on a disk that fills up (a 1 MB tmpfs of the test's own, the kernel's ENOSPC:
+// tests/support/small_disk.h): the session runs to its end and prints its result; the streamed
+// recording stops where the disk filled and says so; each file that could not be written at the
+// end is named and left out whole (no cut-off file); the exit code is 1 (README.md); and `report`
+// replays the session from what was kept, up to its last recorded tick. Skipped, saying why,
+// where no such disk can be mounted.
+TEST(CliRun, ADiskThatFillsUpKeepsWhatWasRecordedAndNamesWhatWasNot) {
+  const TempDir dir;
+  const std::filesystem::path disk = dir.path() / "disk";
+  std::filesystem::create_directory(disk);
+  const std::filesystem::path rec = disk / "s1";
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const SmallDiskRun small = run_on_a_small_disk(disk, 1024U * 1024U, [&] {
+    const CommandResult run = run_command(
+        cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+        " --left scripted:" + (scripts / "expert_left.csv").string() + " --right scripted:" +
+        (scripts / "expert_right.csv").string() + " --fast --duration 30 --record " + rec.string());
+    const CommandResult report = run_command(cli() + " report --session " + rec.string());
+    std::ofstream(dir.path() / "run.out") << run.out;
+    std::ofstream(dir.path() / "run.err") << run.err;
+    std::ofstream(dir.path() / "report.out") << report.out;
+    std::ofstream(dir.path() / "report.err") << report.err;
+    std::ofstream files(dir.path() / "files.txt");
+    for (const auto& e : std::filesystem::directory_iterator(rec)) {
+      files << e.path().filename().string() << "\n";
+    }
+    std::ofstream(dir.path() / "codes.txt") << run.exit_code << " " << report.exit_code << "\n";
+    return 0;
+  });
+  if (!small.ran) GTEST_SKIP() << "no small disk could be mounted here: " << small.why_not;
+  ASSERT_EQ(small.exit_code, 0);
+  std::istringstream codes(read_file(dir.path() / "codes.txt"));
+  int run_code = -1, report_code = -1;
+  codes >> run_code >> report_code;
+  const std::string err = read_file(dir.path() / "run.err");
+  EXPECT_EQ(run_code, 1) << err;
+  // The result, printed whatever became of the recording.
+  const auto out = nlohmann::ordered_json::parse(read_file(dir.path() / "run.out"), nullptr, false);
+  ASSERT_FALSE(out.is_discarded()) << read_file(dir.path() / "run.out");
+  EXPECT_EQ(out["task"]["result"], "success");
+  const std::string no_space = std::strerror(ENOSPC);
+  EXPECT_NE(
+      err.find("warning: the recording " + (rec / "session.lrec").string() + " stopped after "),
+      std::string::npos)
+      << err;
+  for (const char* file : {"left.lapdev", "right.lapdev", "metrics.json"}) {
+    EXPECT_NE(err.find((rec / file).string() + ": cannot write the "), std::string::npos) << err;
+  }
+  EXPECT_NE(err.find(no_space + " (nothing of it was written)"), std::string::npos) << err;
+  EXPECT_NE(err.find("the session ran, but not all of its recording was written (above); what "
+                     "was written in " +
+                     rec.string() + " is kept"),
+            std::string::npos)
+      << err;
+  std::vector<std::string> files = lines_of(read_file(dir.path() / "files.txt"));
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"session.json", "session.lrec"}));
+  // What was kept replays, as far as it goes.
+  EXPECT_EQ(report_code, 0) << read_file(dir.path() / "report.err");
+  EXPECT_NE(read_file(dir.path() / "report.err").find("replayed up to its last recorded tick"),
+            std::string::npos)
+      << read_file(dir.path() / "report.err");
+  const auto replayed =
+      nlohmann::ordered_json::parse(read_file(dir.path() / "report.out"), nullptr, false);
+  ASSERT_FALSE(replayed.is_discarded());
+  EXPECT_EQ(replayed["interrupted"], true);
+  EXPECT_GT(replayed["recorded_ticks"].get<int64_t>(), 1000);
 }
 
 TEST(CliRun, WithoutADurationScriptedDevicesRunUntilTheScriptsOrTheTaskEnd) {
