@@ -55,9 +55,10 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kExitOk = 0;
-// `run --record`: the session ran, but not all it was to write could be written (a full disk);
-// each file is named, and what was written is kept.
-constexpr int kExitNotSaved = 1;
+// `run --record`: the session ran, but not all it was to write at its end could be written (a
+// full disk); each file is named, and what was written is kept. Before a signal's 130 or 143.
+// (1 is an unexpected exception's, main below.)
+constexpr int kExitNotSaved = 3;
 constexpr int kExitProblems = 2;  // the input has problems (validate contract)
 constexpr int kExitUsage = 64;
 // `run` ended early by SIGINT or SIGTERM, cleanly (the shell's 128 + signal number).
@@ -101,7 +102,7 @@ const char* const kUsage =
     "      it) when scripted and replayed devices run out (10 s with any other device);\n"
     "      prints the metrics as JSON; SIGINT or SIGTERM\n"
     "      stop it cleanly (forces zeroed, metrics and recording written; exit 130 or 143);\n"
-    "      exit 1 when not all of the recording could be written (each file named)\n"
+    "      exit 3 when not all of the recording could be written (each file named)\n"
     "  devices\n"
     "      list the actuated USB grippers plugged in (serial, bus path), to name each tool's\n"
     "      with DEV+gripper:SERIAL or DEV+gripper@BUS-PORTS\n"

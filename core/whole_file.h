@@ -1,15 +1,17 @@
 #pragma once
 /// \file
 /// Writing a file whole or not at all: the bytes go to a temporary file of this process's own
-/// beside it, are synced to the disk, and only then take the file's name. A full disk, a quota or
-/// a failing device leaves no half-written file (and an older file of that name as it was), and
-/// the diagnostic names the file and the system's reason (issue 25: "the disk full while
-/// recording"). POSIX (mkstemp, fsync, rename) besides the standard library.
+/// beside it, are synced to the disk, and only then take the file's name (the folder's entry
+/// synced too). A full disk, a quota or a failing device leaves no half-written file (and an
+/// older file of that name as it was), and the diagnostic names the file and the system's reason
+/// (issue 25: "the disk full while recording"). POSIX (mkostemp, fsync, rename) besides the
+/// standard library.
 
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -25,30 +27,38 @@ namespace lap {
 /// trainee's.
 [[nodiscard]] inline Status write_file_whole(const std::filesystem::path& file,
                                              std::string_view bytes, const std::string& what) {
-  const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
-  std::string temporary = (dir / ("." + file.filename().string() + ".XXXXXX")).string();
-  const int fd = ::mkstemp(temporary.data());
-  if (fd < 0) {
-    return file_diagnostic(file.string(), 0, "",
-                           "cannot write " + what + ": " + std::strerror(errno));
-  }
-  size_t done = 0;
-  bool written = true;
-  while (written && done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    written = n > 0;
-    if (written) done += static_cast<size_t>(n);
-  }
-  written = written && ::fsync(fd) == 0;
-  const int reason = errno;
-  const bool closed = ::close(fd) == 0;
-  if (!written || !closed || ::rename(temporary.c_str(), file.c_str()) != 0) {
-    const int why = !written ? reason : errno;
-    ::unlink(temporary.c_str());
+  auto failed = [&](int reason) -> Status {
     return file_diagnostic(
         file.string(), 0, "",
-        "cannot write " + what + ": " + std::strerror(why) + " (nothing of it was written)");
+        "cannot write " + what + ": " + std::strerror(reason) + " (nothing of it was written)");
+  };
+  const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
+  std::string temporary = (dir / ("." + file.filename().string() + ".XXXXXX")).string();
+  const int fd = ::mkostemp(temporary.data(), O_CLOEXEC);
+  if (fd < 0) return failed(errno);
+  size_t done = 0;
+  int reason = 0;
+  while (reason == 0 && done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n > 0) {
+      done += static_cast<size_t>(n);
+    } else if (n < 0 && errno != EINTR) {
+      reason = errno;
+    } else if (n == 0) {
+      reason = EIO;  // no progress and no reason given
+    }
+  }
+  if (reason == 0 && ::fsync(fd) != 0) reason = errno;
+  if (::close(fd) != 0 && reason == 0) reason = errno;
+  if (reason == 0 && ::rename(temporary.c_str(), file.c_str()) != 0) reason = errno;
+  if (reason != 0) {
+    ::unlink(temporary.c_str());
+    return failed(reason);
+  }
+  // The folder's entry on the disk too (best effort: some file systems refuse a folder's sync).
+  if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    (void)::fsync(dfd);
+    ::close(dfd);
   }
   return {};
 }

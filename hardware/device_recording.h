@@ -39,7 +39,9 @@ inline constexpr size_t kDeviceRecordingRecordBytes = 112;
 /// FIFO), is refused unread.
 inline constexpr uint64_t kMaxDeviceRecordingBytes = uint64_t{2} << 30;
 
-/// Writes the recording; a diagnostic naming the file on failure.
+/// Writes the recording whole or not at all (core/whole_file.h: a full disk leaves no cut-off
+/// recording, and an older file of that name as it was); a diagnostic naming the file and the
+/// system's reason on failure.
 [[nodiscard]] Status write_device_recording(const std::filesystem::path& file,
                                             const DeviceRecording& recording);
 

@@ -180,6 +180,9 @@ Status save_session(const Session& session, const SessionMetrics& m, const std::
     for (Diagnostic& d : std::move(s).diagnostics()) failed.push_back(std::move(d));
   };
   keep(session.write_recording(dir));
+  // No folder: nothing else can be written there either, and that is said once.
+  std::error_code missing;
+  if (!std::filesystem::is_directory(dir, missing)) return failed;
   const std::filesystem::path metrics = std::filesystem::path(dir) / "metrics.json";
   nlohmann::ordered_json j = metrics_to_json(m, scenario, fast);
   // A scenario changed on disk while the session ran is said in the metrics it leaves (`run`

@@ -41,7 +41,9 @@ namespace lap::sim {
                                        bool fast);
 
 /// Writes the session's recorded inputs (left.lapdev, right.lapdev) and `metrics_json` as
-/// metrics.json into `dir` (created if missing); diagnostics name the file on failure.
+/// metrics.json into `dir` (created if missing), and session.json if it is not there yet: each
+/// file whole or not at all (core/whole_file.h), each tried whatever became of the others, and
+/// one diagnostic naming the file for each that could not be written (a full disk).
 [[nodiscard]] Status save_session(const Session& session, const SessionMetrics& m,
                                   const std::string& scenario, bool fast, const std::string& dir);
 

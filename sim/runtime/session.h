@@ -333,7 +333,8 @@ class Session {
   /// After run(): what the haptic loop sent, read and touched on each tick recorded, in order
   /// (what session.lrec holds beside the devices' inputs).
   [[nodiscard]] const std::vector<TickLog>& tick_log() const { return tick_log_; }
-  /// Writes DIR/left.lapdev, DIR/right.lapdev; diagnostics name the file on failure.
+  /// Writes DIR/left.lapdev, DIR/right.lapdev, each whole or not at all and each tried; a
+  /// diagnostic naming the file for each that could not be written.
   [[nodiscard]] Status write_recording(const std::string& dir) const;
   /// Before run(): the session is also recorded as it runs into `file` (session_recorder.h),
   /// so that a crash loses at most the last 100 ms; `header_json` heads it (session.json's

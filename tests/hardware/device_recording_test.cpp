@@ -87,7 +87,10 @@ TEST(DeviceRecording, ADiskWithNoSpaceLeftGetsNoCutOffRecording) {
     {  // the rest of the disk filled by another file
       std::ofstream filler(disk / "filler", std::ios::binary);
       const std::string block(4096, 'x');
-      while (filler.write(block.data(), static_cast<std::streamsize>(block.size())).flush()) {
+      // At most the disk's 16 blocks and two more: never for ever on a disk that is not full.
+      for (int k = 0;
+           k < 18 && filler.write(block.data(), static_cast<std::streamsize>(block.size())).flush();
+           ++k) {
       }
     }
     const Status written = write_device_recording(disk / "old.lapdev", make_recording(2000));

@@ -419,7 +419,7 @@ TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
 // A recorded run on a disk that fills up (a 1 MB tmpfs of the test's own, the kernel's ENOSPC:
 // tests/support/small_disk.h): the session runs to its end and prints its result; the streamed
 // recording stops where the disk filled and says so; each file that could not be written at the
-// end is named and left out whole (no cut-off file); the exit code is 1 (README.md); and `report`
+// end is named and left out whole (no cut-off file); the exit code is 3 (README.md); and `report`
 // replays the session from what was kept, up to its last recorded tick. Skipped, saying why,
 // where no such disk can be mounted.
 TEST(CliRun, ADiskThatFillsUpKeepsWhatWasRecordedAndNamesWhatWasNot) {
@@ -451,7 +451,7 @@ TEST(CliRun, ADiskThatFillsUpKeepsWhatWasRecordedAndNamesWhatWasNot) {
   int run_code = -1, report_code = -1;
   codes >> run_code >> report_code;
   const std::string err = read_file(dir.path() / "run.err");
-  EXPECT_EQ(run_code, 1) << err;
+  EXPECT_EQ(run_code, 3) << err;
   // The result, printed whatever became of the recording.
   const auto out = nlohmann::ordered_json::parse(read_file(dir.path() / "run.out"), nullptr, false);
   ASSERT_FALSE(out.is_discarded()) << read_file(dir.path() / "run.out");

@@ -28,7 +28,7 @@ namespace lap::sim {
 
 // The model in the tests' listing (gtest would print the enum's byte). Here, in the enum's own
 // namespace, where gtest's printer finds it.
-void PrintTo(ModelFaultKind kind, std::ostream* os) { *os << to_string(kind); }
+inline void PrintTo(ModelFaultKind kind, std::ostream* os) { *os << to_string(kind); }
 
 namespace {
 

@@ -2,7 +2,9 @@
 
 #include <fcntl.h>
 #include <sched.h>
+#include <signal.h>
 #include <sys/mount.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,13 +17,20 @@ namespace {
 
 /// The child's exit code when it could not mount the disk; its reason goes to the pipe.
 constexpr int kCannotMount = 77;
+/// Its exit code when the body threw.
+constexpr int kBodyThrew = 70;
+/// How long the child may run [s] before SIGALRM ends it.
+constexpr unsigned kChildSeconds = 300;
 
-bool write_text(const char* file, const std::string& text) {
+/// Writes a /proc file; "" or why not (errno taken at once).
+std::string write_text(const char* file, const std::string& text) {
   const int fd = ::open(file, O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  if (fd < 0) return std::string(file) + ": " + std::strerror(errno);
+  const ssize_t n = ::write(fd, text.data(), text.size());
+  const int reason = errno;
   ::close(fd);
-  return ok;
+  if (n == static_cast<ssize_t>(text.size())) return "";
+  return std::string(file) + ": " + (n < 0 ? std::strerror(reason) : "short write");
 }
 
 /// A mount namespace of the child's own: directly as root, or inside a new user namespace that
@@ -29,18 +38,17 @@ bool write_text(const char* file, const std::string& text) {
 std::string own_mount_namespace() {
   if (::unshare(CLONE_NEWNS) == 0) return "";
   const int first = errno;
-  const uid_t uid = ::getuid();
-  const gid_t gid = ::getgid();
+  const uid_t uid = ::geteuid();
+  const gid_t gid = ::getegid();
   if (::unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) {
+    const int second = errno;
     return std::string("unshare(CLONE_NEWNS): ") + std::strerror(first) +
-           "; with CLONE_NEWUSER: " + std::strerror(errno);
+           "; with CLONE_NEWUSER: " + std::strerror(second);
   }
-  if (!write_text("/proc/self/setgroups", "deny") ||
-      !write_text("/proc/self/uid_map", "0 " + std::to_string(uid) + " 1") ||
-      !write_text("/proc/self/gid_map", "0 " + std::to_string(gid) + " 1")) {
-    return std::string("cannot map the user namespace: ") + std::strerror(errno);
-  }
-  return "";
+  std::string why = write_text("/proc/self/setgroups", "deny");
+  if (why.empty()) why = write_text("/proc/self/uid_map", "0 " + std::to_string(uid) + " 1");
+  if (why.empty()) why = write_text("/proc/self/gid_map", "0 " + std::to_string(gid) + " 1");
+  return why.empty() ? "" : "cannot map the user namespace: " + why;
 }
 
 std::string mount_small_disk(const std::filesystem::path& at, size_t bytes) {
@@ -48,11 +56,13 @@ std::string mount_small_disk(const std::filesystem::path& at, size_t bytes) {
   if (!why.empty()) return why;
   // Private, so that nothing mounted here shows in the parent's namespace.
   if (::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) {
-    return std::string("mount --make-rprivate /: ") + std::strerror(errno);
+    const int reason = errno;
+    return std::string("mount --make-rprivate /: ") + std::strerror(reason);
   }
   const std::string size = "size=" + std::to_string(bytes);
   if (::mount("tmpfs", at.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, size.c_str()) != 0) {
-    return std::string("mount -t tmpfs: ") + std::strerror(errno);
+    const int reason = errno;
+    return std::string("mount -t tmpfs: ") + std::strerror(reason);
   }
   return "";
 }
@@ -76,6 +86,9 @@ SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point, size_
     return run;
   }
   if (child == 0) {
+    // Never outliving the test, nor running for ever (a filler loop on the wrong disk).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    ::alarm(kChildSeconds);
     ::close(reason[0]);
     const std::string why = mount_small_disk(mount_point, bytes);
     if (!why.empty()) {
@@ -83,7 +96,12 @@ SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point, size_
       ::_exit(kCannotMount);
     }
     ::close(reason[1]);
-    const int code = body();
+    // An exception must not reach gtest in the child (it would go on with the parent's tests).
+    int code = kBodyThrew;
+    try {
+      code = body();
+    } catch (...) {
+    }
     std::fflush(nullptr);
     ::_exit(code);  // no atexit handlers, no gtest teardown in the child
   }
@@ -91,10 +109,18 @@ SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point, size_
   char text[512];
   ssize_t n = 0;
   std::string why;
-  while ((n = ::read(reason[0], text, sizeof text)) > 0) why.append(text, static_cast<size_t>(n));
+  while ((n = ::read(reason[0], text, sizeof text)) > 0 || (n < 0 && errno == EINTR)) {
+    if (n > 0) why.append(text, static_cast<size_t>(n));
+  }
   ::close(reason[0]);
   int status = 0;
-  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  pid_t waited = 0;
+  while ((waited = ::waitpid(child, &status, 0)) < 0 && errno == EINTR) {
+  }
+  if (waited != child) {
+    run.ran = true;  // it did start: a failure, not a skip
+    run.exit_code = -1;
+    return run;
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == kCannotMount && !why.empty()) {
     run.why_not = why;

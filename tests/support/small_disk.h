@@ -20,9 +20,12 @@ struct SmallDiskRun {
 
 /// Forks; the child takes a mount namespace of its own (as root; otherwise a user namespace too,
 /// where the kernel allows it), mounts a tmpfs of `bytes` at `mount_point` (an existing empty
-/// folder) and returns `body()`'s value as its exit code. The body runs in the child: it must not
-/// make gtest assertions (they would be lost) but write what the parent should check to files
-/// outside `mount_point`, which the child sees as the parent does.
+/// folder) and returns `body()`'s value as its exit code (70 if it threw; 128 + the signal that
+/// ended it, SIGALRM after 300 s). The body runs in the child: its gtest assertions would be lost,
+/// so it writes what the parent should check to files outside `mount_point`, which the child sees
+/// as the parent does. Call it from a single-threaded process (ctest runs one test a process): a
+/// child forked from threads cannot take a user namespace, and under ThreadSanitizer it may not
+/// start threads.
 [[nodiscard]] SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point,
                                                size_t bytes, const std::function<int()>& body);
 
