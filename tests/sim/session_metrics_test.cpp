@@ -248,15 +248,7 @@ TEST(SessionRecord, ADiskWithNoSpaceLeftGetsNoHalfWrittenRecord) {
   const std::string text =
       session_record_json(test::source_dir() / "scenarios/default.yaml", 0x0123456789abcdefULL, rs);
   const test::SmallDiskRun run = test::run_on_a_small_disk(disk, 64U * 1024U, [&] {
-    {  // the disk filled by another file
-      std::ofstream filler(disk / "filler", std::ios::binary);
-      const std::string block(4096, 'x');
-      // At most the disk's 16 blocks and two more: never for ever on a disk that is not full.
-      for (int k = 0;
-           k < 18 && filler.write(block.data(), static_cast<std::streamsize>(block.size())).flush();
-           ++k) {
-      }
-    }
+    test::fill_the_disk(disk / "filler", 64U * 1024U);
     const Status written = write_session_record(disk, text);
     std::ofstream out(dir.path() / "report.txt");
     out << (written.ok() ? "written" : written.message()) << "\n";

@@ -11,6 +11,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <string>
 
 namespace lap::test {
 namespace {
@@ -129,6 +131,16 @@ SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point, size_
   run.ran = true;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return run;
+}
+
+void fill_the_disk(const std::filesystem::path& filler, size_t bytes) {
+  std::ofstream out(filler, std::ios::binary);
+  const std::string block(4096, 'x');
+  const size_t most = bytes / block.size() + 2;
+  for (size_t k = 0;
+       k < most && out.write(block.data(), static_cast<std::streamsize>(block.size())).flush();
+       ++k) {
+  }
 }
 
 }  // namespace lap::test

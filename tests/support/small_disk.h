@@ -29,4 +29,9 @@ struct SmallDiskRun {
 [[nodiscard]] SmallDiskRun run_on_a_small_disk(const std::filesystem::path& mount_point,
                                                size_t bytes, const std::function<int()>& body);
 
+/// Fills the rest of a small disk of `bytes` (in the body above) with the file `filler`: blocks
+/// of 4 KB until a write fails, and never more than the disk's blocks and two (so never for
+/// ever on a disk that is not full).
+void fill_the_disk(const std::filesystem::path& filler, size_t bytes);
+
 }  // namespace lap::test
