@@ -29,6 +29,8 @@ class LoopStats {
 
   [[nodiscard]] int64_t ticks() const { return ticks_; }
   [[nodiscard]] double period_s() const { return period_s_; }
+  /// The wall time the loop ran [s], as set_elapsed() last gave it.
+  [[nodiscard]] double elapsed_s() const { return elapsed_s_; }
   [[nodiscard]] double achieved_rate_hz() const;
   /// Lateness (start jitter) at quantile q in [0, 1], from the histogram (bin upper edge) [s].
   [[nodiscard]] double jitter_quantile_s(double q) const;
