@@ -73,8 +73,26 @@ if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
   # Any race report makes the binary exit non-zero (TSan's exitcode 66).
   TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/hardware_tests \
     --gtest_filter='TripleBuffer*:CommandLimiter*:ScriptedTrajectory*:DeviceRecording*:Phantom*'
-  TSAN_OPTIONS=halt_on_error=1 build/tsan/bin/session_tests \
-    --gtest_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*:RealTimeReplay.ASessionWith*:RealTimeReplay.AnAuthorTuning*'
+  # The session tests in two halves side by side (gtest's sharding): each keeps about one core
+  # busy (its loops mostly wait for their deadlines), so one process left the other core idle for
+  # three minutes.
+  session_filter='Session*:*SessionWatchdog*:*SessionModelFault*:TrocarTool*:RealTimeReplay.ASessionWith*:RealTimeReplay.AnAuthorTuning*'
+  # Each half's output is printed whole when it ends, not interleaved with the other's.
+  shard_log="$(mktemp -d)"
+  shard_pids=()
+  for shard in 0 1; do
+    TSAN_OPTIONS=halt_on_error=1 GTEST_TOTAL_SHARDS=2 GTEST_SHARD_INDEX="$shard" \
+      build/tsan/bin/session_tests --gtest_filter="$session_filter" >"$shard_log/$shard" 2>&1 &
+    shard_pids+=("$!")
+  done
+  shards_failed=0
+  for shard in 0 1; do
+    wait "${shard_pids[$shard]}" || shards_failed=1
+    echo "-- session_tests, half $((shard + 1)) of 2"
+    cat "$shard_log/$shard"
+  done
+  rm -r "$shard_log"
+  [ "$shards_failed" = 0 ]
 fi
 if [ "${LAP_SKIP_FUZZ:-0}" != "1" ]; then
   # Built with the ASan tests above (run.sh fails if a target is missing there); without that
