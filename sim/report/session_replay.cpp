@@ -1,20 +1,15 @@
 #include "sim/report/session_replay.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <utility>
 
 #include "core/bounded_file.h"
+#include "core/whole_file.h"
 #include "hardware/device_spec.h"
 #include "hardware/replay_device.h"
 #include "sim/report/recorded_tunings.h"
@@ -76,18 +71,6 @@ Result<std::string> string_field(const nlohmann::json& j, const RecordText& at, 
   return it->get<std::string>();
 }
 
-/// Writes all of `text` to `fd`; false with errno set on failure.
-bool write_all(int fd, const std::string& text) {
-  size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    done += static_cast<size_t>(n);
-  }
-  return true;
-}
-
 }  // namespace
 
 std::string session_record_json(const std::filesystem::path& scenario, uint64_t digest,
@@ -115,50 +98,8 @@ Result<std::string> session_record_json(const std::filesystem::path& scenario,
 }
 
 Status write_session_record(const std::filesystem::path& dir, const std::string& text) {
-  const std::filesystem::path file = dir / "session.json";
-  auto failed = [&](const std::string& what) -> Status {
-    return file_diagnostic(
-        file.string(), 0, "",
-        "cannot write the session's record: " + what + " (" + std::strerror(errno) + ")");
-  };
-  // A temporary file of this process's own beside it (0600, as mkstemp makes it), whole and on
-  // the disk before it gets the record's name.
-  std::string temporary = (dir / ".session.json.XXXXXX").string();
-  const int fd = ::mkstemp(temporary.data());
-  if (fd < 0) return failed("cannot create a file in " + dir.string());
-  const bool written = write_all(fd, text) && ::fsync(fd) == 0;
-  const int saved_errno = errno;
-  if (::close(fd) != 0 || !written) {
-    errno = written ? errno : saved_errno;
-    Status s = failed("writing " + temporary + " failed");
-    ::unlink(temporary.c_str());
-    return s;
-  }
-  // Into place, never over a record already there (RENAME_NOREPLACE; a file system without it
-  // gets a check and a plain rename).
-  int moved = ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_NOREPLACE);
-  if (moved != 0 && errno == EINVAL) {
-    std::error_code ec;
-    if (std::filesystem::exists(std::filesystem::symlink_status(file, ec))) {
-      errno = EEXIST;
-    } else {
-      moved = ::rename(temporary.c_str(), file.c_str());
-    }
-  }
-  if (moved != 0) {
-    Status s = errno == EEXIST
-                   ? Status(file_diagnostic(file.string(), 0, "",
-                                            "already exists: a session's record is written once"))
-                   : failed("renaming " + temporary + " failed");
-    ::unlink(temporary.c_str());
-    return s;
-  }
-  // The folder's entry on the disk too.
-  if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
-    (void)::fsync(dfd);
-    ::close(dfd);
-  }
-  return {};
+  // Whole or not at all, and never over a record already there.
+  return write_file_whole(dir / "session.json", text, "a session's record", IfTaken::kRefuse);
 }
 
 std::optional<std::string> scenario_change_warning(const std::filesystem::path& scenario,

@@ -74,5 +74,30 @@ TEST(WholeFile, AWriteThatCannotBeDoneNamesTheFileAndTheReasonAndLeavesNothing) 
                                    " (nothing of it was written)");
 }
 
+// IfTaken::kRefuse (a session's record is written once): written where the name is free, never
+// over a file of that name, nor over a dangling link of it, and nothing left behind.
+TEST(WholeFile, ARefusedNameKeepsWhatIsThereAndLeavesNothingElse) {
+  const test::TempDir dir;
+  const fs::path file = dir.path() / "session.json";
+  ASSERT_TRUE(write_file_whole(file, "first", "a session's record", IfTaken::kRefuse).ok());
+  const Status again = write_file_whole(file, "second", "a session's record", IfTaken::kRefuse);
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.message(),
+            file.string() + ": already exists: a session's record is written once");
+  EXPECT_EQ(test::read_file(file), "first");
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"session.json"});
+  // A link whose target does not exist is a name taken too: writing through it could land
+  // anywhere.
+  const fs::path link = dir.path() / "linked.json";
+  fs::create_symlink(dir.path() / "nowhere.json", link);
+  const Status over_link = write_file_whole(link, "text", "a session's record", IfTaken::kRefuse);
+  ASSERT_FALSE(over_link.ok());
+  EXPECT_EQ(over_link.message(),
+            link.string() + ": already exists: a session's record is written once");
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link)));
+  EXPECT_FALSE(fs::exists(dir.path() / "nowhere.json"));
+  EXPECT_EQ(names_in(dir.path()), (std::vector<std::string>{"linked.json", "session.json"}));
+}
+
 }  // namespace
 }  // namespace lap
