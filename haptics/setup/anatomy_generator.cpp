@@ -747,7 +747,8 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
   for (const Site& s :
        {Site{"umbilical", camera.x(), camera.y(), 0.012},
         Site{"epigastric", midline_x, camera.y() + 0.115, 0.010},
-        Site{"right_midclavicular", midline_x - 0.085, camera.y() + 0.085, 0.005},
+        Site{"right_midclavicular", midline_x - 0.085,
+             camera.y() + 0.085 - p.midclavicular_port_caudal_m, 0.005},
         Site{"right_anterior_axillary", midline_x - 0.12, camera.y() + 0.03, 0.005}}) {
     PortSite port;
     port.name = s.name;

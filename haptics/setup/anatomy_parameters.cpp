@@ -46,6 +46,11 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
     p.gallbladder_length_m = 0.09;
     p.gallbladder_width_m = 0.035;
     p.hartmann_pouch_m = 0.006;
+    // Over this liver and gallbladder every line from the standard midclavicular site to the
+    // duct beside the ductotomy passes through the gallbladder, so the left hand could not steady
+    // the duct; 2 cm lower it reaches it (the planner's sweep of sites: 2, 3 and 4 cm lower did,
+    // 1 cm lower did not; scenarios/patient_moderate.yaml).
+    p.midclavicular_port_caudal_m = 0.02;
   } else if (name == "hard") {
     // Narrow, tortuous duct running down nearly parallel to the common hepatic duct to join it
     // low (a low insertion: a long common hepatic duct), in a fatty hilum, under a big liver:

@@ -68,6 +68,13 @@ struct AnatomyParameters {
   /// one (the fat's size across, relative; estimate).
   double hilum_fat = 1.0;
 
+  /// How much lower (caudal, towards the umbilicus) than the standard site the right
+  /// midclavicular port is placed [m]. A surgeon places the subcostal ports where the instruments
+  /// reach Calot's triangle past the liver and the gallbladder, so their sites move with the
+  /// patient; over a big liver and gallbladder the standard site's shafts meet the gallbladder.
+  /// Estimate: how far is found with the expert's planner (scenarios/patient_moderate.yaml).
+  double midclavicular_port_caudal_m = 0.0;
+
   /// The laparoscope the incision faces (scenarios/default.yaml's camera) [m].
   double camera_x_m = 0.03;
   double camera_y_m = -0.02;

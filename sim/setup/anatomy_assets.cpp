@@ -37,6 +37,7 @@ json parameters_json(const haptics::AnatomyParameters& p) {
           {"common_bile_duct_diameter_m", p.common_bile_duct_diameter_m},
           {"cystic_artery_diameter_m", p.cystic_artery_diameter_m},
           {"hilum_fat", p.hilum_fat},
+          {"midclavicular_port_caudal_m", p.midclavicular_port_caudal_m},
           {"camera_m", json::array({p.camera_x_m, p.camera_y_m, p.camera_z_m})}};
 }
 

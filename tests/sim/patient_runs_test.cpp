@@ -223,7 +223,7 @@ TEST_P(PatientRun, PullingTheGraspedDuctInjuresIt) {
 // Release build runs all four).
 std::vector<Patient> patients() {
   if (test::kSanitizerDivisor > 1) return {Patient{"default", false}, Patient{"patient_hard"}};
-  return {Patient{"default", false}, Patient{"patient_easy"}, Patient{"patient_moderate", false},
+  return {Patient{"default", false}, Patient{"patient_easy"}, Patient{"patient_moderate"},
           Patient{"patient_hard"}};
 }
 
