@@ -749,7 +749,8 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
         Site{"epigastric", midline_x, camera.y() + 0.115, 0.010},
         Site{"right_midclavicular", midline_x - 0.085,
              camera.y() + 0.085 - p.midclavicular_port_caudal_m, 0.005},
-        Site{"right_anterior_axillary", midline_x - 0.12, camera.y() + 0.03, 0.005}}) {
+        Site{"right_anterior_axillary", midline_x - 0.12 - p.anterior_axillary_port_lateral_m,
+             camera.y() + 0.03 - p.anterior_axillary_port_caudal_m, 0.005}}) {
     PortSite port;
     port.name = s.name;
     port.position_m = V3(s.x, s.y, dome.inner_z(s.x, s.y));

@@ -51,6 +51,11 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
     // the duct; 2 cm lower it reaches it (the planner's sweep of sites: 2, 3 and 4 cm lower did,
     // 1 cm lower did not; scenarios/patient_moderate.yaml).
     p.midclavicular_port_caudal_m = 0.02;
+    // From the standard anterior axillary site the expert's shaft pressed 1.78 mm into the
+    // gallbladder; 3 cm lower and 2 cm farther out it keeps 0.7 mm clear, the catheter it holds
+    // 0.6 mm (plan-expert; scenarios/patient_moderate.yaml has the sweep).
+    p.anterior_axillary_port_caudal_m = 0.03;
+    p.anterior_axillary_port_lateral_m = 0.02;
   } else if (name == "hard") {
     // Narrow, tortuous duct running down nearly parallel to the common hepatic duct to join it
     // low (a low insertion: a long common hepatic duct), in a fatty hilum, under a big liver:

@@ -68,12 +68,15 @@ struct AnatomyParameters {
   /// one (the fat's size across, relative; estimate).
   double hilum_fat = 1.0;
 
-  /// How much lower (caudal, towards the umbilicus) than the standard site the right
-  /// midclavicular port is placed [m]. A surgeon places the subcostal ports where the instruments
-  /// reach Calot's triangle past the liver and the gallbladder, so their sites move with the
-  /// patient; over a big liver and gallbladder the standard site's shafts meet the gallbladder.
-  /// Estimate: how far is found with the expert's planner (scenarios/patient_moderate.yaml).
+  /// Where the two right subcostal ports sit against their standard sites [m]: how much lower
+  /// (caudal, towards the umbilicus) and, for the anterior axillary one, how much farther from
+  /// the midline. A surgeon places these ports where the instruments reach Calot's triangle past
+  /// the liver and the gallbladder, so their sites move with the patient: over a bigger liver and
+  /// gallbladder the standard sites' shafts meet the gallbladder. Estimates: how far is found
+  /// with the expert's planner (each patient's scenario says how).
   double midclavicular_port_caudal_m = 0.0;
+  double anterior_axillary_port_caudal_m = 0.0;
+  double anterior_axillary_port_lateral_m = 0.0;
 
   /// The laparoscope the incision faces (scenarios/default.yaml's camera) [m].
   double camera_x_m = 0.03;

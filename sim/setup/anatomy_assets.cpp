@@ -38,6 +38,8 @@ json parameters_json(const haptics::AnatomyParameters& p) {
           {"cystic_artery_diameter_m", p.cystic_artery_diameter_m},
           {"hilum_fat", p.hilum_fat},
           {"midclavicular_port_caudal_m", p.midclavicular_port_caudal_m},
+          {"anterior_axillary_port_caudal_m", p.anterior_axillary_port_caudal_m},
+          {"anterior_axillary_port_lateral_m", p.anterior_axillary_port_lateral_m},
           {"camera_m", json::array({p.camera_x_m, p.camera_y_m, p.camera_z_m})}};
 }
 
