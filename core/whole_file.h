@@ -39,7 +39,7 @@ enum class IfTaken {
   if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_NOREPLACE) == 0) {
     return 0;
   }
-  if (errno != EINVAL) return errno;
+  if (errno != EINVAL && errno != ENOSYS) return errno;  // no RENAME_NOREPLACE there
   std::error_code ec;
   if (std::filesystem::exists(std::filesystem::symlink_status(file, ec))) return EEXIST;
   return ::rename(temporary.c_str(), file.c_str()) == 0 ? 0 : errno;
@@ -50,8 +50,9 @@ enum class IfTaken {
 [[nodiscard]] inline Status write_file_whole(const std::filesystem::path& file,
                                              std::string_view bytes, const std::string& what,
                                              IfTaken if_taken = IfTaken::kReplace) {
-  auto failed = [&](int reason) -> Status {
-    if (reason == EEXIST && if_taken == IfTaken::kRefuse) {
+  // `taken`: the name was found taken as the file was put in place (not a temporary name).
+  auto failed = [&](int reason, bool taken = false) -> Status {
+    if (taken) {
       return file_diagnostic(file.string(), 0, "", "already exists: " + what + " is written once");
     }
     return file_diagnostic(
@@ -76,10 +77,14 @@ enum class IfTaken {
   }
   if (reason == 0 && ::fsync(fd) != 0) reason = errno;
   if (::close(fd) != 0 && reason == 0) reason = errno;
-  if (reason == 0) reason = move_into_place(temporary, file, if_taken);
+  bool taken = false;
+  if (reason == 0) {
+    reason = move_into_place(temporary, file, if_taken);
+    taken = reason == EEXIST && if_taken == IfTaken::kRefuse;
+  }
   if (reason != 0) {
     ::unlink(temporary.c_str());
-    return failed(reason);
+    return failed(reason, taken);
   }
   // The folder's entry on the disk too (best effort: some file systems refuse a folder's sync).
   if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {

@@ -87,9 +87,14 @@ if [ "${LAP_SKIP_TSAN:-0}" != "1" ]; then
   done
   shards_failed=0
   for shard in 0 1; do
-    wait "${shard_pids[$shard]}" || shards_failed=1
+    status=0
+    wait "${shard_pids[$shard]}" || status=$?
     echo "-- session_tests, half $((shard + 1)) of 2"
     cat "$shard_log/$shard"
+    if [ "$status" != 0 ]; then
+      echo "-- session_tests, half $((shard + 1)) of 2, failed: exit status $status"
+      shards_failed=1
+    fi
   done
   rm -r "$shard_log"
   [ "$shards_failed" = 0 ]

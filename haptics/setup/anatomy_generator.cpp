@@ -758,8 +758,16 @@ GeneratedAnatomy generate_anatomy(const AnatomyParameters& p) {
     port.diameter_m = s.d;
     out.ports.push_back(port);
   }
-  add("abdominal_wall", make_abdominal_wall(dome, apex, 0.15, out.ports), Tissue::abdominal_wall,
-      0.08);
+  // The wall's patch: 15 cm round the umbilicus, wider where a port placed for the patient lies
+  // nearer its rim than 2.5 cm (estimate: enough wall round the hole to hold the trocar).
+  double extent_m = 0.15;
+  for (const PortSite& port : out.ports) {
+    extent_m = std::max(
+        extent_m,
+        std::hypot(port.position_m.x() - apex.x(), port.position_m.y() - apex.y()) + 0.025);
+  }
+  add("abdominal_wall", make_abdominal_wall(dome, apex, extent_m, out.ports),
+      Tissue::abdominal_wall, 0.08);
   return out;
 }
 

@@ -68,12 +68,13 @@ struct AnatomyParameters {
   /// one (the fat's size across, relative; estimate).
   double hilum_fat = 1.0;
 
-  /// Where the two right subcostal ports sit against their standard sites [m]: how much lower
-  /// (caudal, towards the umbilicus) and, for the anterior axillary one, how much farther from
-  /// the midline. A surgeon places these ports where the instruments reach Calot's triangle past
-  /// the liver and the gallbladder, so their sites move with the patient: over a bigger liver and
-  /// gallbladder the standard sites' shafts meet the gallbladder. Estimates: how far is found
-  /// with the expert's planner (each patient's scenario says how).
+  /// Where the two right-sided ports sit against their standard sites [m]: how much lower
+  /// (caudal: -y, towards the pelvis) and, for the anterior axillary one, how much farther from
+  /// the midline (lateral: -x). A surgeon places these ports where the instruments reach Calot's
+  /// triangle past the liver and the gallbladder, so their sites move with the patient: over a
+  /// bigger liver and gallbladder the standard sites' shafts meet the gallbladder. Estimates: how
+  /// far is found with the expert's planner (each patient's scenario says how). The abdominal
+  /// wall's patch widens to keep wall round a port moved near its rim.
   double midclavicular_port_caudal_m = 0.0;
   double anterior_axillary_port_caudal_m = 0.0;
   double anterior_axillary_port_lateral_m = 0.0;

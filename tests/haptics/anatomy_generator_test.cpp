@@ -290,20 +290,24 @@ TEST(AnatomyGenerator, OrgansThatMustNotOverlapDoNot) {
   }
 }
 
+// Every patient's: the moderate patient's two right-sided ports are placed apart from the
+// others' (anatomy_parameters.h).
 TEST(AnatomyGenerator, EachPortIsAHoleThroughTheAbdominalWall) {
-  const GeneratedAnatomy a = all_presets().front();
-  const TriangleMesh& wall = a.organ("abdominal_wall")->mesh;
-  ASSERT_EQ(a.ports.size(), 4U);
-  for (const PortSite& port : a.ports) {
-    // The port's axis through the wall's thickness runs in no wall tissue, while a point 2 cm
-    // to the side at the same depth is in the wall.
-    for (double depth : {0.005, 0.012, 0.02}) {
-      const V3 q = port.position_m - depth * port.inward;
-      EXPECT_FALSE(inside(wall, q)) << port.name << " at " << depth;
-      EXPECT_TRUE(inside(wall, q + 0.02 * port.inward.cross(V3::UnitY()).normalized()))
-          << port.name;
+  for (const GeneratedAnatomy& a : all_presets()) {
+    const TriangleMesh& wall = a.organ("abdominal_wall")->mesh;
+    ASSERT_EQ(a.ports.size(), 4U) << a.parameters.name;
+    for (const PortSite& port : a.ports) {
+      // The port's axis through the wall's thickness runs in no wall tissue, while a point 2 cm
+      // to either side at the same depth is in the wall.
+      const V3 side = port.inward.cross(V3::UnitY()).normalized();
+      for (double depth : {0.005, 0.012, 0.02}) {
+        const V3 q = port.position_m - depth * port.inward;
+        EXPECT_FALSE(inside(wall, q)) << a.parameters.name << " " << port.name << " at " << depth;
+        EXPECT_TRUE(inside(wall, q + 0.02 * side)) << a.parameters.name << " " << port.name;
+        EXPECT_TRUE(inside(wall, q - 0.02 * side)) << a.parameters.name << " " << port.name;
+      }
+      EXPECT_LT(port.inward.z(), 0.0) << port.name;  // into the abdomen, towards the organs
     }
-    EXPECT_LT(port.inward.z(), 0.0) << port.name;  // into the abdomen, towards the organs
   }
 }
 
