@@ -3,17 +3,24 @@
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
+#include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string>
 
+#include "haptics/closest_point.h"
 #include "haptics/setup/mesh_validation.h"
 #include "models/shell_mesh.h"
 #include "sim/setup/duct_fit.h"
 #include "sim/setup/duct_incision.h"
 #include "sim/setup/mesh_loader.h"
+#include "sim/setup/scenario_loader.h"
 #include "tests/test_support.h"
 
 namespace lap::sim {
@@ -129,6 +136,60 @@ TEST(AnatomyAssets, TheSessionFitsItsDuctToTheGeneratedCysticDuct) {
                 1e3 * a.cystic_duct.outer_diameter_m, 1e3 * fit->duct.length_m,
                 1e3 * a.cystic_duct.length_m);
   }
+}
+
+// The patients' scenarios copy their trocars and camera from their anatomy's anatomy.json by
+// hand (the generator places the ports, docs/anatomy.md): a port moved in the preset and not in
+// the scenario, or the other way round, fails here. A trocar of the scenario's own (the hard
+// patient's catheter puncture) must lie on the abdominal wall's inner surface, where there is
+// no hole for it.
+TEST(AnatomyAssets, EachPatientsTrocarsAndCameraAreWhereItsAnatomyPutsThem) {
+  int patients = 0;
+  for (const auto& e : fs::directory_iterator(test::source_dir() / "scenarios")) {
+    const std::string stem = e.path().stem().string();
+    if (e.path().extension() != ".yaml" || !stem.starts_with("patient_")) continue;
+    ++patients;
+    const ScenarioLoadResult s = load_scenario(e.path());
+    ASSERT_TRUE(s.ok()) << s.message();
+    ASSERT_FALSE(s->organs.empty()) << stem;
+    // The anatomy is the folder of the scenario's meshes, one for all of them.
+    const fs::path anatomy = s->organs.front().mesh.parent_path();
+    for (const OrganSpec& o : s->organs) EXPECT_EQ(o.mesh.parent_path(), anatomy) << stem;
+    const nlohmann::json a = nlohmann::json::parse(read_bytes(anatomy / "anatomy.json"));
+    std::map<std::string, Eigen::Vector3d> ports;
+    for (const nlohmann::json& p : a.at("ports")) {
+      const auto xyz = p.at("position_m").get<std::array<double, 3>>();
+      ports[p.at("name").get<std::string>()] = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+    }
+    const haptics::TriangleMesh wall = load_mesh(anatomy / "abdominal_wall.gltf").value();
+    int named = 0;
+    for (const TrocarSpec& t : s->trocars) {
+      const auto port = ports.find(t.name);
+      if (port != ports.end()) {
+        ++named;
+        // The scenarios write the ports to 0.1 mm.
+        EXPECT_LT((t.position_m - port->second).norm(), 1e-4)
+            << stem << ": trocar " << t.name << " at " << t.position_m.transpose()
+            << ", anatomy.json's port at " << port->second.transpose();
+        continue;
+      }
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& tri : wall.triangles) {
+        haptics::TriangleFeature feature{};
+        const Eigen::Vector3d q =
+            haptics::closest_on_triangle(t.position_m, wall.positions[tri[0]],
+                                         wall.positions[tri[1]], wall.positions[tri[2]], &feature);
+        nearest = std::min(nearest, (q - t.position_m).norm());
+      }
+      EXPECT_LT(nearest, 1e-3) << stem << ": trocar " << t.name << " is " << 1e3 * nearest
+                               << " mm from the abdominal wall";
+    }
+    EXPECT_GE(named, 2) << stem << ": the instruments' trocars are anatomy.json's ports";
+    const auto cam = a.at("parameters").at("camera_m").get<std::array<double, 3>>();
+    EXPECT_LT((s->camera.position_m - Eigen::Vector3d(cam[0], cam[1], cam[2])).norm(), 1e-4)
+        << stem << ": the laparoscope is anatomy.json's camera_m";
+  }
+  EXPECT_EQ(patients, 3);
 }
 
 TEST(AnatomyAssets, UnknownPresetIsADiagnostic) {
