@@ -3,8 +3,8 @@
 namespace lap::haptics {
 
 namespace {
-// The patients are shown as for cholangiography, the gallbladder retracted (its fundus held up
-// over the liver, anatomy_parameters.h): the default keeps the textbook position.
+// Every patient is shown as for cholangiography, the gallbladder retracted (its fundus held up
+// over the liver, anatomy_parameters.h); the struct's default of 0 is the textbook position.
 constexpr double kRetractionDeg = 30.0;
 }  // namespace
 
@@ -14,7 +14,8 @@ bool anatomy_preset(std::string_view name, AnatomyParameters* out) {
   AnatomyParameters p;  // default: textbook anatomy, the defaults of the struct
   p.name = std::string(name);
   if (name == "default") {
-    // nothing to change
+    // The textbook sizes (the struct's defaults), retracted as the others.
+    p.gallbladder_retraction_deg = kRetractionDeg;
   } else if (name == "easy") {
     // A long, wide, straight duct leaving at an open angle, a lean hilum: the duct is easy to
     // see, to hold and to cannulate.

@@ -15,7 +15,7 @@ namespace {
 
 sim::Scenario default_scenario() {
   const sim::ScenarioLoadResult r =
-      sim::load_scenario(test::source_dir() / "scenarios/default.yaml");
+      sim::load_scenario(test::source_dir() / "scenarios/introductory.yaml");
   EXPECT_TRUE(r.ok()) << r.message();
   return r.value();
 }

@@ -46,7 +46,7 @@ hardware::ToolNudge handle_move(const Eigen::Vector3d& delta_W) {
 // axes, or about the shaft's first direction, would fail them).
 TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
   const sim::SceneLoadResult scene =
-      sim::load_scene_file(test::source_dir() / "scenarios/default.yaml");
+      sim::load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(scene.ok()) << scene.message();
   LiveSession live;
   ASSERT_TRUE(live.start(scene.value(), {}).ok());  // both tools simulated (keyboard-driven)
@@ -88,7 +88,7 @@ TEST(LiveSession, TheRollTurnsTheJawsAboutTheShaftByTheAngleAsked) {
 // workspace).
 TEST(LiveSession, AHandlePushedPastTheWorkspaceComesBackWithTheFirstPressBack) {
   const sim::SceneLoadResult scene =
-      sim::load_scene_file(test::source_dir() / "scenarios/default.yaml");
+      sim::load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(scene.ok()) << scene.message();
   LiveSession live;
   ASSERT_TRUE(live.start(scene.value(), {}).ok());

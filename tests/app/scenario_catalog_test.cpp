@@ -37,7 +37,8 @@ TEST(ScenarioCatalog, EveryShippedScenarioHasAPreviewADifficultyAndLoads) {
     }
     EXPECT_GT(colours.size(), 100U) << e.preview << " looks blank";
   }
-  for (const char* stem : {"default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem :
+       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
     EXPECT_EQ(stems.count(stem), 1U) << stem << " is not offered";
   }
   // Easiest first.
@@ -45,11 +46,14 @@ TEST(ScenarioCatalog, EveryShippedScenarioHasAPreviewADifficultyAndLoads) {
     EXPECT_LE(app::difficulty_rank(entries[i - 1].difficulty),
               app::difficulty_rank(entries[i].difficulty));
   }
-  ASSERT_GE(entries.size(), 4U);
-  EXPECT_EQ(entries[0].stem, "default");
+  // The textbook patient (the default) is graded with the moderate one, and its name comes
+  // first.
+  ASSERT_GE(entries.size(), 5U);
+  EXPECT_EQ(entries[0].stem, "introductory");
   EXPECT_EQ(entries[1].stem, "patient_easy");
-  EXPECT_EQ(entries[2].stem, "patient_moderate");
-  EXPECT_EQ(entries[3].stem, "patient_hard");
+  EXPECT_EQ(entries[2].stem, "default");
+  EXPECT_EQ(entries[3].stem, "patient_moderate");
+  EXPECT_EQ(entries[4].stem, "patient_hard");
 }
 
 TEST(ScenarioCatalog, ABrokenScenarioIsListedWithItsProblems) {

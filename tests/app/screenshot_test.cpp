@@ -1,5 +1,5 @@
 // Runs the real application under Xvfb (ctest wraps this binary in xvfb-run), asks it for a
-// screenshot of the default scenario, and checks the picture: not blank; each organ's colour
+// screenshot of the introductory scenario, and checks the picture: not blank; each organ's colour
 // where a pinhole projection of the laparoscope's view (sim/runtime/laparoscope.h, at the
 // scenario's camera) says the organ is; the instruments' steel tips where their devices put them
 // at the start; the heads-up display's texts along the top edge and its gauges at the bottom.
@@ -100,7 +100,7 @@ void expect_default_scenario_picture(const std::string& quality, int* instructio
   TempDir dir;
   const auto png = dir.path() / "shot.png";
   const auto stats_file = dir.path() / "stats.json";
-  const auto scenario = source_dir() / "scenarios/default.yaml";
+  const auto scenario = source_dir() / "scenarios/introductory.yaml";
   const CommandResult r =
       run_command(env + (bin_dir() / "laptrainer").string() + " --scenario " + scenario.string() +
                   " --screenshot " + png.string() + " --frames 20 --render-quality " + quality +
@@ -267,7 +267,7 @@ TEST(Screenshot, WithoutTheHeadsUpDisplayTheFieldIsDrawnAlone) {
   const auto png = dir.path() / "shot.png";
   const CommandResult r =
       run_command((bin_dir() / "laptrainer").string() + " --scenario " +
-                  (source_dir() / "scenarios/default.yaml").string() + " --screenshot " +
+                  (source_dir() / "scenarios/introductory.yaml").string() + " --screenshot " +
                   png.string() + " --frames 20 --render-quality full --no-hud");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   QImage image(QString::fromStdString(png.string()));
@@ -294,7 +294,7 @@ TEST(Screenshot, TheSessionIsSavedForReviewWhenItEnds) {
   const auto rec = dir.path() / "session";
   const CommandResult r =
       run_command((bin_dir() / "laptrainer").string() + " --scenario " +
-                  (source_dir() / "scenarios/default.yaml").string() + " --screenshot " +
+                  (source_dir() / "scenarios/introductory.yaml").string() + " --screenshot " +
                   (dir.path() / "shot.png").string() + " --frames 20 --record " + rec.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   int64_t samples = -1;
@@ -327,7 +327,7 @@ TEST(Screenshot, StatsAtExitGiveTheLoopsRates) {
   TempDir dir;
   const auto stats = dir.path() / "stats.json";
   const CommandResult r = run_command((bin_dir() / "laptrainer").string() + " --scenario " +
-                                      (source_dir() / "scenarios/default.yaml").string() +
+                                      (source_dir() / "scenarios/introductory.yaml").string() +
                                       " --quit-after 2 --stats " + stats.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream f(stats);
@@ -351,7 +351,7 @@ TEST(Screenshot, ASavedSessionPlaysBackInTheWindow) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   TempDir dir;
   const std::string app = (bin_dir() / "laptrainer").string() + " --scenario " +
-                          (source_dir() / "scenarios/default.yaml").string();
+                          (source_dir() / "scenarios/introductory.yaml").string();
   const auto scripts = source_dir() / "scenarios/scripts";
   const auto first = dir.path() / "first";
   const auto second = dir.path() / "second";

@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path& default_scenario() {
-  static const fs::path p = source_dir() / "scenarios/default.yaml";
+  static const fs::path p = source_dir() / "scenarios/introductory.yaml";
   return p;
 }
 
@@ -98,7 +98,7 @@ TEST(SessionArchive, AnAttemptACrashCutShortIsFoundInterrupted) {
     std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
     for (int side = 0; side < 2; ++side) {
       const auto spec = hardware::parse_device_spec(
-          "scripted:" + (source_dir() / "scenarios/scripts/default" /
+          "scripted:" + (source_dir() / "scenarios/scripts/introductory" /
                          (side == 0 ? "expert_left.csv" : "expert_right.csv"))
                             .string());
       auto d = sim::make_device(spec.value(), scene.value(), side);

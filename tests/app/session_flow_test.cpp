@@ -119,9 +119,11 @@ class SessionFlow : public ::testing::Test {
     while (combo->currentIndex() > index) QTest::keyClick(combo, Qt::Key_Up);
   }
 
-  // Sign in and choose the default patient; on the device page after.
-  static void sign_in_and_choose_default(MainWindow& w, const QString& trainee,
-                                         const std::string& shot_prefix) {
+  // Sign in and choose the scenario `stem` (the default patient unless named); on the device
+  // page after.
+  static void sign_in_and_choose(MainWindow& w, const QString& trainee,
+                                 const std::string& shot_prefix,
+                                 const QString& stem = QStringLiteral("default")) {
     ASSERT_EQ(w.step(), MainWindow::Step::kSignIn);
     auto* field = find<QLineEdit>(w.sign_in_page(), "trainee");
     field->clear();
@@ -132,9 +134,9 @@ class SessionFlow : public ::testing::Test {
 
     QFrame* card = nullptr;
     for (QFrame* f : w.scenario_page()->findChildren<QFrame*>("card")) {
-      if (f->property("stem").toString() == "default") card = f;
+      if (f->property("stem").toString() == stem) card = f;
     }
-    ASSERT_NE(card, nullptr) << "the default patient is not offered";
+    ASSERT_NE(card, nullptr) << stem.toStdString() << " is not offered";
     // Every patient's card shows its preview, and the chosen one's large with its name,
     // difficulty and description.
     const QList<QFrame*> cards = w.scenario_page()->findChildren<QFrame*>("card");
@@ -148,7 +150,7 @@ class SessionFlow : public ::testing::Test {
       }
       EXPECT_TRUE(pictured) << f->property("stem").toString().toStdString() << " has no preview";
     }
-    EXPECT_GE(offered, 4);
+    EXPECT_GE(offered, 5);
     QTest::mouseClick(card, Qt::LeftButton);
     EXPECT_FALSE(find<QLabel>(w.scenario_page(), "scenario_preview")->pixmap().isNull());
     EXPECT_FALSE(find<QLabel>(w.scenario_page(), "scenario_name")->text().isEmpty());
@@ -158,13 +160,14 @@ class SessionFlow : public ::testing::Test {
     ASSERT_EQ(w.step(), MainWindow::Step::kDevices);
   }
 
-  // The window shown, `trainee` signed in, the default patient, both hands on the keyboard and
-  // mouse, the run started.
+  // The window shown, `trainee` signed in, the introductory scene (a forward-viewing scope
+  // whose home view has the instruments in the middle, the tests' geometry below), both hands on
+  // the keyboard and mouse, the run started.
   static void run_with_keyboard(MainWindow& w, const QString& trainee) {
     w.resize(1280, 800);
     w.show();
     ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
-    sign_in_and_choose_default(w, trainee, "");
+    sign_in_and_choose(w, trainee, "", QStringLiteral("introductory"));
     if (::testing::Test::HasFatalFailure()) return;
     for (const char* hand : {"left", "right"}) {
       choose(find<QComboBox>(w.devices_page(), (std::string(hand) + "_kind").c_str()), 0);
@@ -209,7 +212,7 @@ TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
   EXPECT_EQ(known->item(0)->text(), "R-1187 Dr S. Okafor");
   EXPECT_EQ(known->item(1)->text(), "R-2210 Dr M. Chen");
   const QString trainee = "R-2041 Dr A. Rivera";
-  sign_in_and_choose_default(w, trainee, "flow-");
+  sign_in_and_choose(w, trainee, "flow-");
   if (HasFatalFailure()) return;
 
   assign_scripts(w, "expert");
@@ -321,7 +324,7 @@ TEST_F(SessionFlow, SignInChooseThePatientRunTheExpertAndSeeTheResult) {
   EXPECT_FALSE(find<QListWidget>(w.sign_in_page(), "known_trainees")
                    ->findItems(trainee, Qt::MatchExactly)
                    .isEmpty());
-  sign_in_and_choose_default(w, trainee, "");
+  sign_in_and_choose(w, trainee, "");
   w.close();
 }
 
@@ -468,7 +471,7 @@ TEST_F(SessionFlow, TheDevicesPageNamesEachArmAndChoosesEachGripper) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   MainWindow w;
   w.show();
-  sign_in_and_choose_default(w, "R-3303 Dr S. Nakamura", "");
+  sign_in_and_choose(w, "R-3303 Dr S. Nakamura", "");
   if (HasFatalFailure()) return;
   const QList<app::HandPanel*> panels = w.devices_page()->findChildren<app::HandPanel*>();
   ASSERT_EQ(panels.size(), 2);
@@ -612,7 +615,8 @@ TEST_F(SessionFlow, TheKeysAndTheMouseMoveOpenAndTurnTheActiveInstrument) {
   const int tool = field->active_tool();
   app::VtkView* view = field->view();
   view->setFocus();
-  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  const sim::SceneLoadResult scene =
+      sim::load_scene_file(source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(scene.ok());
   const sim::ToolSpec* spec = scene.value().scenario.tool(tool == 0 ? sim::ToolSpec::Side::kLeft
                                                                     : sim::ToolSpec::Side::kRight);
@@ -752,22 +756,23 @@ TEST_F(SessionFlow, The3DMouseMovesAndClosesTheActiveInstrumentInTheWindow) {
   dlclose(fake);
 }
 
-// The default patient with the keyboard alone in the window, in real time: the operator of
-// tests/support/keyboard_operator.h copies the expert's run with real key events on the
-// operative field, 25 a second (a held key's autorepeat), T to switch hands, Shift for the
-// quarter steps, no key while the heads-up display says hold. (The same presses --fast, to
+// The introductory scene (the default until stop 58) with the keyboard alone in the window, in real
+// time: the operator of tests/support/keyboard_operator.h copies the expert's run with real key
+// events on the operative field, 25 a second (a held key's autorepeat), T to switch hands, Shift
+// for the quarter steps, no key while the heads-up display says hold. (The same presses --fast, to
 // success: tests/sim/keyboard_run_test.cpp.) By default it plays them until the catheter's tip
 // is at the ductotomy, the grasp and the approach, and ends the attempt there: the result shows
 // those two phases reached and no error. The insertion that follows is decided by fractions of
 // a millimetre, and in real time the machine's timing moves the presses: of six whole runs, five
 // succeeded at 50.8 s and one perforated the duct's wall at 45.7 s (a CI run on the 2-core VM),
 // so the whole run is played only with LAP_KEYBOARD_WHOLE_RUN=1, and must then succeed.
-TEST_F(SessionFlow, TheDefaultPatientWithTheKeysInTheWindow) {
+TEST_F(SessionFlow, TheIntroductorySceneWithTheKeysInTheWindow) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
-  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  const sim::SceneLoadResult scene =
+      sim::load_scene_file(source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(scene.ok());
   const std::vector<Press> presses =
-      keyboard_operator(scene.value(), "default", 25.0).plan().presses;
+      keyboard_operator(scene.value(), "introductory", 25.0).plan().presses;
   ASSERT_FALSE(presses.empty());
   MainWindow w;
   run_with_keyboard(w, "R-3301 Dr L. Haddad");
@@ -851,7 +856,8 @@ TEST_F(SessionFlow, TheDefaultPatientWithTheKeysInTheWindow) {
 // 3 presses along -x, its jaws opened a press, then sent home with H.
 TEST_F(SessionFlow, TheTestScreenShowsEachHandsPositionGripButtonsAndHome) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
-  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  const sim::SceneLoadResult scene =
+      sim::load_scene_file(source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(scene.ok());
   const Eigen::Vector3d right = sim::home_handle_position(scene.value(), 1);
   const fs::path script = g_home->path() / "buttons_right.csv";
@@ -868,7 +874,7 @@ TEST_F(SessionFlow, TheTestScreenShowsEachHandsPositionGripButtonsAndHome) {
   w.resize(1280, 800);
   w.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
-  sign_in_and_choose_default(w, "R-3302 Dr P. Novak", "");
+  sign_in_and_choose(w, "R-3302 Dr P. Novak", "", QStringLiteral("introductory"));
   if (HasFatalFailure()) return;
   app::DevicesPage* page = w.devices_page();
   choose(find<QComboBox>(page, "left_kind"), 0);
@@ -947,7 +953,8 @@ TEST_F(SessionFlow, ARunIsPausedResumedRestartedEndedAndTriedAgain) {
   ASSERT_EQ(w.step(), MainWindow::Step::kRun);
   ASSERT_TRUE(live.running());
   EXPECT_LT(tick(), before_restart);
-  const sim::SceneLoadResult scene = sim::load_scene_file(source_dir() / "scenarios/default.yaml");
+  const sim::SceneLoadResult scene =
+      sim::load_scene_file(source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(scene.ok());
   EXPECT_LT((live.input(1).position_W - sim::home_handle_position(scene.value(), 1)).norm(), 1e-12);
   ASSERT_NE(w.store(), nullptr);

@@ -1,5 +1,5 @@
 // Seeking anywhere in a 10-minute recording by its frames (issue 24: ≤ 200 ms;
-// sim/report/recorded_frames.h): a real 600 s session recorded — the default scenario's clumsy
+// sim/report/recorded_frames.h): a real 600 s session recorded — the introductory scenario's clumsy
 // run that holds the catheter at the incision until the time limit (`laptrainer-cli run --fast
 // --record`) — its file indexed once (RecordedFrames::open, timed), then 200 seeks to random
 // times, each reading the chunk that holds the frame from the file, checking it and decoding it.
@@ -46,12 +46,12 @@ const Recorded& recorded() {
               ("lap-seek-recording-" + std::to_string(::getpid()));
     std::filesystem::remove_all(out.dir, ec);
     const std::string source = LAP_SOURCE_DIR;
-    const std::string scripts = source + "/scenarios/scripts/default/clumsy_time_limit_";
+    const std::string scripts = source + "/scenarios/scripts/introductory/clumsy_time_limit_";
     const char* shorter = std::getenv("LAP_SEEK_BENCH_S");
     const std::string duration =
         shorter != nullptr ? " --duration " + std::string(shorter) : std::string();
     const std::string command = (bin / "laptrainer-cli").string() + " run --scenario " + source +
-                                "/scenarios/default.yaml --left scripted:" + scripts +
+                                "/scenarios/introductory.yaml --left scripted:" + scripts +
                                 "left.csv --right scripted:" + scripts + "right.csv --fast" +
                                 duration + " --record " + out.dir.string() +
                                 " > /dev/null 2> /dev/null";

@@ -2,9 +2,9 @@
 // is what the review's scrub bar does (app/review/replay_player.cpp): find the frame at the time
 // (sim::ReplayTimeline::seek), take it up as the snapshots the actors read, update the app's
 // actors (tools, catheter, the organs' deformation and normals) and, in the rendered variant,
-// draw the 3D view. The timeline is a real one — the default scenario's expert session recorded
-// by `laptrainer-cli run --fast --record` and replayed — laid end to end to ten minutes (12 000
-// frames at 20 a second), so every frame holds what a real frame holds.
+// draw the 3D view. The timeline is a real one — the introductory scenario's expert session
+// recorded by `laptrainer-cli run --fast --record` and replayed — laid end to end to ten minutes
+// (12 000 frames at 20 a second), so every frame holds what a real frame holds.
 //
 //   xvfb-run -a build/release/bin/laptrainer-bench --benchmark_filter=BM_ReviewSeek
 
@@ -53,9 +53,9 @@ const sim::ReplayTimeline* ten_minute_timeline(std::string* error) {
   const std::string source = LAP_SOURCE_DIR;
   const std::string command =
       (bin / "laptrainer-cli").string() + " run --scenario " + source +
-      "/scenarios/default.yaml --left scripted:" + source +
-      "/scenarios/scripts/default/expert_left.csv --right scripted:" + source +
-      "/scenarios/scripts/default/expert_right.csv --fast --record " + dir.string() +
+      "/scenarios/introductory.yaml --left scripted:" + source +
+      "/scenarios/scripts/introductory/expert_left.csv --right scripted:" + source +
+      "/scenarios/scripts/introductory/expert_right.csv --fast --record " + dir.string() +
       " > /dev/null";
   if (std::system(command.c_str()) != 0) {
     why = "cannot record the expert's session: " + command;

@@ -1,4 +1,4 @@
-// BM_RuntimeLoop: the whole runtime headless, in real time — the default scene, two scripted
+// BM_RuntimeLoop: the whole runtime headless, in real time — the introductory scene, two scripted
 // tools sweeping over the organs, the haptic loop at 1 kHz, the modelling loop at 200 Hz, and a
 // graphics reader taking the newest snapshots at 60 Hz — for 60 s (LAP_RUNTIME_BENCH_S to
 // change). BM_RuntimeLoopRendered (built with the app): the same with the graphics loop drawing
@@ -82,9 +82,9 @@ void run_runtime(benchmark::State& state, bool isolate_by_default, const Graphic
   const char* env = std::getenv("LAP_RUNTIME_BENCH_S");
   const double duration = env != nullptr ? std::atof(env) : 60.0;
   const sim::SceneLoadResult r =
-      sim::load_scene_file(std::string(LAP_SOURCE_DIR) + "/scenarios/default.yaml");
+      sim::load_scene_file(std::string(LAP_SOURCE_DIR) + "/scenarios/introductory.yaml");
   if (!r.ok()) {
-    state.SkipWithError("the default scenario did not load");
+    state.SkipWithError("the introductory scenario did not load");
     return;
   }
   for (auto _ : state) {

@@ -53,7 +53,7 @@ std::string command_for(const std::filesystem::path& file) {
   if (std::filesystem::is_directory(file)) return cli + " report --session " + quoted;
   if (ext == ".yaml") return cli + " validate --scenario " + quoted;
   if (ext == ".csv" || ext == ".lapdev") {
-    return cli + " run --scenario '" + (source_dir() / "scenarios/default.yaml").string() +
+    return cli + " run --scenario '" + (source_dir() / "scenarios/introductory.yaml").string() +
            "' --left " + (ext == ".csv" ? "scripted:" : "replay:") + quoted +
            " --right simulated --fast --duration 0.01";
   }

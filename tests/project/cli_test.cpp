@@ -45,7 +45,7 @@ std::vector<std::string> csv_cells(const std::string& line) {
 
 TEST(CliValidate, DefaultScenarioIsOk) {
   const CommandResult r = run_command(cli() + " validate --scenario " +
-                                      (source_dir() / "scenarios/default.yaml").string());
+                                      (source_dir() / "scenarios/introductory.yaml").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find(": ok"), std::string::npos);
 }
@@ -239,7 +239,7 @@ std::string json_field(const std::string& json, const std::string& key) {
 
 TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
   TempDir dir;
-  // Handles in front of the default scenario's ports (left x -0.07, right 0.06; y 0.03,
+  // Handles in front of the introductory scenario's ports (left x -0.07, right 0.06; y 0.03,
   // z 0.18), pushed 3 cm deeper over 0.3 s while the jaws close.
   const auto left = dir.write("left.csv",
                               "time_s,x_m,y_m,z_m,qw,qx,qy,qz,gripper_rad\n"
@@ -248,7 +248,7 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
   const auto right = dir.write("right.csv",
                                "0.0,0.06,0.03,0.40,1,0,0,0,0.8\n"
                                "0.3,0.05,0.04,0.37,1,0,0,0,0.2\n");
-  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string scenario = (source_dir() / "scenarios/introductory.yaml").string();
   const std::string rec = (dir.path() / "rec").string();
   const CommandResult r =
       run_command(cli() + " run --scenario " + scenario + " --left scripted:" + left.string() +
@@ -276,11 +276,11 @@ TEST(CliRun, ScriptedFastRunPrintsMetricsAndItsReplayMatchesBitForBit) {
   EXPECT_EQ(json_field(replay.out, "task"), json_field(r.out, "task"));
 }
 
-// The default scenario rewritten into a temporary folder (its meshes by a path from there: a
+// The introductory scenario rewritten into a temporary folder (its meshes by a path from there: a
 // scenario names no absolute path), with `edit` applied to its text.
-std::filesystem::path default_scenario_copy(const TempDir& dir,
-                                            const std::function<void(std::string&)>& edit) {
-  std::string text = read_file(source_dir() / "scenarios/default.yaml");
+std::filesystem::path introductory_scenario_copy(const TempDir& dir,
+                                                 const std::function<void(std::string&)>& edit) {
+  std::string text = read_file(source_dir() / "scenarios/introductory.yaml");
   const std::string assets =
       std::filesystem::relative(std::filesystem::absolute(source_dir() / "assets"),
                                 std::filesystem::absolute(dir.path()))
@@ -333,7 +333,7 @@ TEST(CliRun, TheTaskObjectFollowsTheContract) {
   };
 
   // Nothing happens within half a second: incomplete, no reasons, no completion time.
-  auto plain = run(source_dir() / "scenarios/default.yaml", 0.5);
+  auto plain = run(source_dir() / "scenarios/introductory.yaml", 0.5);
   ASSERT_FALSE(plain.is_discarded());
   expect_task_contract(plain["task"]);
   EXPECT_EQ(plain["task"]["kind"], "catheter-insertion");
@@ -343,12 +343,12 @@ TEST(CliRun, TheTaskObjectFollowsTheContract) {
   EXPECT_EQ(plain["haptic"]["ticks"], 500);
 
   // A one-second time limit: the task fails at 1 s and the session ends there, not at 3 s.
-  auto limited = run(default_scenario_copy(dir,
-                                           [](std::string& t) {
-                                             const size_t at = t.find("time_limit_s: 600");
-                                             ASSERT_NE(at, std::string::npos);
-                                             t.replace(at, 17, "time_limit_s: 1");
-                                           }),
+  auto limited = run(introductory_scenario_copy(dir,
+                                                [](std::string& t) {
+                                                  const size_t at = t.find("time_limit_s: 600");
+                                                  ASSERT_NE(at, std::string::npos);
+                                                  t.replace(at, 17, "time_limit_s: 1");
+                                                }),
                      3.0);
   ASSERT_FALSE(limited.is_discarded());
   auto& task = limited["task"];
@@ -364,12 +364,12 @@ TEST(CliRun, TheTaskObjectFollowsTheContract) {
   EXPECT_EQ(limited["haptic"]["ticks"], 1001);
 
   // Without a task: nothing watched, said so.
-  auto free = run(default_scenario_copy(dir,
-                                        [](std::string& t) {
-                                          const size_t at = t.find("\ntask:");
-                                          ASSERT_NE(at, std::string::npos);
-                                          t.erase(at + 1);
-                                        }),
+  auto free = run(introductory_scenario_copy(dir,
+                                             [](std::string& t) {
+                                               const size_t at = t.find("\ntask:");
+                                               ASSERT_NE(at, std::string::npos);
+                                               t.erase(at + 1);
+                                             }),
                   0.5);
   ASSERT_FALSE(free.is_discarded());
   expect_task_contract(free["task"]);
@@ -381,11 +381,12 @@ TEST(CliRun, TheTaskObjectFollowsTheContract) {
 }
 
 TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
-  // The contract's outside check: the expert's scripts for the default scenario, --fast, a long
+  // The contract's outside check: the expert's scripts for the introductory scenario, --fast, a
+  // long
   // --duration: "success", no reasons, the completion time, and the session ended there.
-  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/introductory";
   const CommandResult r = run_command(
-      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+      cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
       " --left scripted:" + (scripts / "expert_left.csv").string() +
       " --right scripted:" + (scripts / "expert_right.csv").string() + " --fast --duration 120");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -427,10 +428,10 @@ TEST(CliRun, ADiskThatFillsUpKeepsWhatWasRecordedAndNamesWhatWasNot) {
   const std::filesystem::path disk = dir.path() / "disk";
   std::filesystem::create_directory(disk);
   const std::filesystem::path rec = disk / "s1";
-  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/introductory";
   const SmallDiskRun small = run_on_a_small_disk(disk, 1024U * 1024U, [&] {
     const CommandResult run = run_command(
-        cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+        cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
         " --left scripted:" + (scripts / "expert_left.csv").string() + " --right scripted:" +
         (scripts / "expert_right.csv").string() + " --fast --duration 30 --record " + rec.string());
     const CommandResult report = run_command(cli() + " report --session " + rec.string());
@@ -486,13 +487,13 @@ TEST(CliRun, ADiskThatFillsUpKeepsWhatWasRecordedAndNamesWhatWasNot) {
 }
 
 TEST(CliRun, WithoutADurationScriptedDevicesRunUntilTheScriptsOrTheTaskEnd) {
-  // The default's expert takes 15.9 s, longer than the default --duration of 10 s: without one,
-  // a session of scripted devices runs on to the task's end (or the scripts'), not to 10 s.
-  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
-  const CommandResult r =
-      run_command(cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
-                  " --left scripted:" + (scripts / "expert_left.csv").string() +
-                  " --right scripted:" + (scripts / "expert_right.csv").string() + " --fast");
+  // The introductory's expert takes 15.9 s, longer than the default --duration of 10 s: without
+  // one, a session of scripted devices runs on to the task's end (or the scripts'), not to 10 s.
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/introductory";
+  const CommandResult r = run_command(
+      cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
+      " --left scripted:" + (scripts / "expert_left.csv").string() +
+      " --right scripted:" + (scripts / "expert_right.csv").string() + " --fast");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto out = nlohmann::ordered_json::parse(r.out, nullptr, /*allow_exceptions=*/false);
   ASSERT_FALSE(out.is_discarded()) << r.out;
@@ -500,7 +501,7 @@ TEST(CliRun, WithoutADurationScriptedDevicesRunUntilTheScriptsOrTheTaskEnd) {
   EXPECT_GT(out["haptic"]["ticks"].get<int64_t>(), 10'000);
   // With a simulated device (it never runs out) the default stays 10 s.
   const CommandResult sim = run_command(
-      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+      cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
       " --left simulated --right scripted:" + (scripts / "expert_right.csv").string() + " --fast");
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   const auto sim_out = nlohmann::ordered_json::parse(sim.out, nullptr, /*allow_exceptions=*/false);
@@ -510,13 +511,13 @@ TEST(CliRun, WithoutADurationScriptedDevicesRunUntilTheScriptsOrTheTaskEnd) {
 
 TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
   TempDir dir;
-  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/introductory";
   const std::filesystem::path session = dir.path() / "session";
-  const CommandResult run =
-      run_command(cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
-                  " --left scripted:" + (scripts / "clumsy_tear_left.csv").string() +
-                  " --right scripted:" + (scripts / "clumsy_tear_right.csv").string() +
-                  " --fast --duration 60 --dominant-hand left --record " + session.string());
+  const CommandResult run = run_command(
+      cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
+      " --left scripted:" + (scripts / "clumsy_tear_left.csv").string() +
+      " --right scripted:" + (scripts / "clumsy_tear_right.csv").string() +
+      " --fast --duration 60 --dominant-hand left --record " + session.string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto live = nlohmann::ordered_json::parse(run.out, nullptr, false);
   ASSERT_FALSE(live.is_discarded());
@@ -602,7 +603,7 @@ TEST(CliReport, ReplaysARecordedSessionToTheSameTaskAndMetrics) {
       << over.err;
   EXPECT_GT(std::filesystem::file_size(session / "session.lrec"), 1000U);
   const CommandResult again = run_command(
-      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
+      cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
       " --left simulated --right simulated --fast --duration 0.1 --record " + session.string());
   EXPECT_EQ(again.exit_code, 2);
   EXPECT_NE(again.err.find("already holds a recorded session"), std::string::npos) << again.err;
@@ -752,15 +753,15 @@ TEST(CliPerception, AnswersThatEndEarlyKeepThoseGivenAndSaySo) {
 
 TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {
   TempDir dir;
-  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string scenario = (source_dir() / "scenarios/introductory.yaml").string();
   const CommandResult ok = run_command(cli() + " plan-expert --scenario " + scenario + " --out " +
                                        dir.path().string() + " --mistake drop");
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "clumsy_drop_left.csv"));
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "clumsy_drop_right.csv"));
   // The expert's plan says how near the right hand comes to the organs it must not touch, and
-  // warns where it presses into one: the default patient's shaft grazes the gallbladder on the
-  // way in (its figures checked against a brute-force search by
+  // warns where it presses into one: the introductory scenario's shaft grazes the gallbladder on
+  // the way in (its figures checked against a brute-force search by
   // PatientRun.ThePlannedRightHandsClearancesAreTheLeastDistancesOverItsKeyframes); a clumsy
   // run's plan does not report them.
   const CommandResult expert =
@@ -786,7 +787,7 @@ TEST(CliPlanExpert, WritesTheScriptsAndRefusesWhatItCannotPlan) {
       std::string::npos)
       << bad.err;
   // A scenario without a task has no insertion to plan: exit 2, saying so.
-  const auto no_task = default_scenario_copy(dir, [](std::string& t) {
+  const auto no_task = introductory_scenario_copy(dir, [](std::string& t) {
     const size_t at = t.find("\ntask:");
     ASSERT_NE(at, std::string::npos);
     t.erase(at + 1);
@@ -801,7 +802,7 @@ TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {
   // The fake libHD.so stands in for OpenHaptics: found through LD_LIBRARY_PATH as the real one
   // would be through the system's library path.
   const std::string dir = std::filesystem::path(LAP_FAKE_HD).parent_path().string();
-  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string scenario = (source_dir() / "scenarios/introductory.yaml").string();
   const CommandResult r =
       run_command("LD_LIBRARY_PATH=" + dir + " " + cli() + " run --scenario " + scenario +
                   " --left phantom --right simulated --duration 0.3");
@@ -814,7 +815,7 @@ TEST(CliRun, PhantomFindsLibHdOnTheLibraryPath) {
 
 TEST(CliRun, DeviceProblemsAreClearErrors) {
   TempDir dir;
-  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string scenario = (source_dir() / "scenarios/introductory.yaml").string();
   const auto bad = dir.write("bad.csv", "0,0,0,0,1,0,0,0,0\n0.1,0,0,0,1,0,0\n");
   CommandResult r = run_command(cli() + " run --scenario " + scenario +
                                 " --left scripted:" + bad.string() + " --right simulated --fast");
@@ -880,7 +881,7 @@ TEST(CliRun, SigtermAndSigintEndARealTimeRunCleanly) {
     TempDir dir;
     const std::string rec = (dir.path() / "rec").string();
     const pid_t pid = spawn_cli(
-        {"run", "--scenario", (source_dir() / "scenarios/default.yaml").string(), "--left",
+        {"run", "--scenario", (source_dir() / "scenarios/introductory.yaml").string(), "--left",
          "simulated", "--right", "simulated", "--duration", "120", "--record", rec},
         dir.path() / "out.json", dir.path() / "err.txt");
     ASSERT_GT(pid, 0);
@@ -975,10 +976,10 @@ TEST(CliPerception, SigintStopsTheWaitForAnAnswerAndKeepsThoseGiven) {
 // replays it.
 TEST(CliRun, KilledMidSessionTheRecordingLosesAtMost100Ms) {
   TempDir dir;
-  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/introductory";
   const std::string rec = (dir.path() / "rec").string();
   const pid_t pid = spawn_cli(
-      {"run", "--scenario", (source_dir() / "scenarios/default.yaml").string(), "--left",
+      {"run", "--scenario", (source_dir() / "scenarios/introductory.yaml").string(), "--left",
        "scripted:" + (scripts / "expert_left.csv").string(), "--right",
        "scripted:" + (scripts / "expert_right.csv").string(), "--duration", "60", "--record", rec},
       dir.path() / "out.json", dir.path() / "err.txt");
@@ -1035,7 +1036,7 @@ TEST_F(AppHeadless, WithoutADisplayItSaysSoAndRunsTheDefaultScenario) {
   const CommandResult r = run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + app());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("no display available"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("organs: 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("organs: 8"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("headless run finished"), std::string::npos) << r.out;
 }
 
@@ -1068,7 +1069,7 @@ TEST_F(AppHeadless, BadScenarioIsReportedNotCrashed) {
 TEST(CliReport, TheScenarioARecordingNamesIsReadOnlyFromTheAllowedFolders) {
   TempDir dir;
   const std::filesystem::path rec = dir.path() / "rec";
-  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string scenario = (source_dir() / "scenarios/introductory.yaml").string();
   const CommandResult run = run_command(cli() + " run --scenario " + scenario +
                                         " --left simulated --right simulated --fast --duration "
                                         "0.05 --record " +
@@ -1153,7 +1154,7 @@ TEST(CliReport, TheScenarioARecordingNamesIsReadOnlyFromTheAllowedFolders) {
 // and metrics.json; and the report notes that the scenario is not the one recorded.
 TEST(CliRun, AScenarioChangedWhileARecordedRunRunsIsSaidAndItsRecordKept) {
   TempDir dir;
-  const std::filesystem::path scenario = default_scenario_copy(dir, [](std::string&) {});
+  const std::filesystem::path scenario = introductory_scenario_copy(dir, [](std::string&) {});
   const std::string loaded = read_file(scenario);
   const std::filesystem::path rec = dir.path() / "rec";
   const pid_t pid =
@@ -1210,7 +1211,7 @@ TEST(CliLimits, DevicesFifosAndFoldersAreRefusedUnreadWithExitTwo) {
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   const std::string folder = (dir.path() / "folder").string();
   std::filesystem::create_directory(folder);
-  const std::string scenario = (source_dir() / "scenarios/default.yaml").string();
+  const std::string scenario = (source_dir() / "scenarios/introductory.yaml").string();
   const std::string run = cli() + " run --scenario " + scenario + " --right simulated --fast " +
                           "--duration 0.01 --left ";
   struct Case {
@@ -1283,7 +1284,7 @@ TEST(CliLimits, DevicesFifosAndFoldersAreRefusedUnreadWithExitTwo) {
   EXPECT_EQ(buffer.exit_code, 2) << buffer.err;
   EXPECT_NE(buffer.err.find(gltf.string() + ": not a valid glTF 2.0 file"), std::string::npos)
       << buffer.err;
-  const auto textured = default_scenario_copy(dir, [&](std::string& t) {
+  const auto textured = introductory_scenario_copy(dir, [&](std::string& t) {
     const std::string at = "material:\n";
     const size_t m = t.find(at);
     ASSERT_NE(m, std::string::npos);

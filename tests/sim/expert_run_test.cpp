@@ -1,4 +1,4 @@
-// The default scenario's expert run (sim/authoring/expert_run.h) against what the scenario may
+// The introductory scenario's expert run (sim/authoring/expert_run.h) against what the scenario may
 // change: a shorter time limit, a common bile duct the tip enters. The runs themselves, for the
 // default and the patients, are tests/sim/patient_runs_test.cpp's. --fast: inputs only.
 
@@ -15,15 +15,15 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/introductory";
 
 // The shipped scripts, the expert's success and each clumsy run's exact events: the
 // parameterised suite of tests/sim/patient_runs_test.cpp, for the default as for the patients.
-// Here, what only the default's expert shows.
+// Here, what only the introductory's expert shows.
 
 TEST(ExpertRun, TheExpertsPaceRunsOutOfAShorterTimeLimit) {
   // The time limit's clumsy run: the expert's own, with 10 s to do what takes 15.8 s.
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   scene.scenario.task->time_limit_s = 10.0;
   const SessionMetrics m = run_scripts(scene, kScripts, "expert");
   EXPECT_EQ(event_kinds(m.task), "catheter_grasped, tip_at_incision, time_limit, failure");
@@ -32,10 +32,10 @@ TEST(ExpertRun, TheExpertsPaceRunsOutOfAShorterTimeLimit) {
 }
 
 TEST(ExpertRun, TheTipInsideTheCommonBileDuctFails) {
-  // The default scene has no common bile duct: the cystic duct's own closed mesh stands in for
+  // The introductory scene has no common bile duct: the cystic duct's own closed mesh stands in for
   // one (as the scene holds it, not through the loader, which refuses the target): the tip that
   // enters the lumen is inside "it" too — the session's inside test on a real surface.
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   scene.scenario.task->common_bile_duct = "cystic_duct";
   const SessionMetrics m = run_scripts(scene, kScripts, "expert");
   EXPECT_EQ(event_kinds(m.task),

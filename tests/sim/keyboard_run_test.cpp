@@ -161,9 +161,10 @@ KeyboardRun run_with(const std::string& stem) {
 
 // Both keyboard tools start in the laparoscope's picture (the task counts an instrument out of
 // view from the first tick), at least 10 cm into their ports, pointing at the task's target:
-// 10 cm exactly where the tip is in view from 8 cm on (the default scenario).
+// 10 cm exactly where the tip is in view from 8 cm on (the introductory scenario).
 TEST(KeyboardRun, BothToolsStartInThePicture) {
-  for (const char* stem : {"default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem :
+       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
     const SceneLoadResult loaded =
         load_scene_file(test::source_dir() / "scenarios" / (std::string(stem) + ".yaml"));
     ASSERT_TRUE(loaded.ok()) << loaded.message();
@@ -188,7 +189,7 @@ TEST(KeyboardRun, BothToolsStartInThePicture) {
       eight.position_W = default_handle_position(scene, side, 0.08);
       const bool eight_in_view = m.task().in_view(
           tool_kinematics(m.tool(i).trocar, eight, m.tool(i).initial_axis_W).pose.hinge_W);
-      if (std::string(stem) == "default") {
+      if (std::string(stem) == "introductory") {
         EXPECT_TRUE(eight_in_view) << side;  // so the check below is made there
       }
       if (eight_in_view) {
@@ -257,7 +258,8 @@ TEST(KeyboardRun, TheOtherPatientsCanBeCompletedWithTheKeys) {
 // sight, drags for the roll and the jaws, one gesture a frame.
 TEST(KeyboardRun, ThePatientsCanBeCompletedWithTheMouse) {
   if (!kEveryRun) GTEST_SKIP() << "the optimised build's";
-  for (const char* stem : {"default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem :
+       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
     expect_success(run_with<test::MouseOperator>(stem), (std::string(stem) + ", mouse").c_str());
   }
 }
@@ -266,7 +268,8 @@ TEST(KeyboardRun, ThePatientsCanBeCompletedWithTheMouse) {
 // smoothly, where the keys' move along one at a time.
 TEST(KeyboardRun, ThePatientsCanBeCompletedWithThe3DMouse) {
   if (!kEveryRun) GTEST_SKIP() << "the optimised build's";
-  for (const char* stem : {"default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem :
+       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
     expect_success(run_with<test::PuckOperator>(stem), (std::string(stem) + ", 3D mouse").c_str());
   }
 }

@@ -1,5 +1,6 @@
-// The default scenario and the patients of graded difficulty (scenarios/patient_*.yaml on the
-// generated anatomy, docs/anatomy.md; issue 22): for each, the shipped scripts are what the
+// The scenarios with a task: the introductory one on stand-in organs, the default (the textbook
+// patient) and the patients of graded difficulty (scenarios/default.yaml and patient_*.yaml on
+// the generated anatomy, docs/anatomy.md; issue 22): for each, the shipped scripts are what the
 // planner (sim/authoring/expert_run.h) writes from the scenario, the expert's run ends in success
 // and each clumsy run fails for its own reason, with the exact sequence of events
 // (sim/runtime/task_engine.h). All in --fast mode: a function of the inputs only.
@@ -81,7 +82,7 @@ TEST_P(PatientRun, TheShippedScriptsAreWhatThePlannerWritesFromTheScenario) {
   for (const ExpertMistake mistake : kClumsyRuns) {
     if (mistake == ExpertMistake::kEntersCommonBileDuct &&
         scene_of(GetParam()).scenario.task->common_bile_duct.empty()) {
-      continue;  // the default scene has no common bile duct: no such run
+      continue;  // the introductory scene has no common bile duct: no such run
     }
     expect_planned_scripts(scene_of(GetParam()), mistake, scripts_of(GetParam()),
                            "clumsy_" + std::string(to_string(mistake)));
@@ -170,8 +171,8 @@ TEST_P(PatientRun, PushingOnPastTheTargetPerforatesTheWall) {
 }
 
 // The common bile duct taken for the cystic duct: the catheter pushed in through its wall, the
-// task's error for a catheter meant for the cystic duct alone. The default scene has no common
-// bile duct (its stand-in organs are the liver, the gallbladder and the cystic duct), so no
+// task's error for a catheter meant for the cystic duct alone. The introductory scene has no
+// common bile duct (its stand-in organs are the liver, the gallbladder and the cystic duct), so no
 // such run (tests/sim/expert_run_test.cpp checks the error there with the duct standing in).
 TEST_P(PatientRun, TheCommonBileDuctTakenForTheCysticDuctIsAnError) {
   const Scene& scene = scene_of(GetParam());
@@ -218,13 +219,15 @@ TEST_P(PatientRun, PullingTheGraspedDuctInjuresIt) {
   EXPECT_NEAR(e.duration_s, scene.scenario.task->duct_injury_time_s, 0.006);
 }
 
-// Under the sanitizers, the default and the hardest patient only: the patients differ in their
-// data, not in the code their runs go through, and there each run takes up to a minute (the
-// Release build runs all four).
+// Under the sanitizers, the introductory scene and the hardest patient only: the patients differ
+// in their data, not in the code their runs go through, and there each run takes up to a minute
+// (the Release build runs all five).
 std::vector<Patient> patients() {
-  if (test::kSanitizerDivisor > 1) return {Patient{"default", false}, Patient{"patient_hard"}};
-  return {Patient{"default", false}, Patient{"patient_easy"}, Patient{"patient_moderate"},
-          Patient{"patient_hard"}};
+  if (test::kSanitizerDivisor > 1) {
+    return {Patient{"introductory", false}, Patient{"patient_hard"}};
+  }
+  return {Patient{"introductory", false}, Patient{"default"}, Patient{"patient_easy"},
+          Patient{"patient_moderate"}, Patient{"patient_hard"}};
 }
 
 // The right hand's clearances the planner reports (ExpertRun::right_shaft, held_catheter) are
@@ -375,8 +378,7 @@ TEST_P(PatientRun, ThePlannedRightHandsClearancesAreTheLeastDistancesOverItsKeyf
 // KeyboardRun's check that).
 TEST(PatientApproach, TheHardestPatientsExpertComesInAtTheSlantItsFulcrumMeetsBetter) {
   const Patient hard{"patient_hard"};
-  EXPECT_EQ(expert_run_settings(scene_of(Patient{"default", false}).scenario).entry_slant_deg,
-            39.0);
+  EXPECT_EQ(expert_run_settings(scene_of(Patient{"default"}).scenario).entry_slant_deg, 39.0);
   const ExpertRunSettings named = expert_run_settings(scene_of(hard).scenario);
   EXPECT_EQ(named.entry_slant_deg, 42.0);
   RuntimeSettings rs;

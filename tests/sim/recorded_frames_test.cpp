@@ -28,7 +28,7 @@ namespace {
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
 constexpr char kHeader[] = R"({"haptic_rate_hz": 1000})";
-const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/introductory";
 
 std::string bytes_of(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -74,7 +74,7 @@ struct RecordedPress {
   SessionMetrics metrics;
 
   explicit RecordedPress(double duration_s) {
-    auto s = session_over(default_scene(), fast(duration_s));
+    auto s = session_over(introductory_scene(), fast(duration_s));
     EXPECT_TRUE(s->record_to(file, kHeader).ok());
     s->observe_fast(
         [this](int64_t tick, const HapticSnapshot& h, const ModelSnapshot& m) {
@@ -286,13 +286,13 @@ TEST(RecordedFrames, AFrameChunkWithImpossibleFramesIsSkippedNotTrusted) {
   EXPECT_NE(RecordedFrames::decode(bad, count, 1e-3, &frames).find("negative"), std::string::npos);
 }
 
-// The expert's scripted session on the default scenario, run with `rs` and recorded into `dir`
+// The expert's scripted session on the introductory scenario, run with `rs` and recorded into `dir`
 // as the application saves one (session.json, session.lrec); null, with a failure, if not.
 std::unique_ptr<Session> record_expert_session(const fs::path& dir, const RuntimeSettings& rs) {
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  auto created = Session::create(introductory_scene(), scripted_devices(kScripts, "expert"), rs);
   EXPECT_TRUE(created.ok()) << created.message();
   if (!created.ok()) return nullptr;
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const fs::path scenario = test::source_dir() / "scenarios/introductory.yaml";
   const Result<std::string> header = session_record_json(scenario, rs);
   if (!header.ok() || !write_session_record(dir, header.value()).ok() ||
       !created.value()->record_to(dir / "session.lrec", header.value()).ok()) {
@@ -308,7 +308,7 @@ std::unique_ptr<Session> record_expert_session(const fs::path& dir, const Runtim
 // session replayed (ReplayTimeline::replay) keeps its own frames through the same ticks.
 TEST(RecordedFrames, TheReviewShowsTheRecordedFramesAsTheReplayDrawsThem) {
   const test::TempDir dir;
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const std::unique_ptr<Session> session = record_expert_session(dir.path(), fast(6.0));
   ASSERT_NE(session, nullptr);
 
@@ -377,7 +377,7 @@ TEST(RecordedFrames, ACancelledReplayOfALiveSessionEndsWhereItWasCancelled) {
 // tick 1000 to tick 1900 (nine frames taken), the recorder's thread left out.
 TEST(RecordedFrames, KeepingFramesAllocatesNothingOnTheLoopsThread) {
   const test::TempDir dir;
-  auto s = session_over(default_scene(), fast(2.0));
+  auto s = session_over(introductory_scene(), fast(2.0));
   ASSERT_TRUE(s->record_to(dir.path() / "session.lrec", kHeader).ok());
   std::optional<test::AllocationCounter> counter;
   int64_t counted = -1;

@@ -38,16 +38,16 @@ const OrganSpec& organ(const Scenario& s, const std::string& name) {
   throw std::runtime_error("no organ " + name);
 }
 
-fs::path default_scenario() { return test::source_dir() / "scenarios/default.yaml"; }
+fs::path introductory_scenario() { return test::source_dir() / "scenarios/introductory.yaml"; }
 
 TEST(ScenarioEditor, ChangesOnlyTheEditedLinesOfACommentedScenario) {
-  const std::string before = read_file(default_scenario());
+  const std::string before = read_file(introductory_scenario());
   const std::vector<MaterialEdit> edits = {
       {"liver", "stiffness_n_per_m", 144.0},
       {"gallbladder", "texture.amplitude_m", 0.00025},
       {"cystic_duct", "friction_dynamic", 0.05},
   };
-  const Result<std::string> after = edit_scenario_materials(before, default_scenario(), edits);
+  const Result<std::string> after = edit_scenario_materials(before, introductory_scenario(), edits);
   ASSERT_TRUE(after.ok()) << after.message();
 
   const std::vector<std::string> a = lines_of(before);
@@ -73,14 +73,15 @@ TEST(ScenarioEditor, ChangesOnlyTheEditedLinesOfACommentedScenario) {
   EXPECT_EQ(at(b, expected[1]), "        amplitude_m: 0.00025");
   // A longer value pushes a comment only as far as it must.
   const std::vector<MaterialEdit> longer = {{"cystic_duct", "friction_dynamic", 0.0512345678}};
-  const Result<std::string> pushed = edit_scenario_materials(before, default_scenario(), longer);
+  const Result<std::string> pushed =
+      edit_scenario_materials(before, introductory_scenario(), longer);
   ASSERT_TRUE(pushed.ok()) << pushed.message();
   EXPECT_EQ(at(lines_of(pushed.value()), expected[2]),
             "      friction_dynamic: 0.0512345678 # estimate");
 
   // It loads, with the new values and every other one as before.
-  const ScenarioLoadResult old_s = parse_scenario(before, default_scenario());
-  const ScenarioLoadResult new_s = parse_scenario(after.value(), default_scenario());
+  const ScenarioLoadResult old_s = parse_scenario(before, introductory_scenario());
+  const ScenarioLoadResult new_s = parse_scenario(after.value(), introductory_scenario());
   ASSERT_TRUE(old_s.ok()) << old_s.message();
   ASSERT_TRUE(new_s.ok()) << new_s.message();
   EXPECT_EQ(organ(new_s.value(), "liver").material.stiffness_n_per_m, 144.0);
@@ -102,9 +103,9 @@ TEST(ScenarioEditor, NumbersReadBackAsTheSameDouble) {
 }
 
 TEST(ScenarioEditor, AddsAMissingFieldAtTheEndOfTheOrgansMaterial) {
-  const std::string before = read_file(default_scenario());
+  const std::string before = read_file(introductory_scenario());
   const std::vector<MaterialEdit> edits = {{"cystic_duct", "shading.enabled", true}};
-  const Result<std::string> after = edit_scenario_materials(before, default_scenario(), edits);
+  const Result<std::string> after = edit_scenario_materials(before, introductory_scenario(), edits);
   ASSERT_TRUE(after.ok()) << after.message();
   const std::vector<std::string> a = lines_of(before);
   const std::vector<std::string> b = lines_of(after.value());
@@ -116,7 +117,7 @@ TEST(ScenarioEditor, AddsAMissingFieldAtTheEndOfTheOrgansMaterial) {
   EXPECT_EQ(b[static_cast<size_t>(last + 1)], "        enabled: true");
   for (size_t i = static_cast<size_t>(last); i < a.size(); ++i) EXPECT_EQ(a[i], b[i + 2]);
 
-  const ScenarioLoadResult s = parse_scenario(after.value(), default_scenario());
+  const ScenarioLoadResult s = parse_scenario(after.value(), introductory_scenario());
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_TRUE(organ(s.value(), "cystic_duct").material.shading.enabled);
 }
@@ -158,10 +159,10 @@ TEST(ScenarioEditor, KeepsWindowsLineEndingsAndAMissingFinalNewline) {
 // The shipped scenarios write the liver's shading as a one-line flow map: an entry is set in
 // place and a missing one added before the brace, the comment kept in its column.
 TEST(ScenarioEditor, EditsAOneLineFlowMapInPlace) {
-  const std::string before = read_file(default_scenario());
+  const std::string before = read_file(introductory_scenario());
   const std::vector<MaterialEdit> edits = {{"liver", "shading.enabled", false},
                                            {"liver", "shading.crease_angle_deg", 30.0}};
-  const Result<std::string> r = edit_scenario_materials(before, default_scenario(), edits);
+  const Result<std::string> r = edit_scenario_materials(before, introductory_scenario(), edits);
   ASSERT_TRUE(r.ok()) << r.message();
   const std::string old_line = "      shading: {enabled: true, crease_angle_deg: 40}   # smooth";
   const std::string new_line = "      shading: {enabled: false, crease_angle_deg: 30}  # smooth";
@@ -262,15 +263,15 @@ TEST(ScenarioEditor, RefusesAnUnknownOrganAndABlockScalar) {
   EXPECT_EQ(r2.diagnostics()[0].line, 6);
 }
 
-// A copy of the default scenario in a folder of its own whose assets/ is the project's.
+// A copy of the introductory scenario in a folder of its own whose assets/ is the project's.
 struct ScenarioCopy {
   test::TempDir dir;
   fs::path file;
   ScenarioCopy() {
     fs::create_directories(dir.path() / "scenarios");
     fs::create_directory_symlink(test::source_dir() / "assets", dir.path() / "assets");
-    file = dir.path() / "scenarios/default.yaml";
-    fs::copy_file(default_scenario(), file);
+    file = dir.path() / "scenarios/introductory.yaml";
+    fs::copy_file(introductory_scenario(), file);
   }
 };
 

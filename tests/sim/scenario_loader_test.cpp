@@ -583,7 +583,7 @@ TEST(ScenarioLoader, UnreadableFile) {
 }
 
 TEST(ScenarioLoader, DefaultScenarioIsValid) {
-  const ScenarioLoadResult r = load_scenario(test::source_dir() / "scenarios/default.yaml");
+  const ScenarioLoadResult r = load_scenario(test::source_dir() / "scenarios/introductory.yaml");
   for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
   EXPECT_GE(r.value().organs.size(), 3U);
   EXPECT_EQ(r.value().tools.size(), 2U);

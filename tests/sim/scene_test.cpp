@@ -11,7 +11,7 @@ namespace lap::sim {
 namespace {
 
 TEST(Scene, DefaultScenarioLoadsCleanOrgansInTheWorldFrame) {
-  const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+  const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
   ASSERT_EQ(r.value().organs.size(), 3U);
   for (const Organ& o : r.value().organs) {

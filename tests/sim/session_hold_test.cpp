@@ -14,7 +14,7 @@ namespace lap::sim::session_test {
 namespace {
 
 TEST(SessionHold, NoTickRunsWhileHeldAndTheForcesComeBackAsAfterAResume) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   // The left tool pushed in and kept pressing on the organs: its force is not zero at the hold.
   auto left =
       std::make_unique<FaultyDevice>(push_and_hold(scene, 0), FaultyDevice::Fault::kNone, -1);

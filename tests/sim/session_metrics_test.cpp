@@ -1,6 +1,6 @@
 // The training metrics of whole sessions (sim/runtime/training_metrics.h through the session),
 // and a recorded session replayed for review (sim/report/session_replay.h): the expert's and the
-// clumsy runs of the default scenario score what their events say; recomputed from the
+// clumsy runs of the introductory scenario score what their events say; recomputed from the
 // recording, the metrics equal the live ones bit for bit; a session's record read back names
 // the field it cannot use.
 
@@ -28,7 +28,7 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/introductory";
 
 double metric(const SessionMetrics& m, const std::string& name) {
   for (const Metric& x : m.training) {
@@ -38,15 +38,15 @@ double metric(const SessionMetrics& m, const std::string& name) {
   return NAN;
 }
 
-// The scripts `stem` on the default scene, recorded into `dir` as `run --record` does.
+// The scripts `stem` on the introductory scene, recorded into `dir` as `run --record` does.
 SessionMetrics run_and_record(const std::string& stem, const fs::path& dir, int32_t dominant) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   RuntimeSettings rs = fast(60.0);
   rs.dominant_tool = dominant;
   auto created = Session::create(scene, scripted_devices(kScripts, stem), rs);
   EXPECT_TRUE(created.ok()) << created.message();
   // Streamed as it runs (session.lrec), then saved at the end, as `run --record` does.
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const fs::path scenario = test::source_dir() / "scenarios/introductory.yaml";
   const Result<std::string> header = session_record_json(scenario, rs);
   EXPECT_TRUE(header.ok());
   EXPECT_TRUE(created.value()->record_to(dir / "session.lrec", header.value()).ok());
@@ -79,7 +79,7 @@ TEST(SessionMetrics, TheExpertScoresWhatItsEventsSay) {
   EXPECT_EQ(metric(m, "catheter_drops"), 0.0);
   EXPECT_EQ(metric(m, "injury_events"), 0.0);
   EXPECT_EQ(metric(m, "time_over_threshold_s"), 0.0);
-  const TaskSpec& spec = *default_scene().scenario.task;
+  const TaskSpec& spec = *introductory_scene().scenario.task;
   EXPECT_LE(metric(m, "max_force_duct_n"), spec.duct_injury_force_n);
   EXPECT_GT(metric(m, "max_force_duct_n"), 0.0);
   EXPECT_GE(metric(m, "max_insertion_depth_m"), spec.insertion_depth_m);
@@ -92,12 +92,12 @@ TEST(SessionMetrics, TheExpertScoresWhatItsEventsSay) {
 
 // Let go on the way: one drop; pulling on the grasped duct: an injury, over its threshold.
 TEST(SessionMetrics, TheClumsyRunsScoreTheirMistakes) {
-  const SessionMetrics drop = run_scripts(default_scene(), kScripts, "clumsy_drop");
+  const SessionMetrics drop = run_scripts(introductory_scene(), kScripts, "clumsy_drop");
   EXPECT_EQ(metric(drop, "catheter_drops"), 1.0);
   EXPECT_EQ(drop.task.result, TaskResult::kFailure);
   EXPECT_TRUE(std::isnan(metric(drop, "completion_time_s")));  // ended, not completed
-  const SessionMetrics tear = run_scripts(default_scene(), kScripts, "clumsy_tear");
-  const TaskSpec& spec = *default_scene().scenario.task;
+  const SessionMetrics tear = run_scripts(introductory_scene(), kScripts, "clumsy_tear");
+  const TaskSpec& spec = *introductory_scene().scenario.task;
   EXPECT_EQ(metric(tear, "injury_events"), 1.0);
   EXPECT_GT(metric(tear, "max_force_duct_n"), spec.duct_injury_force_n);
   EXPECT_GE(metric(tear, "time_over_threshold_duct_s"), spec.duct_injury_time_s);
@@ -193,8 +193,8 @@ TEST(SessionRecord, IsWrittenOnceWholeAndNeverOverAnother) {
   const test::TempDir dir;
   const fs::path file = dir.path() / "session.json";
   RuntimeSettings rs;
-  const std::string text =
-      session_record_json(test::source_dir() / "scenarios/default.yaml", 0x0123456789abcdefULL, rs);
+  const std::string text = session_record_json(test::source_dir() / "scenarios/introductory.yaml",
+                                               0x0123456789abcdefULL, rs);
   ASSERT_TRUE(write_session_record(dir.path(), text).ok());
   EXPECT_EQ(file_text(file), text);
   EXPECT_EQ(fs::status(file).permissions() & fs::perms::all,
@@ -217,7 +217,7 @@ TEST(SessionRecord, IsWrittenOnceWholeAndNeverOverAnother) {
   const Result<SessionRecord> r = read_session_record(dir.path());
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(r.value().scenario_digest, 0x0123456789abcdefULL);
-  EXPECT_EQ(r.value().scenario, test::source_dir() / "scenarios/default.yaml");
+  EXPECT_EQ(r.value().scenario, test::source_dir() / "scenarios/introductory.yaml");
   // A full disk (RLIMIT_FSIZE, as the recording's own test has it): an error naming the file,
   // and neither a half-written record nor a temporary file left.
   const test::TempDir full;
@@ -247,8 +247,8 @@ TEST(SessionRecord, ADiskWithNoSpaceLeftGetsNoHalfWrittenRecord) {
   const fs::path disk = dir.path() / "disk";
   fs::create_directory(disk);
   RuntimeSettings rs;
-  const std::string text =
-      session_record_json(test::source_dir() / "scenarios/default.yaml", 0x0123456789abcdefULL, rs);
+  const std::string text = session_record_json(test::source_dir() / "scenarios/introductory.yaml",
+                                               0x0123456789abcdefULL, rs);
   const test::SmallDiskRun run = test::run_on_a_small_disk(disk, 64U * 1024U, [&] {
     test::fill_the_disk(disk / "filler", 64U * 1024U);
     const Status written = write_session_record(disk, text);

@@ -456,7 +456,7 @@ struct Run {
 };
 // The scene the hands were placed in (tests/data/README.md): every organ, twice over.
 const Run kFrozenScene{"tests/data/passivity_scene.yaml", Script::kEveryOrgan, kDuration};
-const Run kShippedDefault{"scenarios/default.yaml", Script::kCatheterTaut, kTautDuration};
+const Run kShippedDefault{"scenarios/introductory.yaml", Script::kCatheterTaut, kTautDuration};
 const Run kHardestPatient{"scenarios/patient_hard.yaml", Script::kCatheterTaut, kTautDuration};
 
 const Scene& scene_of(const char* file) {

@@ -28,10 +28,11 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/introductory";
 
 std::unique_ptr<Session> expert_session() {
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), fast(60.0));
+  auto created =
+      Session::create(introductory_scene(), scripted_devices(kScripts, "expert"), fast(60.0));
   EXPECT_TRUE(created.ok()) << created.message();
   return std::move(created).value();
 }
@@ -109,7 +110,7 @@ TEST(SessionRecording, ReadsBackTheSamplesItRecorded) {
 TEST(SessionRecording, TheRecordedTouchesAreTheOnesTheMetricsSaw) {
   const test::TempDir dir;
   auto created =
-      Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), fast(60.0));
+      Session::create(introductory_scene(), scripted_devices(kScripts, "clumsy_tear"), fast(60.0));
   ASSERT_TRUE(created.ok()) << created.message();
   Session& session = *created.value();
   ASSERT_TRUE(session.record_to(dir.path() / "session.lrec", "{}").ok());

@@ -28,7 +28,7 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
+const fs::path kScripts = test::source_dir() / "scenarios/scripts/introductory";
 
 // The expert's first 6 s in real time (it takes the catheter at 2.8 s), recorded as
 // `run --record` does, with what a loaded machine does to the loops, injected: a late tick, a
@@ -36,7 +36,7 @@ const fs::path kScripts = test::source_dir() / "scenarios/scripts/default";
 // 100 ms while the ticks go on; and the trainee's pause (hold, release) 300 ms after the resume.
 TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnStateHash) {
   const test::TempDir dir;
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   RuntimeSettings rs;
   rs.duration_s = 6.0;
   rs.realtime_priority = false;  // a test: not above the other tests running beside it
@@ -46,7 +46,7 @@ TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnState
   ASSERT_TRUE(session.inject_lateness(3200, 0.005));  // over 2 periods: a late tick
   ASSERT_TRUE(session.inject_lateness(3600, 0.030));  // over 20 ms: a stall, paused
   session.inject_model_delay(4200, 0.100);
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const fs::path scenario = test::source_dir() / "scenarios/introductory.yaml";
   const Result<std::string> header = session_record_json(scenario, rs);
   ASSERT_TRUE(header.ok());
   ASSERT_TRUE(session.record_to(dir.path() / "session.lrec", header.value()).ok());
@@ -138,11 +138,11 @@ TEST(RealTimeReplay, ASessionWithLateTicksAStallAndASlowStepReplaysToItsOwnState
 // steps chunk, as a bad disk leaves): the replay runs up to that tick and says why it stopped.
 TEST(RealTimeReplay, ARecordingWhoseStepsAreMissingReplaysUpToThemAndSaysSo) {
   const test::TempDir dir;
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   RuntimeSettings rs = fast(1.0);
   auto created = Session::create(scene, scripted_devices(kScripts, "expert"), rs);
   ASSERT_TRUE(created.ok()) << created.message();
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const fs::path scenario = test::source_dir() / "scenarios/introductory.yaml";
   const Result<std::string> header = session_record_json(scenario, rs);
   ASSERT_TRUE(header.ok());
   ASSERT_TRUE(created.value()->record_to(dir.path() / "session.lrec", header.value()).ok());
@@ -198,7 +198,7 @@ class WriteFaultDevice final : public hardware::HapticDevice {
 
 // The session recorded as `run --record` does, into `dir`.
 SessionMetrics run_recorded(Session& session, const RuntimeSettings& rs, const fs::path& dir) {
-  const fs::path scenario = test::source_dir() / "scenarios/default.yaml";
+  const fs::path scenario = test::source_dir() / "scenarios/introductory.yaml";
   const Result<std::string> header = session_record_json(scenario, rs);
   EXPECT_TRUE(header.ok());
   EXPECT_TRUE(session.record_to(dir / "session.lrec", header.value()).ok());
@@ -214,7 +214,7 @@ TEST(RealTimeReplay, AFaultADeviceReportedOnAWriteIsReplayed) {
   ASSERT_TRUE(left.ok()) << left.message();
   d[0] = std::make_unique<WriteFaultDevice>(std::move(left).value(), 500);
   const RuntimeSettings rs = fast(1.0);
-  auto created = Session::create(default_scene(), std::move(d), rs);
+  auto created = Session::create(introductory_scene(), std::move(d), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   const SessionMetrics live = run_recorded(*created.value(), rs, dir.path());
   ASSERT_EQ(live.events.size(), 1U);
@@ -289,7 +289,8 @@ void tune_every_organ(Session& session, int64_t tick) {
 TEST(RealTimeReplay, ASessionTunedLiveReplaysToItsOwnStateFromTheRecordedTunings) {
   const test::TempDir dir;
   const RuntimeSettings rs = fast(4.0);
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
+  auto created =
+      Session::create(introductory_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   Session& session = *created.value();
   const int32_t organs = session.model().organ_count();
@@ -321,7 +322,8 @@ TEST(RealTimeReplay, ASessionTunedLiveReplaysToItsOwnStateFromTheRecordedTunings
   EXPECT_EQ(r.value().metrics.state_hash, live.state_hash);
 
   // The tunings mattered: the same session untuned ends in another state.
-  auto untuned = Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
+  auto untuned =
+      Session::create(introductory_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
   ASSERT_TRUE(untuned.ok()) << untuned.message();
   EXPECT_NE(untuned.value()->run().state_hash, live.state_hash);
 
@@ -346,7 +348,7 @@ TEST(RealTimeReplay, ASessionTunedLiveReplaysToItsOwnStateFromTheRecordedTunings
 TEST(RealTimeReplay, AnImpossibleTuningRecordIsReportedAndTheReplaySaysWhereItDeparts) {
   const test::TempDir dir;
   const RuntimeSettings rs = fast(1.0);
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  auto created = Session::create(introductory_scene(), scripted_devices(kScripts, "expert"), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   Session& session = *created.value();
   const auto organs = static_cast<size_t>(session.model().organ_count());
@@ -392,7 +394,8 @@ TEST(RealTimeReplay, AnAuthorTuningFromAnotherThreadInRealTimeReplaysToTheSameSt
   RuntimeSettings rs;
   rs.duration_s = 3.5;
   rs.realtime_priority = false;
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
+  auto created =
+      Session::create(introductory_scene(), scripted_devices(kScripts, "clumsy_tear"), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   Session& session = *created.value();
   std::atomic<bool> done{false};
@@ -404,7 +407,7 @@ TEST(RealTimeReplay, AnAuthorTuningFromAnotherThreadInRealTimeReplaysToTheSameSt
       // haptic thread's parameters while it runs would race).
       SurfaceParameters p;
       p.stiffness_n_per_m =
-          default_scene().organs[static_cast<size_t>(o)].material.stiffness_n_per_m *
+          introductory_scene().organs[static_cast<size_t>(o)].material.stiffness_n_per_m *
           (0.5 + 0.1 * static_cast<double>(i % 7));
       p.texture_scale = 1.0;
       (void)session.tune_surface(o, p);  // a full mailbox: the next post carries on
@@ -432,7 +435,7 @@ TEST(RealTimeReplay, AnAuthorTuningFromAnotherThreadInRealTimeReplaysToTheSameSt
 TEST(RealTimeReplay, AReplayThatDepartsFromTheRecordedTouchesSaysWhere) {
   const test::TempDir dir;
   const RuntimeSettings rs = fast(0.5);
-  auto created = Session::create(default_scene(), scripted_devices(kScripts, "expert"), rs);
+  auto created = Session::create(introductory_scene(), scripted_devices(kScripts, "expert"), rs);
   ASSERT_TRUE(created.ok()) << created.message();
   run_recorded(*created.value(), rs, dir.path());
   const Result<ReplayedSession> same = replay_session(dir.path());

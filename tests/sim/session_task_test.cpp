@@ -1,4 +1,4 @@
-// The task engine inside a session: its model built from the default scene, its inputs handed
+// The task engine inside a session: its model built from the introductory scene, its inputs handed
 // over by the modelling loop (the tools' tips and contacts), and the session ending with the
 // task (sim/runtime/session.h, sim/runtime/task_engine.h).
 
@@ -15,7 +15,7 @@ namespace {
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
 TEST(SessionTask, TheDuctsLumenAndIncisionAreTheScenarios) {
-  // The default scenario's duct: 5 mm across with a 1 mm wall (mid-surface radius 2 mm), 35 mm
+  // The introductory scenario's duct: 5 mm across with a 1 mm wall (mid-surface radius 2 mm), 35 mm
   // long; its incision 3 mm x 2 mm on the anterior wall.
   auto s = scripted_session(fast(0.01));
   const TaskModel& m = s->model().task();
@@ -43,21 +43,21 @@ TEST(SessionTask, AnInsertionIntoWhatIsNoDuctWithAnIncisionIsAClearError) {
                                                   std::to_string(scene.scenario.task->line) +
                                                   ": task.target: " + message);
   };
-  Scene liver = default_scene();
+  Scene liver = introductory_scene();
   liver.scenario.task->target = "liver";
   expect_refused(liver,
                  "'liver' is not a modal-shell duct (the catheter is inserted into its lumen): "
                  "expected the organ with model: modal-shell");
-  Scene uncut = default_scene();
+  Scene uncut = introductory_scene();
   for (OrganSpec& organ : uncut.scenario.organs) organ.incision.present = false;
   expect_refused(uncut,
                  "the duct 'cystic_duct' has no incision to insert the catheter by: expected an "
                  "incision on it (organs[].incision)");
-  EXPECT_GT(default_scene().scenario.task->line, 0);
+  EXPECT_GT(introductory_scene().scenario.task->line, 0);
 }
 
 TEST(SessionTask, TheSessionEndsWithTheTaskUnlessAskedToGoOn) {
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   scene.scenario.task->time_limit_s = 1.0;
   const SessionMetrics ended = session_over(scene, fast(2.0))->run();
   EXPECT_EQ(ended.task.result, TaskResult::kFailure);
@@ -74,7 +74,7 @@ TEST(SessionTask, TheSessionEndsWithTheTaskUnlessAskedToGoOn) {
 TEST(SessionTask, ToolsOutOfTheCamerasViewFail) {
   // The laparoscope turned round to look away from the organs: both tips out of view from the
   // first step, for the 0.5 s grace.
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   CameraSpec& cam = scene.scenario.camera;
   cam.focal_point_m = cam.position_m + (cam.position_m - cam.focal_point_m);
   scene.scenario.task->out_of_view_grace_s = 0.5;
@@ -89,7 +89,7 @@ TEST(SessionTask, ToolsOutOfTheCamerasViewFail) {
 
 TEST(SessionTask, ATouchOnAForbiddenOrganIsSeen) {
   // Every organ but the duct forbidden: the pushed-in tools meet one of them (kPressingTick).
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   scene.scenario.task->forbidden_organs = {"liver", "gallbladder"};
   const SessionMetrics m = session_over(scene, fast(2.5))->run();
   ASSERT_EQ(m.task.result, TaskResult::kFailure) << event_kinds(m.task);
@@ -103,7 +103,7 @@ TEST(SessionTask, ATouchOnAForbiddenOrganIsSeen) {
 
 TEST(SessionTask, FastRunsScoreTheSameTwice) {
   // The forbidden touch of the test above, twice: the same events at the same times.
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   scene.scenario.task->forbidden_organs = {"liver", "gallbladder"};
   const SessionMetrics a = session_over(scene, fast(2.5))->run();
   const SessionMetrics b = session_over(scene, fast(2.5))->run();

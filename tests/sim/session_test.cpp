@@ -32,13 +32,13 @@ namespace {
 
 using namespace session_test;  // NOLINT(google-build-using-namespace): the tests' own helpers
 
-// The left tool of push_in() driven through its trocar against the default scene's organs, with
-// no session around it. Regression: a jaw re-linearising its edge contacts too often could get
+// The left tool of push_in() driven through its trocar against the introductory scene's organs,
+// with no session around it. Regression: a jaw re-linearising its edge contacts too often could get
 // stuck on a nearly flat edge and keep pushing (7–10 N) after the whole tool had left the organs.
 // Whenever every sampled tick of the last 10 found all three segments of the tool (as the device
 // puts them) at least 1 mm clear of every organ, by exhaustive search, the force must be zero.
 TEST(ToolOnOrgans, NoForceOnceTheToolIsClearOfEveryOrgan) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   std::vector<std::unique_ptr<haptics::MeshDatabase>> dbs;
   std::vector<std::unique_ptr<haptics::SegmentDatabase>> sds;
   std::vector<haptics::HapticObject> objects;
@@ -172,7 +172,7 @@ TEST(Session, AReplayReproducesTheRecordedSessionBitForBit) {
     d[static_cast<size_t>(side)] =
         std::make_unique<hardware::ReplayDevice>(std::move(rec).value(), "replay");
   }
-  auto replay_created = Session::create(default_scene(), std::move(d), fast(2.5));
+  auto replay_created = Session::create(introductory_scene(), std::move(d), fast(2.5));
   ASSERT_TRUE(replay_created.ok()) << replay_created.message();
   auto replay = std::move(replay_created).value();
   const SessionMetrics r = replay->run();
@@ -184,7 +184,7 @@ TEST(Session, AReplayReproducesTheRecordedSessionBitForBit) {
 // The session's fixed model is shared, never changed: two sessions built from one model and
 // run side by side, each on its own thread, end in the same state as one built alone.
 TEST(Session, TwoSessionsFromOneModelRunSideBySideToTheSameState) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   auto devices = [&] {
     return with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
   };
@@ -212,7 +212,7 @@ TEST(Session, TwoSessionsFromOneModelRunSideBySideToTheSameState) {
 
 // A session model is built for its devices' limits: a device with others is refused.
 TEST(Session, ADeviceWithOtherLimitsThanTheModelsIsRefused) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   Devices d =
       with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
   DeviceDescription left = describe(*d[0]);
@@ -322,7 +322,7 @@ TEST(Session, ARealTimeSessionKeepsAFrameEveryTenthOfASecondForSeeking) {
 }
 
 TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   hardware::DeviceLimits soft;
   soft.max_stiffness_n_per_m = 250.0;  // under three segments on the gallbladder
   hardware::DeviceLimits stiff;
@@ -348,12 +348,12 @@ TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {
   EXPECT_NE(n.find("rendered at "), std::string::npos) << n;
 }
 
-// The default scenario's contact stiffnesses are derived from the tissues' moduli
+// The introductory scenario's contact stiffnesses are derived from the tissues' moduli
 // (docs/tissue-parameters.md). Read back through the loader and the session's model, the hand
 // feels the liver softest, the duct (its contact capped below its wall's own stiffness) next,
 // the gallbladder stiffest, every one below what the default device renders.
 TEST(Session, TheDefaultOrgansFeelAsTheirTissuesAreDerived) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const DeviceDescription device{"default", hardware::DeviceLimits{}};
   const auto built = SessionModel::build(scene, fast(0.01), {device, device});
   ASSERT_TRUE(built.ok()) << built.message();
@@ -385,7 +385,7 @@ TEST(Session, TheDefaultOrgansFeelAsTheirTissuesAreDerived) {
 }
 
 TEST(Session, BadSettingsAndScenesAreClearErrors) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   RuntimeSettings rs;
   rs.model_rate_hz = 5000.0;
   Devices d =

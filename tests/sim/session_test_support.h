@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// What the session tests share: the default scene, scripted tool paths that press on its
+/// What the session tests share: the introductory scene, scripted tool paths that press on its
 /// organs, a device that misbehaves on cue, and short-hands for the settings they run with.
 
 #include <gtest/gtest.h>
@@ -30,8 +30,9 @@ namespace lap::sim::session_test {
 namespace fs = std::filesystem;
 using hardware::DeviceStatus;
 
-inline const Scene& default_scene() {
-  static const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+inline const Scene& introductory_scene() {
+  static const SceneLoadResult r =
+      load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   EXPECT_TRUE(r.ok());
   return r.value();
 }
@@ -160,7 +161,7 @@ inline RuntimeSettings device_fault_run(double duration) {
 }
 
 inline std::unique_ptr<Session> scripted_session(const RuntimeSettings& rs) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   Devices d =
       with_left(scene, std::make_unique<hardware::ScriptedDevice>(push_in(scene, 0), "left"));
   auto s_created = Session::create(scene, std::move(d), rs);

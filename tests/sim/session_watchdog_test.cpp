@@ -40,7 +40,7 @@ using namespace session_test;  // NOLINT(google-build-using-namespace): the test
 class SessionModelFault : public ::testing::TestWithParam<ModelFaultKind> {};
 
 TEST_P(SessionModelFault, ZeroForceWithinOneTickPausedAndTheModelNamed) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const int64_t at = kPressingTick - kPressingTick % 5;  // a modelling step's tick (200 Hz)
   auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
   FaultyDevice* dev = left.get();
@@ -99,7 +99,7 @@ void PrintTo(const FaultCase& c, std::ostream* os) { *os << to_string(c.reason);
 class SessionWatchdog : public ::testing::TestWithParam<FaultCase> {};
 
 TEST_P(SessionWatchdog, ZeroForceOnTheTickPausedAndNothingLost) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const int64_t at = kPressingTick;
   auto left = logged(scene, GetParam().fault, at);
   FaultyDevice* dev = left.get();
@@ -160,7 +160,7 @@ HeldRun held_run(const std::vector<std::pair<int64_t, double>>& lateness,
                  const RuntimeSettings& rs = fast(2.5),
                  const std::function<void(Session*, int64_t)>& on_read = {}) {
   HeldRun r;
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   hardware::DeviceLimits stateless;
   stateless.max_continuous_force_n = 0.0;
   stateless.max_stiffness_n_per_m = 1e9;
@@ -308,7 +308,7 @@ TEST(Session, ALateTickDuringAResumeRampRestartsItAtTheResumesPace) {
 }
 
 TEST(Session, ResumeRampsForcesBackInAfterAPause) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   // The tool keeps pressing after the pause, however late the resume comes in fast mode.
   auto left =
       std::make_unique<FaultyDevice>(push_and_hold(scene, 0), FaultyDevice::Fault::kNone, -1);
@@ -347,7 +347,7 @@ TEST(Session, ResumeRampsForcesBackInAfterAPause) {
 }
 
 TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   auto left = logged(scene, FaultyDevice::Fault::kStall, 300);
   FaultyDevice* dev = left.get();
   Devices d = with_left(scene, std::move(left));
@@ -382,7 +382,7 @@ TEST(Session, RealTimeLoopsKeepTheirRatesAndAStallTripsTheWatchdog) {
 // not a fault: the tissue only stands still for that long). The modelling loop then skips the
 // periods it missed rather than running them back to back, and its statistics show the step.
 TEST(Session, AModellingStepOf100MsNeitherPausesNorHoldsUpTheHapticLoop) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   auto left = logged(scene, FaultyDevice::Fault::kNone, -1);
   FaultyDevice* dev = left.get();
   // The task is not what this test watches: on a loaded machine the model's skipped periods
@@ -434,10 +434,10 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
   ASSERT_NE(fake.handle, nullptr);
   for (const bool unplug : {false, true}) {
     fake.reset();
-    const Scene& scene = default_scene();
+    const Scene& scene = introductory_scene();
     hardware::PhantomSettings ps;
     ps.library = LAP_FAKE_HD;
-    // The device's origin 10 cm in (the left tool's home on the default scenario): the arm
+    // The device's origin 10 cm in (the left tool's home on the introductory scenario): the arm
     // starts there.
     ps.device_to_world = Eigen::Translation3d(default_handle_position(scene, 0, 0.10)) *
                          Eigen::Isometry3d::Identity();
@@ -499,7 +499,7 @@ TEST(Session, APhantomServoErrorOrUnplugPausesWithZeroForce) {
 // recording is kept. (That the zero replaces a real push is shown by the fast-mode watchdog
 // tests above, which are deterministic; here the contacts depend on thread timing.)
 TEST(Session, AGripperFaultPausesWithZeroForceAndSqueeze) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   auto emulator = std::make_unique<hardware::GripperEmulator>();
   hardware::GripperEmulator* emu = emulator.get();
   hardware::GripperEmulator::Controls c;
@@ -576,7 +576,7 @@ class ReconnectingDevice final : public hardware::HapticDevice {
 };
 
 TEST(Session, ADeviceUnpluggedAndPluggedBackPausesUntilResumedThenRampsBack) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   constexpr int64_t kGone = kPressingTick;       // pressing on the organs, as push_in's test
   constexpr int64_t kEarlyResume = kGone + 100;  // a resume while it is still away
   constexpr int64_t kBack = kGone + 300;
@@ -640,7 +640,7 @@ TEST(Session, ADeviceUnpluggedAndPluggedBackPausesUntilResumedThenRampsBack) {
 // is joined), and run() writes zero again at the end, on its caller's thread. Fast and real time
 // (issue 25: "forces zeroed first").
 TEST(Session, AStopZeroesTheForcesAtTheNextTickBeforeAnythingElse) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   constexpr int64_t kStop = kPressingTick + 50;  // pressing on the organs
   constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
   for (const bool realtime : {false, true}) {

@@ -1,4 +1,4 @@
-// Soak (issue 25): a --fast session of the default scenario with both tools in random smooth
+// Soak (issue 25): a --fast session of the introductory scenario with both tools in random smooth
 // motion about the duct — in and out along their ports, sideways, the jaws opening and closing
 // at random, so that they take and let go of the duct again and again — and the right hand
 // taking the catheter every 12 s (take_and_wander; LAP_SOAK_RIGHT_HAND=seek: where it lies,
@@ -107,7 +107,7 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
 /// (CatheterTakes below goes to where it lies).
 hardware::ScriptedTrajectory take_and_wander(const Scene& scene, double duration_s, uint32_t seed) {
   const auto expert = hardware::load_scripted_trajectory(
-      test::source_dir() / "scenarios/scripts/default/expert_right.csv");
+      test::source_dir() / "scenarios/scripts/introductory/expert_right.csv");
   EXPECT_TRUE(expert.ok()) << expert.message();
   if (!expert.ok()) return wander(scene, 1, duration_s, seed);
   const std::vector<hardware::Keyframe>& script = expert.value().keyframes;
@@ -379,7 +379,7 @@ uint32_t soak_seed(int side, uint32_t course) {
 /// the deepest is measured and printed only; NoProxyInsideAnOrgan below asserts it).
 void soak(bool check_proxies) {
   const double duration = soak_s();
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   CatheterSighting seen;
   const char* right_hand = std::getenv("LAP_SOAK_RIGHT_HAND");
   const bool seek = right_hand != nullptr && std::string_view(right_hand) == "seek";

@@ -317,7 +317,7 @@ TEST(SurfaceProperties, ScenarioProceduralTexturesBuild) {
 }
 
 TEST(SurfaceProperties, DefaultScenarioSurfacesBuild) {
-  const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+  const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(r.ok());
   int shaded = 0;
   int textured = 0;

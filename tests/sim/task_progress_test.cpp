@@ -78,7 +78,7 @@ TEST(TaskProgress, TheNewestEventsAreKeptInOrder) {
 
 // A session that runs out of time: its last model snapshot says so, as its metrics do.
 TEST(TaskProgress, ASessionPublishesItsTaskAsTheEngineHasIt) {
-  Scene scene = default_scene();
+  Scene scene = introductory_scene();
   scene.scenario.task->time_limit_s = 1.0;
   auto session = session_over(scene, fast(2.0));
   const SessionMetrics metrics = session->run();

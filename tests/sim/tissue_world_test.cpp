@@ -1,4 +1,4 @@
-// The modelling loop's world on the default scene (issue 6): the duct's shell fitted to the
+// The modelling loop's world on the introductory scene (issue 6): the duct's shell fitted to the
 // scenario's duct, published deformations applied exactly by a reader that skips snapshots, a
 // tool's push denting an organ by its share of the penetration, the duct pushed and grasped, and
 // a fast session whose organs deform under the scripted tools.
@@ -25,8 +25,9 @@
 namespace lap::sim {
 namespace {
 
-const Scene& default_scene() {
-  static const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/default.yaml");
+const Scene& introductory_scene() {
+  static const SceneLoadResult r =
+      load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   EXPECT_TRUE(r.ok());
   return r.value();
 }
@@ -102,7 +103,7 @@ int32_t organ_named(const Scene& scene, const std::string& name) {
   return -1;
 }
 
-// The default scene's tissue world, and its liver as a database at rest (the organ the tool
+// The introductory scene's tissue world, and its liver as a database at rest (the organ the tool
 // tests press).
 struct LiverWorld {
   test::TempDir cache;
@@ -113,8 +114,9 @@ struct LiverWorld {
 
 std::unique_ptr<LiverWorld> liver_world() {
   auto w = std::make_unique<LiverWorld>();
-  w->world = TissueWorld::build(default_scene(), world_settings(w->cache.path()), nullptr).value();
-  w->liver = organ_named(default_scene(), "liver");
+  w->world =
+      TissueWorld::build(introductory_scene(), world_settings(w->cache.path()), nullptr).value();
+  w->liver = organ_named(introductory_scene(), "liver");
   if (w->liver >= 0) w->db = haptics::MeshDatabase::build(w->world->surface(w->liver));
   return w;
 }
@@ -135,7 +137,7 @@ std::array<ToolModelInput, 2> push_on_face_100(const LiverWorld& lw, double push
 }
 
 TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const auto lw = liver_world();
   ASSERT_GE(lw->liver, 0);
   const auto& [cache, world, liver, db] = *lw;
@@ -180,7 +182,7 @@ TEST(TissueWorld, AToolsPushDentsTheLiverByItsShareOfThePenetration) {
 // segment's own, the dent rises freely; where it is another segment's, the rising vertices
 // stop short of it and the dent stays 1 mm deep.
 TEST(TissueWorld, ADentRisesPastTheSegmentThatPressesItNotPastAnother) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   for (const int32_t pressing_segment : {0, 1}) {
     SCOPED_TRACE(pressing_segment == 0 ? "the segment's own contact" : "another segment's");
     const auto lw = liver_world();
@@ -213,7 +215,7 @@ TEST(TissueWorld, ADentRisesPastTheSegmentThatPressesItNotPastAnother) {
 // its stiffness implies twice the tool's displacement, so it dents twice as deep; a stiffness
 // that is not finite and positive, or an organ that is not one, changes nothing.
 TEST(TissueWorld, ATunedStiffnessScalesTheDentAToolsPushImplies) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const auto lw = liver_world();
   ASSERT_GE(lw->liver, 0);
   TissueWorld* world = lw->world.get();  // a pointer, not a binding: lambdas capture it
@@ -248,7 +250,7 @@ TEST(TissueWorld, ATunedStiffnessScalesTheDentAToolsPushImplies) {
 // tool inside the organ with no force once the dent swings back. Summing the three pushes in
 // full did that (the dent overshot to 1.3 times the tool's depth on the first step).
 TEST(TissueWorld, ThreeSegmentsOnOneSpotDentItWithoutOvershootingTheTool) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const auto lw = liver_world();
   ASSERT_GE(lw->liver, 0);
   const auto& [cache, world, liver, db] = *lw;
@@ -300,7 +302,7 @@ TEST(TissueWorld, ThreeSegmentsOnOneSpotDentItWithoutOvershootingTheTool) {
 }
 
 TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const test::TempDir cache;
   const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr).value();
   const int32_t duct = world->duct_organ();
@@ -319,7 +321,7 @@ TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
   // duct of docs/benchmarks.md).
   const Eigen::VectorXd& omega = world->model().duct().model->omega();
   std::printf(
-      "[ duct ] the default scenario's duct: %.1f mm long, %.2f mm outside, %.2f mm wall; %d "
+      "[ duct ] the introductory scenario's duct: %.1f mm long, %.2f mm outside, %.2f mm wall; %d "
       "modes, %.1f-%.1f Hz\n",
       1e3 * fit.duct.length_m, 1e3 * fit.duct.outer_diameter_m, 1e3 * wall,
       static_cast<int>(omega.size()), omega(0) / (2.0 * M_PI),
@@ -351,12 +353,12 @@ TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
   EXPECT_GT(d[static_cast<size_t>(duct)].count, 0);
 }
 
-// The default scenario's ductotomy: the faces it opens lie in its ellipse on the duct's wall
+// The introductory scenario's ductotomy: the faces it opens lie in its ellipse on the duct's wall
 // (3 mm along, 2 mm around), on the side facing the laparoscope; the catheter meets the lumen
 // with the scenario's friction. A centre off the wall is refused, naming the file, the line
 // and the field.
 TEST(TissueWorld, TheDefaultDuctHasItsIncision) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   const test::TempDir cache;
   const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr).value();
   const int32_t duct = world->duct_organ();
@@ -396,8 +398,9 @@ TEST(TissueWorld, TheDefaultDuctHasItsIncision) {
   const Eigen::Vector3d to_camera = scene.scenario.camera.position_m - cut.center_m;
   const Eigen::Vector3d outward = fit.pose_WD.linear() * Eigen::Vector3d(c.x(), c.y(), 0.0);
   EXPECT_GT(to_camera.dot(outward), 0.0);
-  std::printf("[ incision ] the default duct's incision opens %d faces (ellipse / face: %.1f)\n",
-              open, expected);
+  std::printf(
+      "[ incision ] the introductory duct's incision opens %d faces (ellipse / face: %.1f)\n", open,
+      expected);
 
   Scene off = scene;
   off.organs[static_cast<size_t>(duct)].incision.center_m += 0.01 * Eigen::Vector3d::UnitY();
@@ -411,7 +414,7 @@ TEST(TissueWorld, TheDefaultDuctHasItsIncision) {
 }
 
 TEST(TissueWorld, AFastSessionDeformsTheOrgansItsToolsPress) {
-  const Scene& scene = default_scene();
+  const Scene& scene = introductory_scene();
   hardware::ScriptedTrajectory t;
   const Eigen::Vector3d a = default_handle_position(scene, 0, 0.05);
   const Eigen::Vector3d b = default_handle_position(scene, 0, 0.22);

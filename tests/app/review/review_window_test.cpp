@@ -1,8 +1,8 @@
 // The instructor's review window (app/review) driven as an instructor would, with Qt Test's
 // synthetic mouse and key events, under a virtual X server: a real session recorded by
-// `laptrainer-cli run --fast --record` (the default scenario's expert) is stored beside two older
-// ones; the instructor signs in, picks the trainee and the session, sees its metrics with their
-// verdicts and its plots once the recording is replayed, plays, scrubs and changes speed with
+// `laptrainer-cli run --fast --record` (the introductory scenario's expert) is stored beside two
+// older ones; the instructor signs in, picks the trainee and the session, sees its metrics with
+// their verdicts and its plots once the recording is replayed, plays, scrubs and changes speed with
 // the plots' cursor in step, reads the learning curve and the cohort, and exports the CSV, JSON
 // and PDF files (the PDF rendered by pdftoppm). A trainee sees their own sessions only.
 //
@@ -77,7 +77,7 @@ SessionRow session_row(const QString& trainee, const QDateTime& started, const Q
   SessionRow r;
   r.uuid = QUuid::createUuid().toString(QUuid::WithoutBraces);
   r.trainee = trainee;
-  r.scenario_file = source("scenarios/default.yaml");
+  r.scenario_file = source("scenarios/introductory.yaml");
   r.scenario_name = QStringLiteral("Catheter insertion");
   r.scenario_version = file_sha256(r.scenario_file).value();
   r.devices = QStringLiteral("left=scripted; right=scripted");
@@ -117,14 +117,14 @@ SessionRow recorded_row(const QString& trainee, const QDateTime& started, const 
 
 class ReviewWindowTest : public ::testing::Test {
  protected:
-  // Runs the default scenario with one of its shipped scripts (expert, clumsy_overshoot, …),
+  // Runs the introductory scenario with one of its shipped scripts (expert, clumsy_overshoot, …),
   // recorded into `recording`; returns the run JSON.
   static QString record(const QString& script, const QString& recording) {
     QProcess run;
     run.setProgram(QStringLiteral(LAP_BIN_DIR "/laptrainer-cli"));
-    const QString scripts = source("scenarios/scripts/default/");
+    const QString scripts = source("scenarios/scripts/introductory/");
     run.setArguments({QStringLiteral("run"), QStringLiteral("--scenario"),
-                      source("scenarios/default.yaml"), QStringLiteral("--left"),
+                      source("scenarios/introductory.yaml"), QStringLiteral("--left"),
                       QStringLiteral("scripted:") + scripts + script + QStringLiteral("_left.csv"),
                       QStringLiteral("--right"),
                       QStringLiteral("scripted:") + scripts + script + QStringLiteral("_right.csv"),
@@ -140,7 +140,7 @@ class ReviewWindowTest : public ::testing::Test {
 
   void SetUp() override {
     ASSERT_TRUE(dir_.isValid());
-    // Real sessions: the default scenario's expert (about 16 s, a success) and the clumsy
+    // Real sessions: the introductory scenario's expert (about 16 s, a success) and the clumsy
     // trainee who pushes past the target (a failure), both recorded.
     recording_ = dir_.path() + QStringLiteral("/expert");
     report_ = record(QStringLiteral("expert"), recording_);
@@ -274,7 +274,7 @@ TEST_F(ReviewWindowTest, AnInstructorReviewsASessionAndExportsIt) {
       EXPECT_EQ(verdicts, i + 1) << "the benchmarked metrics come first";
     }
   }
-  EXPECT_EQ(verdicts, 7);  // the default scenario's seven benchmarks
+  EXPECT_EQ(verdicts, 7);  // the introductory scenario's seven benchmarks
 
   // The plots: the series, the injury threshold, the events.
   SessionCharts* charts = window.charts();

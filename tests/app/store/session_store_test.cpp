@@ -139,7 +139,7 @@ TEST_P(StoreTest, NewestFirstFilteredByTraineeAndScenario) {
   for (int minute : {30, 10, 50, 20, 40}) {
     added.push_back(
         sample_session(QStringLiteral("ana"), at(minute), 0.5,
-                       minute % 20 == 0 ? easy : QStringLiteral("scenarios/default.yaml")));
+                       minute % 20 == 0 ? easy : QStringLiteral("scenarios/introductory.yaml")));
     ASSERT_TRUE(store->add_session(added.back()).ok());
   }
   ASSERT_TRUE(store->add_session(sample_session(QStringLiteral("ben"), at(35))).ok());
@@ -202,7 +202,7 @@ TEST_P(StoreTest, MetricsAreRowsAQueryCanCrossSessionsWith) {
   // A learning curve: one trainee's metric, oldest first, on one scenario.
   Result<std::vector<MetricPoint>> curve =
       store->metric_history(QStringLiteral("path_length_left_m"), QStringLiteral("ana"),
-                            QStringLiteral("scenarios/default.yaml"));
+                            QStringLiteral("scenarios/introductory.yaml"));
   ASSERT_TRUE(curve.ok()) << curve.message();
   ASSERT_EQ(curve->size(), 3U);
   EXPECT_EQ((curve.value())[0].value, 1.5);

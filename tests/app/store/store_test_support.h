@@ -72,9 +72,9 @@ class BackendFixture {
 /// A plausible finished session: the given trainee, scenario and start, a report JSON with task
 /// and metrics objects (path_length_left_m = `path_m`, completion_time_s, max_force_duct_n, and
 /// one undefined metric).
-[[nodiscard]] SessionRow sample_session(const QString& trainee, const QDateTime& started_utc,
-                                        double path_m = 0.5,
-                                        const QString& scenario_file = "scenarios/default.yaml");
+[[nodiscard]] SessionRow sample_session(
+    const QString& trainee, const QDateTime& started_utc, double path_m = 0.5,
+    const QString& scenario_file = "scenarios/introductory.yaml");
 
 /// Runs `sql` on the database `connection` names (its SQLite file, or its server when
 /// `on_server`), outside the store: for planting rows the store would refuse.
