@@ -44,8 +44,9 @@ RenderProfile render_profile(RenderQualityChoice choice, std::string_view gl_ren
   if (!fast) return {};
   // Started at the floor, then grown while the frames allow (dynamic_resolution.h): started at
   // 0.7, the hardest patient's first five seconds were below 30 frames/s while the scale came
-  // down to 0.5, where it settled (llvmpipe, the 2-core VM); the default scenario settled at
-  // 0.65 (docs/benchmarks.md). A softer first second beats a stuttering first five.
+  // down to 0.5, where it settled (llvmpipe, the 2-core VM); the stand-in scene (then the default,
+  // now scenarios/introductory.yaml) settled at 0.65 (docs/benchmarks.md). A softer first second
+  // beats a stuttering first five.
   return {.fast = true, .mipmaps = false, .spot_light = false, .scene_scale = kMinSceneScale};
 }
 

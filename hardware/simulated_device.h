@@ -24,8 +24,8 @@ struct SimulatedInput {
 /// autorepeat, about 25 presses a second: 50 mm/s, 2.2 rad/s of roll, 1.25 rad/s of the jaws),
 /// so that a held key does not run ahead of the hand. Measured on the keyboard's runs
 /// (docs/benchmarks.md, "The keyboard's hand"): the keys' 2 mm steps made as jumps, or at twice
-/// this speed, whip the catheter's tip through the cystic duct's wall on the default patient; at
-/// this speed it goes in.
+/// this speed, whip the catheter's tip through the cystic duct's wall on the stand-in scene (then
+/// the default, now scenarios/introductory.yaml); at this speed it goes in.
 struct SimulatedHandSpeeds {
   double speed_m_per_s = 0.05;  ///< the handle's speed
   double turn_rad_per_s = 2.5;  ///< the handle's angular speed (a 5 degree roll in 35 ms)

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Closed, outward-oriented meshes generated from parameters: test shapes with analytic answers
-/// (sphere, box, cylinder) and the project's own stand-in organ shapes for the default scenario.
+/// (sphere, box, cylinder) and the project's own stand-in organ shapes for the introductory
+/// scenario (scenarios/introductory.yaml).
 
 #include <cstdint>
 #include <functional>
@@ -43,7 +44,7 @@ namespace lap::haptics {
     int32_t stacks, int32_t slices,
     const std::function<Eigen::Vector3d(const Eigen::Vector3d& unit)>& f);
 
-/// The project's stand-in organs (metres, world frame y up), generated for the default
+/// The project's stand-in organs (metres, world frame y up), generated for the introductory
 /// scenario; real scans are for tests only (../shared/meshes).
 [[nodiscard]] TriangleMesh make_stand_in_liver();
 [[nodiscard]] TriangleMesh make_stand_in_gallbladder();

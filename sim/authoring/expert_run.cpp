@@ -439,8 +439,9 @@ struct Planner {
   // goes to, jaws across the duct (so that they bite a jaw's width along it), its shaft and
   // jaws clear of the other organs. Preferred beyond where the catheter's tip stops, on the
   // line it comes along (the side towards the common bile duct); then further on, then behind
-  // the incision (towards the gallbladder's neck, where in the default and the easy patient
-  // the jaws pressed the gallbladder with 9-22 N), 1 mm at a time. Nothing when none fits.
+  // the incision (towards the gallbladder's neck, where in the stand-in scene (then the default)
+  // and the easy patient the jaws pressed the gallbladder with 9-22 N), 1 mm at a time. Nothing
+  // when none fits.
   [[nodiscard]] std::optional<double> steady_site(const SessionModel& model) const {
     const models::IncisionRim& rim = *g.rim;
     const double forward = rim.z_m < 0.5 * rim.length_m ? 1.0 : -1.0;  // along g.axis

@@ -76,8 +76,8 @@ struct ExpertRunSettings {
   /// How far the line is pushed past the incision: the target depth and what the catheter's
   /// bend in the lumen and the grasp's virtual coupling (its give F / k under the lumen's
   /// friction, models/catheter_grasp.h) take up. 27 mm before the grasp was a virtual
-  /// coupling: with it, 3 of the default's 12 varied expert runs then stopped at 9.86 mm; at
-  /// 29 mm moderate's expert run goes out through the wall.
+  /// coupling: with it, 3 of the stand-in scene's (then the default's) 12 varied expert runs then
+  /// stopped at 9.86 mm; at 29 mm moderate's expert run goes out through the wall.
   double advance_m = 0.0275;
   double grip_open_rad = 0.8;
   double grip_closed_rad = 0.1;  ///< below the grasp angle (models/catheter_grasp.h)

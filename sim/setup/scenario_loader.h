@@ -15,8 +15,9 @@
 
 namespace lap::sim {
 
-/// A scenario is a few kilobytes of YAML (the default's is 9 kB, with its benchmarks): a file
-/// over 4 MiB is not one, and is refused unread (as /dev/zero, a FIFO or a folder are).
+/// A scenario is a few kilobytes of YAML (the default patient's is 19 kB, with its comments and
+/// benchmarks): a file over 4 MiB is not one, and is refused unread (as /dev/zero, a FIFO or a
+/// folder are).
 inline constexpr std::uintmax_t kMaxScenarioFileBytes = std::uintmax_t{4} << 20;
 
 /// Choices the caller makes, not the file.

@@ -13,7 +13,7 @@
 namespace lap::app {
 namespace {
 
-sim::Scenario default_scenario() {
+sim::Scenario introductory_scenario() {
   const sim::ScenarioLoadResult r =
       sim::load_scenario(test::source_dir() / "scenarios/introductory.yaml");
   EXPECT_TRUE(r.ok()) << r.message();
@@ -23,7 +23,7 @@ sim::Scenario default_scenario() {
 const std::vector<std::string> kOrgans = {"liver", "gallbladder", "cystic_duct"};
 
 TEST(HudState, TheInstructionFollowsTheStage) {
-  HudModel hud(default_scenario(), kOrgans);
+  HudModel hud(introductory_scenario(), kOrgans);
   sim::HapticSnapshot h;
   sim::ModelSnapshot m;
   m.task.kind = sim::TaskKind::kCatheterInsertion;
@@ -32,7 +32,7 @@ TEST(HudState, TheInstructionFollowsTheStage) {
   const HudState& s = hud.update(h, m, {}, 0.0);
   EXPECT_EQ(s.step, "Step 1 of 5");
   EXPECT_NE(s.instruction.find("Grasp the catheter"), std::string::npos);
-  EXPECT_EQ(s.timer, "01:23 / 10:00");  // the default's 600 s limit
+  EXPECT_EQ(s.timer, "01:23 / 10:00");  // the introductory scene's 600 s limit
   EXPECT_TRUE(s.result.empty());
 
   m.task.stage = sim::TaskStage::kAdvance;
@@ -60,7 +60,7 @@ TEST(HudState, TheInstructionFollowsTheStage) {
 // Left: 1.5 N on the duct (0.75 of its 2 N) against 2 N on the liver (0.4 of 5 N): the duct's
 // gauge, amber. Right: 6 N on the liver: over its 5 N, red, whatever it does not push.
 TEST(HudState, EachHandsGaugeIsThePushNearestItsThreshold) {
-  HudModel hud(default_scenario(), kOrgans);
+  HudModel hud(introductory_scenario(), kOrgans);
   sim::HapticSnapshot h;
   sim::ModelSnapshot m;
   m.task.tools[0] = {1.5, 2.0, 0, 0.0};
@@ -89,7 +89,7 @@ TEST(HudState, EachHandsGaugeIsThePushNearestItsThreshold) {
 
 // A probe (point or ray) has no jaws: its gauge says so, and the overlay draws no squeeze.
 TEST(HudState, AProbesGaugeHasNoJaws) {
-  sim::Scenario sc = default_scenario();
+  sim::Scenario sc = introductory_scenario();
   for (sim::ToolSpec& t : sc.tools)
     t.kind = t.side == sim::ToolSpec::Side::kLeft ? "probe" : "ray-probe";
   HudModel hud(sc, kOrgans);
@@ -103,7 +103,7 @@ TEST(HudState, AProbesGaugeHasNoJaws) {
 // A hand pushing nothing shows the threshold it will meet first: the duct's in the procedure,
 // any organ's in a scene without the task's duct (a demonstration of the thesis).
 TEST(HudState, AnIdleGaugeShowsTheDuctsThresholdOnlyWhereThereIsADuct) {
-  const sim::Scenario sc = default_scenario();
+  const sim::Scenario sc = introductory_scenario();
   ASSERT_TRUE(sc.task.has_value());
   ASSERT_NE(sc.task->duct_injury_force_n, sc.task->organ_injury_force_n);
   HudModel with_duct(sc, kOrgans);
@@ -120,7 +120,7 @@ TEST(HudState, AnIdleGaugeShowsTheDuctsThresholdOnlyWhereThereIsADuct) {
 // Events become notices when they appear, hold for 3 s, fade over 1.5 s and go; errors are
 // alarms; the display keeps three at most.
 TEST(HudState, EventNoticesFadeAfterAFewSeconds) {
-  HudModel hud(default_scenario(), kOrgans);
+  HudModel hud(introductory_scenario(), kOrgans);
   sim::HapticSnapshot h;
   sim::ModelSnapshot m;
   auto add = [&](sim::TaskEventKind kind, int32_t tool = -1) {
@@ -158,7 +158,7 @@ TEST(HudState, EventNoticesFadeAfterAFewSeconds) {
 }
 
 TEST(HudState, LateTicksQuietlyAPauseLoudly) {
-  HudModel hud(default_scenario(), kOrgans);
+  HudModel hud(introductory_scenario(), kOrgans);
   sim::HapticSnapshot h;
   sim::ModelSnapshot m;
   EXPECT_TRUE(hud.update(h, m, {}, 0.0).loops.empty());

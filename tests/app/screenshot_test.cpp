@@ -94,8 +94,8 @@ int classify(const QColor& c, const std::vector<Eigen::Vector3d>& organ_colours)
 // where it belongs, and the heads-up display is there. `instruction_white`: how many white
 // pixels the instruction's text at the top left has. `env`: variables set for the run
 // ("NAME=value ", or empty); *err: what the program said on stderr (may be null).
-void expect_default_scenario_picture(const std::string& quality, int* instruction_white,
-                                     const std::string& env = "", std::string* err = nullptr) {
+void expect_introductory_scene_picture(const std::string& quality, int* instruction_white,
+                                       const std::string& env = "", std::string* err = nullptr) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "run under xvfb-run (ctest does)";
   TempDir dir;
   const auto png = dir.path() / "shot.png";
@@ -225,9 +225,9 @@ void expect_default_scenario_picture(const std::string& quality, int* instructio
       << "white over the middle of the field";
 }
 
-TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
+TEST(Screenshot, IntroductorySceneShowsEachOrganWhereTheCameraPutsIt) {
   int white_text = 0;
-  expect_default_scenario_picture("full", &white_text);
+  expect_introductory_scene_picture("full", &white_text);
 }
 
 // The fast profile (a station without a GPU) draws the 3D picture smaller and stretches it: the
@@ -237,8 +237,8 @@ TEST(Screenshot, DefaultScenarioShowsEachOrganWhereTheCameraPutsIt) {
 TEST(Screenshot, TheFastPictureShowsTheSameFieldWithASharpDisplay) {
   int full_white = 0;
   int fast_white = 0;
-  expect_default_scenario_picture("full", &full_white);
-  expect_default_scenario_picture("fast", &fast_white);
+  expect_introductory_scene_picture("full", &full_white);
+  expect_introductory_scene_picture("fast", &fast_white);
   EXPECT_GE(fast_white, full_white * 9 / 10) << "the instruction's text is blurred";
   EXPECT_LE(fast_white, full_white * 11 / 10);
 }
@@ -249,7 +249,7 @@ TEST(Screenshot, TheFastPictureShowsTheSameFieldWithASharpDisplay) {
 TEST(Screenshot, WithoutAnOffScreenBufferTheFastPictureIsDrawnAtTheWindowsSize) {
   int white = 0;
   std::string err;
-  expect_default_scenario_picture("fast", &white, "LAPTRAINER_NO_OFFSCREEN_BUFFER=1 ", &err);
+  expect_introductory_scene_picture("fast", &white, "LAPTRAINER_NO_OFFSCREEN_BUFFER=1 ", &err);
   const std::string said = "gave no off-screen buffer";
   const size_t first = err.find(said);
   EXPECT_NE(first, std::string::npos) << err;
@@ -356,8 +356,8 @@ TEST(Screenshot, ASavedSessionPlaysBackInTheWindow) {
   const auto first = dir.path() / "first";
   const auto second = dir.path() / "second";
   CommandResult r =
-      run_command(app + " --left scripted:" + (scripts / "default/expert_left.csv").string() +
-                  " --right scripted:" + (scripts / "default/expert_right.csv").string() +
+      run_command(app + " --left scripted:" + (scripts / "introductory/expert_left.csv").string() +
+                  " --right scripted:" + (scripts / "introductory/expert_right.csv").string() +
                   " --record " + first.string() + " --quit-after 1.5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_command(app + " --left replay:" + (first / "left.lapdev").string() +

@@ -22,15 +22,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path& default_scenario() {
+const fs::path& introductory_scenario() {
   static const fs::path p = source_dir() / "scenarios/introductory.yaml";
   return p;
 }
 
 TEST(SessionArchive, AnAttemptsFolderIsItsOwnersWithItsDescription) {
   TempDir root;
-  const Result<app::SessionRow> r = app::begin_attempt(root.path(), "alice", default_scenario(),
-                                                       "Default", "left=simulated", "lab 2");
+  const Result<app::SessionRow> r = app::begin_attempt(
+      root.path(), "alice", introductory_scenario(), "Default", "left=simulated", "lab 2");
   ASSERT_TRUE(r.ok()) << r.message();
   const app::SessionRow& a = r.value();
   EXPECT_EQ(a.uuid.size(), 36);
@@ -39,7 +39,7 @@ TEST(SessionArchive, AnAttemptsFolderIsItsOwnersWithItsDescription) {
   EXPECT_EQ(dir.parent_path(), root.path());
   EXPECT_EQ(fs::status(dir).permissions(), fs::perms::owner_all);
   // The scenario's version is the SHA-256 of its bytes.
-  QFile f(QString::fromStdString(default_scenario().string()));
+  QFile f(QString::fromStdString(introductory_scenario().string()));
   ASSERT_TRUE(f.open(QIODevice::ReadOnly));
   EXPECT_EQ(a.scenario_version,
             QCryptographicHash::hash(f.readAll(), QCryptographicHash::Sha256).toHex());
@@ -88,12 +88,12 @@ TEST(SessionArchive, ABadDescriptionIsNamedNotTrusted) {
 // metrics.json): found again as not filed, interrupted, with the ticks its recording kept.
 TEST(SessionArchive, AnAttemptACrashCutShortIsFoundInterrupted) {
   TempDir root;
-  const Result<app::SessionRow> begun = app::begin_attempt(root.path(), "bob", default_scenario(),
-                                                           "Default", "left=scripted", "lab 2");
+  const Result<app::SessionRow> begun = app::begin_attempt(
+      root.path(), "bob", introductory_scenario(), "Default", "left=scripted", "lab 2");
   ASSERT_TRUE(begun.ok()) << begun.message();
   const fs::path dir = begun.value().recording_dir.toStdString();
   {
-    const sim::SceneLoadResult scene = sim::load_scene_file(default_scenario());
+    const sim::SceneLoadResult scene = sim::load_scene_file(introductory_scenario());
     ASSERT_TRUE(scene.ok());
     std::array<std::unique_ptr<hardware::HapticDevice>, 2> devices;
     for (int side = 0; side < 2; ++side) {
@@ -110,7 +110,7 @@ TEST(SessionArchive, AnAttemptACrashCutShortIsFoundInterrupted) {
     rs.duration_s = 2.0;
     auto session = sim::Session::create(scene.value(), std::move(devices), rs);
     ASSERT_TRUE(session.ok()) << session.message();
-    const auto header = sim::session_record_json(default_scenario(), rs);
+    const auto header = sim::session_record_json(introductory_scenario(), rs);
     ASSERT_TRUE(header.ok());
     ASSERT_TRUE(session.value()->record_to(dir / "session.lrec", header.value()).ok());
     (void)session.value()->run();
@@ -120,8 +120,8 @@ TEST(SessionArchive, AnAttemptACrashCutShortIsFoundInterrupted) {
   fs::resize_file(lrec, fs::file_size(lrec) - 40);
 
   // Another attempt, ended and filed, beside it.
-  const Result<app::SessionRow> filed = app::begin_attempt(root.path(), "bob", default_scenario(),
-                                                           "Default", "left=scripted", "lab 2");
+  const Result<app::SessionRow> filed = app::begin_attempt(
+      root.path(), "bob", introductory_scenario(), "Default", "left=scripted", "lab 2");
   ASSERT_TRUE(filed.ok());
   std::ofstream(fs::path(filed.value().recording_dir.toStdString()) / "session.lrec") << "x";
 

@@ -553,7 +553,7 @@ Entry push_into_duct(const Eigen::Vector3d& tip, const Eigen::Vector3d& directio
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int32_t>(i);
   const double mid_radius = 0.5 * (duct.outer_diameter_m - duct.wall_thickness_m);
 
-  CatheterSettings cs;  // the default scenario's 5 Fr catheter, 4.8 mm per segment
+  CatheterSettings cs;  // the introductory scenario's 5 Fr catheter, 4.8 mm per segment
   cs.particles = 13;
   cs.length_m = 0.06;
   cs.outer_diameter_m = 0.00167;
@@ -567,7 +567,7 @@ Entry push_into_duct(const Eigen::Vector3d& tip, const Eigen::Vector3d& directio
   SurfaceContactSettings settings;
   settings.clearance_m = model.radius_m() + 0.5 * duct.wall_thickness_m;
   settings.keep_side = true;
-  settings.stiffness_n_per_m = 170.0;  // the default scenario's duct
+  settings.stiffness_n_per_m = 170.0;  // the introductory scenario's duct
   settings.damping_n_s_per_m = 0.2;
   settings.friction_coefficient = mu;
   SurfaceTracking tracking(wall, Eigen::Isometry3d::Identity(), cath);

@@ -43,11 +43,16 @@ std::vector<std::string> csv_cells(const std::string& line) {
   return c;
 }
 
-TEST(CliValidate, DefaultScenarioIsOk) {
-  const CommandResult r = run_command(cli() + " validate --scenario " +
-                                      (source_dir() / "scenarios/introductory.yaml").string());
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find(": ok"), std::string::npos);
+TEST(CliValidate, EveryShippedScenarioIsOk) {
+  int checked = 0;
+  for (const auto& e : std::filesystem::directory_iterator(source_dir() / "scenarios")) {
+    if (e.path().extension() != ".yaml") continue;
+    ++checked;
+    const CommandResult r = run_command(cli() + " validate --scenario " + e.path().string());
+    EXPECT_EQ(r.exit_code, 0) << e.path() << ": " << r.err;
+    EXPECT_NE(r.out.find(": ok"), std::string::npos) << e.path();
+  }
+  EXPECT_GE(checked, 5);  // introductory, default and the three graded patients
 }
 
 TEST(CliValidate, ProblemsGoToStderrAsFileLineFieldAndExitTwo) {
@@ -381,12 +386,11 @@ TEST(CliRun, TheTaskObjectFollowsTheContract) {
 }
 
 TEST(CliRun, TheShippedExpertRunEndsInSuccessAndTheSessionWithIt) {
-  // The contract's outside check: the expert's scripts for the introductory scenario, --fast, a
-  // long
+  // The contract's outside check: the expert's scripts for the default scenario, --fast, a long
   // --duration: "success", no reasons, the completion time, and the session ended there.
-  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/introductory";
+  const std::filesystem::path scripts = source_dir() / "scenarios/scripts/default";
   const CommandResult r = run_command(
-      cli() + " run --scenario " + (source_dir() / "scenarios/introductory.yaml").string() +
+      cli() + " run --scenario " + (source_dir() / "scenarios/default.yaml").string() +
       " --left scripted:" + (scripts / "expert_left.csv").string() +
       " --right scripted:" + (scripts / "expert_right.csv").string() + " --fast --duration 120");
   ASSERT_EQ(r.exit_code, 0) << r.err;

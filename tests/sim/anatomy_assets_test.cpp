@@ -138,16 +138,18 @@ TEST(AnatomyAssets, TheSessionFitsItsDuctToTheGeneratedCysticDuct) {
   }
 }
 
-// The patients' scenarios copy their trocars and camera from their anatomy's anatomy.json by
-// hand (the generator places the ports, docs/anatomy.md): a port moved in the preset and not in
-// the scenario, or the other way round, fails here. A trocar of the scenario's own (the hard
-// patient's catheter puncture) must lie on the abdominal wall's inner surface, where there is
-// no hole for it.
+// The scenarios on the generated anatomy (the default patient and the graded ones) copy their
+// trocars and camera from their anatomy's anatomy.json by hand (the generator places the ports,
+// docs/anatomy.md): a port moved in the preset and not in the scenario, or the other way round,
+// fails here. A trocar of the scenario's own (the hard patient's catheter puncture) must lie on
+// the abdominal wall's inner surface, where there is no hole for it.
 TEST(AnatomyAssets, EachPatientsTrocarsAndCameraAreWhereItsAnatomyPutsThem) {
   int patients = 0;
   for (const auto& e : fs::directory_iterator(test::source_dir() / "scenarios")) {
     const std::string stem = e.path().stem().string();
-    if (e.path().extension() != ".yaml" || !stem.starts_with("patient_")) continue;
+    if (e.path().extension() != ".yaml" || (stem != "default" && !stem.starts_with("patient_"))) {
+      continue;
+    }
     ++patients;
     const ScenarioLoadResult s = load_scenario(e.path());
     ASSERT_TRUE(s.ok()) << s.message();
@@ -188,8 +190,12 @@ TEST(AnatomyAssets, EachPatientsTrocarsAndCameraAreWhereItsAnatomyPutsThem) {
     const auto cam = a.at("parameters").at("camera_m").get<std::array<double, 3>>();
     EXPECT_LT((s->camera.position_m - Eigen::Vector3d(cam[0], cam[1], cam[2])).norm(), 1e-4)
         << stem << ": the laparoscope is anatomy.json's camera_m";
+    // It pivots in the umbilical port.
+    ASSERT_TRUE(s->camera.port_m.has_value()) << stem;
+    ASSERT_EQ(ports.count("umbilical"), 1U) << stem;
+    EXPECT_LT((*s->camera.port_m - ports.at("umbilical")).norm(), 1e-4) << stem;
   }
-  EXPECT_EQ(patients, 3);
+  EXPECT_EQ(patients, 4);  // the default patient and the three graded ones
 }
 
 TEST(AnatomyAssets, UnknownPresetIsADiagnostic) {

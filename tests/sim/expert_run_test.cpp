@@ -1,6 +1,7 @@
-// The introductory scenario's expert run (sim/authoring/expert_run.h) against what the scenario may
-// change: a shorter time limit, a common bile duct the tip enters. The runs themselves, for the
-// default and the patients, are tests/sim/patient_runs_test.cpp's. --fast: inputs only.
+// The introductory scenario's expert run (sim/authoring/expert_run.h) against what the scenario
+// may change: a shorter time limit, a common bile duct the tip enters. The runs themselves, for
+// the introductory scene, the default and the patients, are tests/sim/patient_runs_test.cpp's.
+// --fast: inputs only.
 
 #include "sim/authoring/expert_run.h"
 
@@ -18,7 +19,8 @@ using namespace session_test;  // NOLINT(google-build-using-namespace): the test
 const fs::path kScripts = test::source_dir() / "scenarios/scripts/introductory";
 
 // The shipped scripts, the expert's success and each clumsy run's exact events: the
-// parameterised suite of tests/sim/patient_runs_test.cpp, for the default as for the patients.
+// parameterised suite of tests/sim/patient_runs_test.cpp, for the introductory scene as for the
+// default and the patients.
 // Here, what only the introductory's expert shows.
 
 TEST(ExpertRun, TheExpertsPaceRunsOutOfAShorterTimeLimit) {

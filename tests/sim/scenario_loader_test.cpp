@@ -582,7 +582,7 @@ TEST(ScenarioLoader, UnreadableFile) {
             "/nonexistent/dir/s.yaml: not found (expected a YAML scenario file)");
 }
 
-TEST(ScenarioLoader, DefaultScenarioIsValid) {
+TEST(ScenarioLoader, IntroductoryScenarioIsValid) {
   const ScenarioLoadResult r = load_scenario(test::source_dir() / "scenarios/introductory.yaml");
   for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
   EXPECT_GE(r.value().organs.size(), 3U);

@@ -10,7 +10,7 @@
 namespace lap::sim {
 namespace {
 
-TEST(Scene, DefaultScenarioLoadsCleanOrgansInTheWorldFrame) {
+TEST(Scene, IntroductoryScenarioLoadsCleanOrgansInTheWorldFrame) {
   const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   for (const auto& p : r.diagnostics()) ADD_FAILURE() << p.to_string();
   ASSERT_EQ(r.value().organs.size(), 3U);

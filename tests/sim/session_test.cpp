@@ -352,7 +352,7 @@ TEST(Session, WarnsWhereAToolsStiffnessBudgetIsAboveItsDevices) {
 // (docs/tissue-parameters.md). Read back through the loader and the session's model, the hand
 // feels the liver softest, the duct (its contact capped below its wall's own stiffness) next,
 // the gallbladder stiffest, every one below what the default device renders.
-TEST(Session, TheDefaultOrgansFeelAsTheirTissuesAreDerived) {
+TEST(Session, TheIntroductoryOrgansFeelAsTheirTissuesAreDerived) {
   const Scene& scene = introductory_scene();
   const DeviceDescription device{"default", hardware::DeviceLimits{}};
   const auto built = SessionModel::build(scene, fast(0.01), {device, device});

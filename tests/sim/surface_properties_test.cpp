@@ -316,7 +316,7 @@ TEST(SurfaceProperties, ScenarioProceduralTexturesBuild) {
   }
 }
 
-TEST(SurfaceProperties, DefaultScenarioSurfacesBuild) {
+TEST(SurfaceProperties, IntroductoryScenarioSurfacesBuild) {
   const SceneLoadResult r = load_scene_file(test::source_dir() / "scenarios/introductory.yaml");
   ASSERT_TRUE(r.ok());
   int shaded = 0;

@@ -357,7 +357,7 @@ TEST(TissueWorld, TheDuctIsItsShellAndCanBePushedAndGrasped) {
 // (3 mm along, 2 mm around), on the side facing the laparoscope; the catheter meets the lumen
 // with the scenario's friction. A centre off the wall is refused, naming the file, the line
 // and the field.
-TEST(TissueWorld, TheDefaultDuctHasItsIncision) {
+TEST(TissueWorld, TheIntroductoryDuctHasItsIncision) {
   const Scene& scene = introductory_scene();
   const test::TempDir cache;
   const auto world = TissueWorld::build(scene, world_settings(cache.path()), nullptr).value();
