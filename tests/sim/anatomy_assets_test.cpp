@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -14,7 +15,7 @@
 #include <set>
 #include <string>
 
-#include "haptics/closest_point.h"
+#include "haptics/mesh_database.h"
 #include "haptics/setup/mesh_validation.h"
 #include "models/shell_mesh.h"
 #include "sim/setup/duct_fit.h"
@@ -163,7 +164,8 @@ TEST(AnatomyAssets, EachPatientsTrocarsAndCameraAreWhereItsAnatomyPutsThem) {
       const auto xyz = p.at("position_m").get<std::array<double, 3>>();
       ports[p.at("name").get<std::string>()] = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
     }
-    const haptics::TriangleMesh wall = load_mesh(anatomy / "abdominal_wall.gltf").value();
+    const haptics::MeshDatabase wall =
+        haptics::MeshDatabase::build(load_mesh(anatomy / "abdominal_wall.gltf").value());
     int named = 0;
     for (const TrocarSpec& t : s->trocars) {
       const auto port = ports.find(t.name);
@@ -175,14 +177,9 @@ TEST(AnatomyAssets, EachPatientsTrocarsAndCameraAreWhereItsAnatomyPutsThem) {
             << ", anatomy.json's port at " << port->second.transpose();
         continue;
       }
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const auto& tri : wall.triangles) {
-        haptics::TriangleFeature feature{};
-        const Eigen::Vector3d q =
-            haptics::closest_on_triangle(t.position_m, wall.positions[tri[0]],
-                                         wall.positions[tri[1]], wall.positions[tri[2]], &feature);
-        nearest = std::min(nearest, (q - t.position_m).norm());
-      }
+      double d2 = std::numeric_limits<double>::infinity();
+      ASSERT_GE(wall.nearest_face(t.position_m, nullptr, &d2), 0) << stem;
+      const double nearest = std::sqrt(d2);
       EXPECT_LT(nearest, 1e-3) << stem << ": trocar " << t.name << " is " << 1e3 * nearest
                                << " mm from the abdominal wall";
     }

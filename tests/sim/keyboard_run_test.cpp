@@ -159,12 +159,16 @@ KeyboardRun run_with(const std::string& stem) {
   return run;
 }
 
+// The shipped scenarios with a task, easiest first: the stand-in scene, the default patient and
+// the graded ones.
+constexpr std::array<const char*, 5> kScenarios = {"introductory", "default", "patient_easy",
+                                                   "patient_moderate", "patient_hard"};
+
 // Both keyboard tools start in the laparoscope's picture (the task counts an instrument out of
 // view from the first tick), at least 10 cm into their ports, pointing at the task's target:
 // 10 cm exactly where the tip is in view from 8 cm on (the introductory scenario).
 TEST(KeyboardRun, BothToolsStartInThePicture) {
-  for (const char* stem :
-       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem : kScenarios) {
     const SceneLoadResult loaded =
         load_scene_file(test::source_dir() / "scenarios" / (std::string(stem) + ".yaml"));
     ASSERT_TRUE(loaded.ok()) << loaded.message();
@@ -266,8 +270,7 @@ TEST(KeyboardRun, TheOtherPatientsCanBeCompletedWithTheKeys) {
 // sight, drags for the roll and the jaws, one gesture a frame.
 TEST(KeyboardRun, ThePatientsCanBeCompletedWithTheMouse) {
   if (!kEveryRun) GTEST_SKIP() << "the optimised build's";
-  for (const char* stem :
-       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem : kScenarios) {
     expect_success(run_with<test::MouseOperator>(stem), (std::string(stem) + ", mouse").c_str());
   }
 }
@@ -276,8 +279,7 @@ TEST(KeyboardRun, ThePatientsCanBeCompletedWithTheMouse) {
 // smoothly, where the keys' move along one at a time.
 TEST(KeyboardRun, ThePatientsCanBeCompletedWithThe3DMouse) {
   if (!kEveryRun) GTEST_SKIP() << "the optimised build's";
-  for (const char* stem :
-       {"introductory", "default", "patient_easy", "patient_moderate", "patient_hard"}) {
+  for (const char* stem : kScenarios) {
     expect_success(run_with<test::PuckOperator>(stem), (std::string(stem) + ", 3D mouse").c_str());
   }
 }
