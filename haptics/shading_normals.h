@@ -71,12 +71,30 @@ class ShadingNormals {
 /// Figure 6-3: the penetration vector to use with the force law when shading is on. `depth` is
 /// the HIP's depth under the contacted plane (normal n, unit), `shaded` the shaded unit normal.
 /// The HIP is projected along the shaded normal onto the plane: its distance there is
-/// depth / (shaded . n). The result points into the object (as HIP - IHIP does). Where the
-/// shaded normal is more than ~84° from the plane's (cos < 0.1) the projection is limited.
+/// depth / (shaded . n). The result points into the object (as HIP - IHIP does).
+///
+/// Shading smooths the facets' small turns; it "works well when the penetration of HIP is small
+/// compared to the size of the polygon" (§6.1). Where the shaded normal stands far from the
+/// plane's — a tool pressed deep into a thin rounded edge, or an end held in a crease whose
+/// normal is the penetration's, not a face's — it would push sideways with up to 1 / cos times
+/// the spring's force, and the two-sided side test flips it as it passes 90°: a force reversing
+/// every few ticks (the default patient's liver edge, docs/anatomy.md). So the shaded normal is
+/// used in full up to 60° from the plane's (cosine kShadingFullCos), blended towards the plane's
+/// up to 75° (kShadingNoneCos) and not used beyond. The normal part is always the depth, the
+/// sideways push at most tan 60° times it, and the force continuous in both normals. The angles
+/// are this project's choice: a corner normal differs from its face's by less than the crease
+/// angle (40° on the shipped organs, 30° by default), so on a surface at rest every turn that
+/// shading exists to smooth is rendered in full; only a deep dent or a crease contact fades.
+inline constexpr double kShadingFullCos = 0.5;                 // cos 60°
+inline constexpr double kShadingNoneCos = 0.2588190451025208;  // cos 75°
 [[nodiscard]] inline Eigen::Vector3d shaded_penetration(double depth, const Eigen::Vector3d& n,
                                                         const Eigen::Vector3d& shaded) {
-  const double c = std::max(shaded.dot(n), 0.1);
-  return -(depth / c) * shaded;
+  const double c = shaded.dot(n);
+  if (c >= kShadingFullCos) return -(depth / c) * shaded;
+  if (c <= kShadingNoneCos) return -depth * n;
+  const double w = (c - kShadingNoneCos) / (kShadingFullCos - kShadingNoneCos);
+  const Eigen::Vector3d dir = (n + w * (shaded - n)).normalized();
+  return -(depth / dir.dot(n)) * dir;
 }
 
 }  // namespace lap::haptics

@@ -198,6 +198,46 @@ TEST(ForceShading, ADentedSurfaceIsShadedLikeItsDeformedShape) {
   EXPECT_GT(stale, 0.05);  // the dent did change them: the test can tell
 }
 
+// Figure 6-3's penetration vector as the shaded normal turns from the contacted plane's (θ = 0)
+// to its reverse (θ = 180°), with the segment proxy's two-sided flip (the shaded normal is turned
+// to the contact's side when it points away). The spring's normal part is always the depth; the
+// shaded push is Figure 6-3's own up to 60°, none from 75°; and nothing jumps — the old form's
+// 1/cos growth to 10× the spring and its reversal at 90° (the default patient's flipping press,
+// docs/anatomy.md) fail the last two checks.
+TEST(ForceShading, TheShadedPushFadesToThePlanesNormalBeforeItCouldFlip) {
+  const double depth = 0.004;
+  const Eigen::Vector3d n(0.0, 0.0, 1.0);
+  const int steps = 1800;  // 0.1°
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  double worst_jump = 0.0;
+  double worst_lateral = 0.0;
+  for (int i = 0; i <= steps; ++i) {
+    const double theta = kPi * i / steps;
+    Eigen::Vector3d shaded(std::sin(theta), 0.0, std::cos(theta));
+    if (shaded.dot(n) < 0.0) shaded = -shaded;
+    const Eigen::Vector3d p = shaded_penetration(depth, n, shaded);
+    ASSERT_TRUE(p.allFinite()) << theta;
+    EXPECT_NEAR(p.dot(n), -depth, 1e-15) << "the normal part at " << theta * 180.0 / kPi << "°";
+    const double c = shaded.dot(n);
+    if (c >= std::cos(60.0 * kPi / 180.0)) {
+      EXPECT_LT((p + (depth / c) * shaded).norm(), 1e-15) << theta * 180.0 / kPi << "°";
+    }
+    if (c <= std::cos(75.0 * kPi / 180.0)) {
+      EXPECT_LT((p + depth * n).norm(), 1e-15) << theta * 180.0 / kPi << "°";
+    }
+    worst_lateral = std::max(worst_lateral, (p - p.dot(n) * n).norm());
+    if (i > 0) worst_jump = std::max(worst_jump, (p - previous).norm());
+    previous = p;
+  }
+  // Lateral push at most tan 60° times the depth; over 0.1° the steepest change is Figure 6-3's
+  // own at 60°, depth / cos² 60° per radian (0.007 depth), and the fade's, a few times that.
+  EXPECT_LE(worst_lateral, std::tan(60.0 * kPi / 180.0) * depth * (1.0 + 1e-12));
+  EXPECT_LT(worst_jump, 0.05 * depth);
+  std::printf(
+      "shaded penetration: lateral at most %.3f depth, largest change per 0.1° %.4f depth\n",
+      worst_lateral / depth, worst_jump / depth);
+}
+
 TEST(ForceShading, RegionSwitchedOffFeelsLikeFlatPolygons) {
   const Cylinder c;
   const std::vector<uint8_t> off(c.mesh.face_count(), 0);
