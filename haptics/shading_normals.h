@@ -83,8 +83,10 @@ class ShadingNormals {
 /// up to 75° (kShadingNoneCos) and not used beyond. The normal part is always the depth, the
 /// sideways push at most tan 60° times it, and the force continuous in both normals. The angles
 /// are this project's choice: a corner normal differs from its face's by less than the crease
-/// angle (40° on the shipped organs, 30° by default), so on a surface at rest every turn that
-/// shading exists to smooth is rendered in full; only a deep dent or a crease contact fades.
+/// angle (40° on the shipped liver, the one shaded organ; 30° by default), so on a face contact
+/// with a surface at rest every turn that shading exists to smooth is rendered in full. What
+/// fades: contacts on a deep dent, and edge and crease contacts, whose plane is not a face's.
+/// A crease angle above 60° is faded in part even at rest (scenarios/README.md).
 inline constexpr double kShadingFullCos = 0.5;                 // cos 60°
 inline constexpr double kShadingNoneCos = 0.2588190451025208;  // cos 75°
 [[nodiscard]] inline Eigen::Vector3d shaded_penetration(double depth, const Eigen::Vector3d& n,

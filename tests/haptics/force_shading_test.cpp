@@ -201,9 +201,12 @@ TEST(ForceShading, ADentedSurfaceIsShadedLikeItsDeformedShape) {
 // Figure 6-3's penetration vector as the shaded normal turns from the contacted plane's (θ = 0)
 // to its reverse (θ = 180°), with the segment proxy's two-sided flip (the shaded normal is turned
 // to the contact's side when it points away). The spring's normal part is always the depth; the
-// shaded push is Figure 6-3's own up to 60°, none from 75°; and nothing jumps — the old form's
-// 1/cos growth to 10× the spring and its reversal at 90° (the default patient's flipping press,
-// docs/anatomy.md) fail the last two checks.
+// shaded push is Figure 6-3's own up to 60°, none from 75°; and nothing jumps. Without the flip
+// (the point proxy turns the shaded normal by the contact's side only) a shaded normal pointing
+// away gives the plane's push, never a pull. The old form (divide by max(cos, 0.1)) passes only
+// the finiteness and the up-to-60° checks: the normal part off by the whole depth, no plain push
+// past 75°, 10 depths sideways, a jump of 20 depths at 90° (the default patient's flipping
+// press, docs/anatomy.md), a pull past 90° unflipped.
 TEST(ForceShading, TheShadedPushFadesToThePlanesNormalBeforeItCouldFlip) {
   const double depth = 0.004;
   const Eigen::Vector3d n(0.0, 0.0, 1.0);
@@ -233,6 +236,12 @@ TEST(ForceShading, TheShadedPushFadesToThePlanesNormalBeforeItCouldFlip) {
   // own at 60°, depth / cos² 60° per radian (0.007 depth), and the fade's, a few times that.
   EXPECT_LE(worst_lateral, std::tan(60.0 * kPi / 180.0) * depth * (1.0 + 1e-12));
   EXPECT_LT(worst_jump, 0.05 * depth);
+  for (int i = steps / 2 + 1; i <= steps; ++i) {
+    const double theta = kPi * i / steps;
+    const Eigen::Vector3d away(std::sin(theta), 0.0, std::cos(theta));
+    EXPECT_LT((shaded_penetration(depth, n, away) + depth * n).norm(), 1e-15)
+        << "unflipped at " << theta * 180.0 / kPi << "°";
+  }
   std::printf(
       "shaded penetration: lateral at most %.3f depth, largest change per 0.1° %.4f depth\n",
       worst_lateral / depth, worst_jump / depth);
