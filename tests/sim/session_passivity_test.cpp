@@ -4,13 +4,13 @@
 // prefix of the run the energy the device gives the hand never exceeds what it took from the hand
 // by more than a stated tolerance, and while the hand holds still against a surface or a grasp the
 // force's fast part dies out. The introductory scene and the four shipped patients each run a
-// shorter script (kCatheterTaut): both tools take the catheter, hold it taut between
-// them, let go, and press the organ nearest their port, twice (the easy patient's is skipped: an
-// open defect, below). Every run twice, with and without
-// the passivity controllers: the grasp couplings are passive by themselves
-// (models/catheter_grasp.h). Fast (lockstep, one thread) runs, 4 s of wall time for the minute in
-// Release, about 1 s for the shorter ones: the suite is named apart from Session* so that the
-// ThreadSanitizer stage, which has no thread to check here, skips it.
+// shorter script (kCatheterTaut): both tools take the catheter, hold it taut between them, let
+// go, and press the organ nearest their port, twice (the easy patient's is skipped: an open
+// defect, below). Every run twice, with and without the passivity controllers: the grasp
+// couplings are passive by themselves (models/catheter_grasp.h). Fast (lockstep, one thread)
+// runs, 4 s of wall time for the minute in Release, about 1 s for the shorter ones: the suite is
+// named apart from Session* so that the ThreadSanitizer stage, which has no thread to check here,
+// skips it.
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
