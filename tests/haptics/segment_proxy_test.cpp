@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <random>
 #include <vector>
@@ -783,6 +786,76 @@ TEST(SegmentProxy, SweepCacheAgreesExactlyWithTheTrees) {
   EXPECT_GT(s.cached_sweeps, 2 * s.tree_sweeps);  // the cache answered most sweeps
   EXPECT_LT(s.cache_rebuilds, s.cached_sweeps / 2);
   EXPECT_EQ(tree_proxy.stats().cached_sweeps, 0);
+}
+
+// The work a proxy's force does on its ideal probe (the hand) over a closed path against a
+// static sphere (r 5 cm, felt 36 N/m: the scenarios' liver): pressed straight down `depth_m` at
+// the pole, slid 2 cm across and 1 cm aside at that height (out of the sphere by the end), lifted
+// and brought back, 2000 ticks a leg. A conservative contact (a spring to the surface) gives back
+// over the loop what it took; a passive one gives back no more. Trapezoidal sums: the one-tick
+// hold adds nothing to first order. The segment is 2 cm long (a jaw), level along the slide.
+struct LoopWork {
+  double point_j = 0.0;    // the point proxy's, at the segment's middle
+  double segment_j = 0.0;  // the segment proxy's, by the force shares at its ends
+};
+
+LoopWork loop_work(double depth_m) {
+  Body sphere(make_uv_sphere(0.05, 48, 96));
+  sphere.object.law.stiffness_n_per_m = 36.0;
+  const double r = 0.05;
+  const std::array<Eigen::Vector3d, 5> path = {
+      Eigen::Vector3d(0.0, 0.0, r + 0.012), Eigen::Vector3d(0.0, 0.0, r - depth_m),
+      Eigen::Vector3d(0.02, 0.01, r - depth_m), Eigen::Vector3d(0.02, 0.01, r + 0.012),
+      Eigen::Vector3d(0.0, 0.0, r + 0.012)};
+  const Eigen::Vector3d half(0.01, 0.0, 0.0);
+  PointProxy point;
+  SegmentProxy segment;
+  point.reset(path[0]);
+  segment.reset(path[0] - half, path[0] + half);
+  LoopWork w;
+  Eigen::Vector3d f_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d x_prev = path[0];
+  constexpr int kSteps = 2000;
+  for (size_t leg = 0; leg + 1 < path.size(); ++leg) {
+    for (int i = 1; i <= kSteps; ++i) {
+      const Eigen::Vector3d x =
+          path[leg] + (path[leg + 1] - path[leg]) * (static_cast<double>(i) / kSteps);
+      const Eigen::Vector3d dx = x - x_prev;
+      const PointProxyOutput p = point.step({&sphere.object, 1}, x, kDt);
+      w.point_j += 0.5 * (p.force_W + f_point).dot(dx);
+      f_point = p.force_W;
+      const SegmentProxyOutput s = segment.step({&sphere.object, 1}, x - half, x + half, kDt);
+      w.segment_j += 0.5 * (s.force_a_W + f_a).dot(dx) + 0.5 * (s.force_b_W + f_b).dot(dx);
+      f_a = s.force_a_W;
+      f_b = s.force_b_W;
+      x_prev = x;
+    }
+  }
+  return w;
+}
+
+// Open (stop 61; docs/anatomy.md, "Stop 61"): the segment proxy is not passive on a curved
+// surface. Over the loop above it returns more than it took, by 0.068 mJ at 2 mm (having taken
+// ½ k d² = 0.072 mJ), 3.5 mJ at 10 mm (1.8 mJ taken) and 17.9 mJ at 20 mm (7.2 mJ), and at 30 mm
+// takes 21 mJ more than it returns, where the point proxy on the same path takes at most 6 % of
+// ½ k d² (the facets' corners) and returns nothing extra. Skipped unless LAP_OPEN_DEFECTS is set.
+TEST(SegmentProxy, GivesBackNoMoreThanItTookOverAClosedPath) {
+  if (std::getenv("LAP_OPEN_DEFECTS") == nullptr) {
+    GTEST_SKIP() << "open: the segment proxy gives back more than it took over a loop on a "
+                    "sphere (set LAP_OPEN_DEFECTS=1 to see it)";
+  }
+  for (const double depth : {0.002, 0.01, 0.02, 0.03}) {
+    const LoopWork w = loop_work(depth);
+    const double stored = 0.5 * 36.0 * depth * depth;
+    std::printf(
+        "[ loop ] %4.1f mm deep: point proxy gives back %+.4f mJ, segment proxy %+.4f mJ "
+        "(½ k d² = %.4f mJ)\n",
+        depth * 1e3, w.point_j * 1e3, w.segment_j * 1e3, stored * 1e3);
+    EXPECT_LE(w.point_j, 0.01 * stored) << depth;
+    EXPECT_LE(w.segment_j, 0.01 * stored) << depth;
+  }
 }
 
 }  // namespace
