@@ -788,12 +788,14 @@ TEST(SegmentProxy, SweepCacheAgreesExactlyWithTheTrees) {
   EXPECT_EQ(tree_proxy.stats().cached_sweeps, 0);
 }
 
-// The work a proxy's force does on its ideal probe (the hand) over a closed path against a
-// static sphere (r 5 cm, felt 36 N/m: the scenarios' liver): pressed straight down `depth_m` at
-// the pole, slid 2 cm across and 1 cm aside at that height (out of the sphere by the end), lifted
-// and brought back, 2000 ticks a leg. A conservative contact (a spring to the surface) gives back
-// over the loop what it took; a passive one gives back no more. Trapezoidal sums: the one-tick
-// hold adds nothing to first order. The segment is 2 cm long (a jaw), level along the slide.
+// The work a proxy's force does on the virtual probe (the device's, which the hand moves) over a
+// closed path against a static sphere (r 5 cm, felt 36 N/m: the scenarios' liver): pressed
+// straight down `depth_m` at the pole, slid 2 cm across and 1 cm aside at that height (out of the
+// sphere by the slide's end at 2 mm; still inside at the greater depths, where the lift lets go
+// of the rest), lifted and brought back, 2000 ticks a leg. A conservative contact (a spring to
+// the surface) gives back over the loop what it took; a passive one gives back no more.
+// Trapezoidal sums: the one-tick hold adds nothing to first order. The segment is 2 cm long (a
+// jaw), level along the slide.
 struct LoopWork {
   double point_j = 0.0;    // the point proxy's, at the segment's middle
   double segment_j = 0.0;  // the segment proxy's, by the force shares at its ends
@@ -837,10 +839,11 @@ LoopWork loop_work(double depth_m) {
 }
 
 // Open (stop 61; docs/anatomy.md, "Stop 61"): the segment proxy is not passive on a curved
-// surface. Over the loop above it returns more than it took, by 0.068 mJ at 2 mm (having taken
-// ½ k d² = 0.072 mJ), 3.5 mJ at 10 mm (1.8 mJ taken) and 17.9 mJ at 20 mm (7.2 mJ), and at 30 mm
-// takes 21 mJ more than it returns, where the point proxy on the same path takes at most 6 % of
-// ½ k d² (the facets' corners) and returns nothing extra. Skipped unless LAP_OPEN_DEFECTS is set.
+// surface. Over the loop above it returns more than it took, by 0.068 mJ at 2 mm (½ k d² =
+// 0.072 mJ), 3.5 mJ at 10 mm (½ k d² = 1.8 mJ) and 17.9 mJ at 20 mm (7.2 mJ), and at 30 mm takes
+// 21 mJ more than it returns (not explained), where the point proxy on the same path takes at most
+// 6 % of ½ k d² (the facets' corners) and returns nothing extra. Skipped unless LAP_OPEN_DEFECTS
+// is set.
 TEST(SegmentProxy, GivesBackNoMoreThanItTookOverAClosedPath) {
   if (std::getenv("LAP_OPEN_DEFECTS") == nullptr) {
     GTEST_SKIP() << "open: the segment proxy gives back more than it took over a loop on a "
