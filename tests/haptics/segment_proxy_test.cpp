@@ -795,15 +795,17 @@ TEST(SegmentProxy, SweepCacheAgreesExactlyWithTheTrees) {
 // of the rest), lifted and brought back, 2000 ticks a leg. A conservative contact (a spring to
 // the surface) gives back over the loop what it took; a passive one gives back no more.
 // Trapezoidal sums: the one-tick hold adds nothing to first order. The segment is 2 cm long (a
-// jaw), level along the slide.
+// jaw), level along the slide; it only translates, so its net force does all the work.
+constexpr double kLoopStiffnessNPerM = 36.0;
+
 struct LoopWork {
   double point_j = 0.0;    // the point proxy's, at the segment's middle
-  double segment_j = 0.0;  // the segment proxy's, by the force shares at its ends
+  double segment_j = 0.0;  // the segment proxy's
 };
 
 LoopWork loop_work(double depth_m) {
   Body sphere(make_uv_sphere(0.05, 48, 96));
-  sphere.object.law.stiffness_n_per_m = 36.0;
+  sphere.object.law.stiffness_n_per_m = kLoopStiffnessNPerM;
   const double r = 0.05;
   const std::array<Eigen::Vector3d, 5> path = {
       Eigen::Vector3d(0.0, 0.0, r + 0.012), Eigen::Vector3d(0.0, 0.0, r - depth_m),
@@ -816,8 +818,7 @@ LoopWork loop_work(double depth_m) {
   segment.reset(path[0] - half, path[0] + half);
   LoopWork w;
   Eigen::Vector3d f_point = Eigen::Vector3d::Zero();
-  Eigen::Vector3d f_a = Eigen::Vector3d::Zero();
-  Eigen::Vector3d f_b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_segment = Eigen::Vector3d::Zero();
   Eigen::Vector3d x_prev = path[0];
   constexpr int kSteps = 2000;
   for (size_t leg = 0; leg + 1 < path.size(); ++leg) {
@@ -829,9 +830,8 @@ LoopWork loop_work(double depth_m) {
       w.point_j += 0.5 * (p.force_W + f_point).dot(dx);
       f_point = p.force_W;
       const SegmentProxyOutput s = segment.step({&sphere.object, 1}, x - half, x + half, kDt);
-      w.segment_j += 0.5 * (s.force_a_W + f_a).dot(dx) + 0.5 * (s.force_b_W + f_b).dot(dx);
-      f_a = s.force_a_W;
-      f_b = s.force_b_W;
+      w.segment_j += 0.5 * (s.force_W + f_segment).dot(dx);
+      f_segment = s.force_W;
       x_prev = x;
     }
   }
@@ -851,7 +851,7 @@ TEST(SegmentProxy, GivesBackNoMoreThanItTookOverAClosedPath) {
   }
   for (const double depth : {0.002, 0.01, 0.02, 0.03}) {
     const LoopWork w = loop_work(depth);
-    const double stored = 0.5 * 36.0 * depth * depth;
+    const double stored = 0.5 * kLoopStiffnessNPerM * depth * depth;
     std::printf(
         "[ loop ] %4.1f mm deep: point proxy gives back %+.4f mJ, segment proxy %+.4f mJ "
         "(½ k d² = %.4f mJ)\n",
