@@ -157,6 +157,7 @@ ProbePlacementSolution solve_probe_placement(const ProbePlacementQp& qp, const E
     out.a = x.head<3>();
     out.b = x.tail<3>();
     out.lambda[0] = lambda;
+    if (lambda > 0.0) out.lambda_surface[0] = std::max(0.0, c0 - qp.skin_m) / qp.g[0].squaredNorm();
     return out;
   }
   DualActiveSet dual(qp, x0);
@@ -184,6 +185,14 @@ ProbePlacementSolution solve_probe_placement(const ProbePlacementQp& qp, const E
   }
   out.a = x.head<3>();
   out.b = x.tail<3>();
+  // The same free set's multipliers without the skin (λ is linear in the offsets on it).
+  std::array<double, kN> c_surface = dual.c;
+  for (int i = 0; i < n; ++i) c_surface[i] -= qp.skin_m;
+  std::array<double, kN> z{};
+  solve_free(dual.q, c_surface, dual.free, dual.nf, &z);
+  for (int k = 0; k < dual.nf; ++k) {
+    out.lambda_surface[dual.free[k]] = std::max(0.0, z[dual.free[k]]);
+  }
   return out;
 }
 

@@ -28,6 +28,9 @@ struct ProbePlacementQp {
   int32_t count = 0;
   std::array<Vector6, kMaxConstraints> g{};
   std::array<double, kMaxConstraints> h{};
+  /// A clearance included in every offset h (the segment proxy's skin) [m]: the solution also
+  /// gives the multipliers without it, for a spring measured from the planes themselves.
+  double skin_m = 0.0;
 
   /// Adds the constraint n · ((1 − u) a + u b) ≥ offset. Returns false when full.
   bool add(const Eigen::Vector3d& n, double u, double offset);
@@ -37,6 +40,9 @@ struct ProbePlacementSolution {
   Eigen::Vector3d a = Eigen::Vector3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   std::array<double, ProbePlacementQp::kMaxConstraints> lambda{};
+  /// The multipliers of the same active set for the offsets less the skin (clamped at 0): where
+  /// the goal is that far inside, x_surface = x0 + Σ lambda_surface_i g_i lies on the planes.
+  std::array<double, ProbePlacementQp::kMaxConstraints> lambda_surface{};
   int32_t iterations = 0;
   bool converged = false;  ///< false only if the iteration guard was hit (then x is still finite)
 };

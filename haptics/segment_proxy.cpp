@@ -238,6 +238,7 @@ void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vec
 void SegmentProxy::solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W,
                                    Eigen::Vector3d* a, Eigen::Vector3d* b) noexcept {
   ProbePlacementQp qp;
+  qp.skin_m = settings_.skin_m;
   for (int i = 0; i < constraint_count_; ++i) {
     const SegmentConstraint& c = constraints_[i];
     qp.add(c.normal_W, c.u, c.normal_W.dot(c.point_W) + settings_.skin_m);
@@ -249,7 +250,10 @@ void SegmentProxy::solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vect
   const ProbePlacementSolution sol = solve_probe_placement(qp, a_W, b_W, warm);
   *a = sol.a;
   *b = sol.b;
-  for (int i = 0; i < constraint_count_; ++i) constraints_[i].lambda = sol.lambda[i];
+  for (int i = 0; i < constraint_count_; ++i) {
+    constraints_[i].lambda = sol.lambda[i];
+    constraints_[i].lambda_surface = sol.lambda_surface[i];
+  }
 }
 
 SegmentProxyOutput SegmentProxy::step(std::span<const HapticObject> objects,

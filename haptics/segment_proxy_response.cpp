@@ -99,7 +99,11 @@ void SegmentProxy::respond(std::span<const HapticObject> objects, double dt,
     contact.u_b = constraints_[group.ib].u;
     widen_over_face(objects, group, cos_eps, &contact.u_a, &contact.u_b);
     const Eigen::Vector3d plane_point = find_equilibrium(group, &contact);
-    apply_contact_force(objects, dt, plane_point, &contact, out);
+    contact.stiffness_factor = 1.0;
+    const bool ideal_spring = settings_.response == SegmentResponse::kIdealVirtualSpring;
+    const Eigen::Vector3d stretch =
+        ideal_spring ? spring_stretch(group, &contact) : Eigen::Vector3d::Zero();
+    apply_contact_force(objects, dt, plane_point, stretch, ideal_spring, &contact, out);
     const bool hold = contact.kind == SegmentContactKind::kSegmentFace &&
                       std::abs(contact.theta_rad) < settings_.theta_epsilon_rad &&
                       contact.depth_m > 0.0;
@@ -203,23 +207,68 @@ Eigen::Vector3d SegmentProxy::find_equilibrium(const ContactGroup& g,
   return plane_point;
 }
 
-// The contact's spring from the penetration of the virtual probe at the equilibrium point (below
-// the plane through plane_point) with the object's surface properties (chapter 6), split to the
-// two ends.
+// The contact's part of the spring between the ideal and the virtual probe (Figure 5-4; see
+// segment_proxy.h, "Response"): the placement left the ideal probe at x = x_virtual + Σ λ_i g_i,
+// so the spring k (x − x_virtual) on the two ends is the sum over constraints of k λ_i n_i acting
+// at u_i (less the skin). A contact's share is its constraints' Σ λ_i n_i (the returned stretch
+// [m]), acting at their λ-weighted u (the exact lever for it), which becomes its equilibrium point.
+// A contact none of whose constraints presses (all λ = 0: the ideal probe rests on it but the hand
+// does not push) carries no force; its equilibrium point stays eq. 5-2's.
+Eigen::Vector3d SegmentProxy::spring_stretch(const ContactGroup& g,
+                                             SegmentContact* contact) const noexcept {
+  Eigen::Vector3d stretch = Eigen::Vector3d::Zero();
+  double lambda = 0.0;
+  double lambda_u = 0.0;
+  double factor = 0.0;
+  for (int k = 0; k < g.count; ++k) {
+    const SegmentConstraint& c = constraints_[g.member[k]];
+    // Measured from the surface, not from the skin the ideal probe keeps above it.
+    const double l = c.lambda_surface;
+    if (!(c.lambda > 0.0) || !(l > 0.0)) continue;
+    const double g2 = (1.0 - c.u) * (1.0 - c.u) + c.u * c.u;  // |g_i|² ≥ ½
+    stretch += l * c.normal_W;
+    lambda += l;
+    lambda_u += l * c.u;
+    factor += 1.0 / g2;
+  }
+  contact->stiffness_factor = std::max(1.0, factor);
+  if (lambda > 0.0 && stretch.squaredNorm() > 0.0) {
+    contact->u_equilibrium = std::clamp(lambda_u / lambda, 0.0, 1.0);
+  }
+  return stretch;
+}
+
+// The contact's spring with the object's surface properties (chapter 6), split to the two ends.
+// Its depth is the virtual probe's penetration at the equilibrium point below the plane through
+// plane_point. The thesis' spring (kContactSprings) stretches by that depth; the spring between
+// the ideal and the virtual probe (kIdealVirtualSpring) by the contact's stretch from
+// spring_stretch.
 void SegmentProxy::apply_contact_force(std::span<const HapticObject> objects, double dt,
-                                       const Eigen::Vector3d& plane_point, SegmentContact* contact,
-                                       SegmentProxyOutput* out) noexcept {
+                                       const Eigen::Vector3d& plane_point,
+                                       const Eigen::Vector3d& stretch, bool ideal_spring,
+                                       SegmentContact* contact, SegmentProxyOutput* out) noexcept {
   const double u_eq = contact->u_equilibrium;
+  double stretch_m = stretch.norm();
+  // The spring's direction is the contact's normal while it presses (its constraints' normals
+  // weighted by their multipliers: the contact plane's, for a single plane).
+  if (ideal_spring && stretch_m > 0.0) contact->normal_W = stretch / stretch_m;
   const Eigen::Vector3d& normal = contact->normal_W;
   const Eigen::Vector3d x_virtual = lerp(virtual_a_, virtual_b_, u_eq);
   const double depth = normal.dot(plane_point - x_virtual);
+  if (!ideal_spring) {
+    stretch_m = depth;  // §5.4: the contact's own penetration
+  } else if (stretch_m > 0.0 && depth > 1e-9) {
+    // Its stiffness, as the stretch over the depth it answers: continuous as the probe tilts
+    // and one end's constraint starts or stops pressing (the count of pressing ones jumps).
+    contact->stiffness_factor = std::clamp(stretch_m / depth, 1.0, 2.0);
+  }
   const HapticObject& o = objects[contact->object];
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   Eigen::Vector3d friction = Eigen::Vector3d::Zero();
   contact->friction_phase = FrictionState::Phase::kNone;
-  if (depth > 0.0) {
+  if (stretch_m > 0.0) {
     // The surface point: the virtual probe's equilibrium point projected onto the plane.
-    const Eigen::Vector3d surface_W = x_virtual + depth * normal;
+    const Eigen::Vector3d surface_W = x_virtual + std::max(depth, 0.0) * normal;
     const SurfacePoint s = surface_point(o, *contact, surface_W);
     // Damped on the probe's own motion into the surface (the virtual probe's point at u_eq, the
     // hand's), relative to the object's point there (§6.4), as the point proxy is: never on the
@@ -231,7 +280,13 @@ void SegmentProxy::apply_contact_force(std::span<const HapticObject> objects, do
           surface_W - o.prev_pose_WO * (o.pose_WO.inverse() * surface_W);
       approach = -normal.dot(probe_moved - surface_moved) / dt;
     }
-    force = contact_force(o.law, surface_penetration(o, s, depth, normal), approach);
+    // A texture raises the surface by h at the contact (§6.3): the spring of that contact,
+    // stiffness_factor k, stretches by h more.
+    const double factor = contact->stiffness_factor;
+    const Eigen::Vector3d penetration =
+        o.texture != nullptr ? factor * surface_penetration(o, s, stretch_m / factor, normal)
+                             : surface_penetration(o, s, stretch_m, normal);
+    force = contact_force(o.law, penetration, approach);
     if (o.friction != nullptr) {
       friction = contact_friction(o, contact_count_ - 1, s, std::max(0.0, force.dot(normal)));
       force += friction;

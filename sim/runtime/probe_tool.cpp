@@ -44,6 +44,7 @@ int32_t ProbeTool::contacts(std::span<ToolContact> out) const noexcept {
       tc.primitive = c.primitive;
       tc.point_W = c.point_W;
       tc.force_on_organ_W = -c.force_W;
+      tc.stiffness_factor = c.stiffness_factor;
     }
     return n;
   }
@@ -68,14 +69,16 @@ int32_t ProbeTool::contacts(std::span<ToolContact> out) const noexcept {
 
 void ProbeTool::add_to_budget(std::span<const haptics::HapticObject> objects,
                               StiffnessBudget* budget) const noexcept {
-  auto add = [&](int32_t object, const Eigen::Vector3d& p_W) {
+  auto add = [&](int32_t object, const Eigen::Vector3d& p_W, double factor) {
     if (object < 0 || static_cast<size_t>(object) >= objects.size()) return;
-    budget->add(contact_stiffness_n_per_m(objects[static_cast<size_t>(object)], p_W), p_W);
+    budget->add(factor * contact_stiffness_n_per_m(objects[static_cast<size_t>(object)], p_W), p_W);
   };
   if (kind_ == ToolKind::kRayProbe) {
-    for (const haptics::SegmentContact& c : ray_.contacts()) add(c.object, c.point_W);
+    for (const haptics::SegmentContact& c : ray_.contacts()) {
+      add(c.object, c.point_W, c.stiffness_factor);
+    }
   } else {
-    for (const haptics::PointContact& c : point_.contacts()) add(c.object, c.point_W);
+    for (const haptics::PointContact& c : point_.contacts()) add(c.object, c.point_W, 1.0);
   }
 }
 

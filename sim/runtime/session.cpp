@@ -282,14 +282,16 @@ void Session::haptic_tick(int64_t tick, double lateness_s) noexcept {
                                 : tool_command(i, k, model, &snap.tools[i], tick);
     // The tool's contacts push the free bodies (moving_bodies.h: this tick, right after the
     // proxies, so the coupling creates no energy).
-    // Each contact also carries the stiffness it was rendered with, for the tissue model's dent
-    // (an author's live tuning reaches the model with the very tick that felt it).
+    // Each contact also carries the stiffness it was rendered with (its organ's k times its
+    // stiffness_factor), for the tissue model's dent (an author's live tuning reaches the model
+    // with the very tick that felt it).
     ToolSnapshot& ts = snap.tools[i];
     for (int32_t c = 0; c < ts.organ_contact_count; ++c) {
       ToolContact& tc = ts.organ_contacts[static_cast<size_t>(c)];
       bodies_.push(tc.organ, tc.force_on_organ_W, tc.point_W);
       if (tc.organ >= 0 && static_cast<size_t>(tc.organ) < objects_.size()) {
-        tc.stiffness_n_per_m = objects_[static_cast<size_t>(tc.organ)].law.stiffness_n_per_m;
+        tc.stiffness_n_per_m =
+            tc.stiffness_factor * objects_[static_cast<size_t>(tc.organ)].law.stiffness_n_per_m;
       }
     }
     if (ts.organ_contact_count > 0) touched = ts.organ_contacts[0].organ;
@@ -566,6 +568,7 @@ hardware::DeviceCommand Session::tool_command(size_t i, const ToolKinematics& k,
       tc.primitive = c.primitive;
       tc.point_W = c.point_W;
       tc.force_on_organ_W = -c.force_W;
+      tc.stiffness_factor = c.stiffness_factor;
       tc.segment = seg;
     }
   }

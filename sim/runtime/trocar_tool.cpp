@@ -87,7 +87,9 @@ void StiffnessBudget::add_contacts(const haptics::LaparoscopicGripper& gripper,
   for (int seg = 0; seg < 3; ++seg) {
     for (const haptics::SegmentContact& c : gripper.proxy(seg).contacts()) {
       if (c.object < 0 || static_cast<size_t>(c.object) >= objects.size()) continue;
-      add(contact_stiffness_n_per_m(objects[static_cast<size_t>(c.object)], c.point_W), c.point_W);
+      add(c.stiffness_factor *
+              contact_stiffness_n_per_m(objects[static_cast<size_t>(c.object)], c.point_W),
+          c.point_W);
     }
   }
 }
