@@ -186,6 +186,10 @@ ProbePlacementSolution solve_probe_placement(const ProbePlacementQp& qp, const E
   out.a = x.head<3>();
   out.b = x.tail<3>();
   // The same free set's multipliers without the skin (λ is linear in the offsets on it).
+  if (!(qp.skin_m > 0.0)) {
+    out.lambda_surface = out.lambda;
+    return out;
+  }
   std::array<double, kN> c_surface = dual.c;
   for (int i = 0; i < n; ++i) c_surface[i] -= qp.skin_m;
   std::array<double, kN> z{};

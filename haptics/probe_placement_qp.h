@@ -29,7 +29,8 @@ struct ProbePlacementQp {
   std::array<Vector6, kMaxConstraints> g{};
   std::array<double, kMaxConstraints> h{};
   /// A clearance included in every offset h (the segment proxy's skin) [m]: the solution also
-  /// gives the multipliers without it, for a spring measured from the planes themselves.
+  /// gives the multipliers without it, for a spring measured from the planes themselves (0: they
+  /// are the multipliers, and cost nothing).
   double skin_m = 0.0;
 
   /// Adds the constraint n · ((1 − u) a + u b) ≥ offset. Returns false when full.

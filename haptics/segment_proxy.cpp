@@ -238,7 +238,8 @@ void SegmentProxy::place(std::span<const HapticObject> objects, const Eigen::Vec
 void SegmentProxy::solve_placement(const Eigen::Vector3d& a_W, const Eigen::Vector3d& b_W,
                                    Eigen::Vector3d* a, Eigen::Vector3d* b) noexcept {
   ProbePlacementQp qp;
-  qp.skin_m = settings_.skin_m;
+  // Only the passive response reads the multipliers without the skin (one more small solve).
+  if (settings_.response == SegmentResponse::kIdealVirtualSpring) qp.skin_m = settings_.skin_m;
   for (int i = 0; i < constraint_count_; ++i) {
     const SegmentConstraint& c = constraints_[i];
     qp.add(c.normal_W, c.u, c.normal_W.dot(c.point_W) + settings_.skin_m);

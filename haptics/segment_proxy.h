@@ -94,10 +94,11 @@ struct SegmentContact {
   double u_equilibrium = 0.0;  ///< where the force acts (eq. 5-2 for segment–face)
   double theta_rad = 0.0;      ///< probe angle to the face (segment–face)
   double depth_m = 0.0;        ///< penetration of the virtual probe at the equilibrium point
-  /// Its spring's stiffness at the equilibrium point in units of the object's k, in [1, 2]: its
-  /// stretch over its depth (1 at an end point, 2 at the middle or for both ends held; where the
-  /// depth is 0, Σ over its pressing constraints of 1 / ((1 − u)² + u²); 1 when none presses).
-  /// For the stiffness budget at the handle and the tissue model's reading of force as depth.
+  /// Its spring's stiffness at the equilibrium point in units of the object's k, in [1, 2]: 1
+  /// under the thesis' rule (the default); under kIdealVirtualSpring its stretch over its depth
+  /// (1 at an end point, 2 at the middle or for both ends held; where the depth is at most 1 nm,
+  /// Σ over its pressing constraints of 1 / ((1 − u)² + u²); 1 when none presses). For the
+  /// stiffness budget at the handle and the tissue model's reading of force as depth.
   double stiffness_factor = 1.0;
   Eigen::Vector3d point_W = Eigen::Vector3d::Zero();  ///< equilibrium point, ideal probe
   Eigen::Vector3d normal_W = Eigen::Vector3d::UnitY();

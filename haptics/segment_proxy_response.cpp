@@ -231,7 +231,7 @@ Eigen::Vector3d SegmentProxy::spring_stretch(const ContactGroup& g,
     lambda_u += l * c.u;
     factor += 1.0 / g2;
   }
-  contact->stiffness_factor = std::max(1.0, factor);
+  contact->stiffness_factor = std::clamp(factor, 1.0, 2.0);
   if (lambda > 0.0 && stretch.squaredNorm() > 0.0) {
     contact->u_equilibrium = std::clamp(lambda_u / lambda, 0.0, 1.0);
   }

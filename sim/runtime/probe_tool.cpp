@@ -63,6 +63,7 @@ int32_t ProbeTool::contacts(std::span<ToolContact> out) const noexcept {
     tc.primitive = c.primitive;
     tc.point_W = c.point_W;
     tc.force_on_organ_W = -share * last_force_W_;
+    tc.stiffness_factor = 1.0;
   }
   return n;
 }

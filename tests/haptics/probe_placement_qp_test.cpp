@@ -133,6 +133,51 @@ TEST(ProbePlacementQp, DuplicateAndParallelConstraintsAreWellPosed) {
   EXPECT_NEAR(sol.b.x(), 0.02, 1e-15);
 }
 
+// lambda_surface: the same active set's multipliers for the offsets less the skin. Where the
+// problem without the skin has the same active set, they are its multipliers, and the
+// configuration they give lies on the planes themselves.
+TEST(ProbePlacementQp, TheMultipliersWithoutTheSkinAreThoseOfTheProblemWithoutIt) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  constexpr double kSkin = 1e-4;
+  int compared = 0;
+  double worst = 0.0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 1 + trial % ProbePlacementQp::kMaxConstraints;
+    Vector6 x0;
+    x0 << 0.01 * uni(rng), 0.01 * uni(rng), 0.0, 0.01 * uni(rng), 0.01 * uni(rng), 0.02;
+    ProbePlacementQp bare = random_problem(rng, n, x0);
+    ProbePlacementQp skinned = bare;
+    skinned.skin_m = kSkin;
+    for (int i = 0; i < n; ++i) skinned.h[i] += kSkin;
+    const ProbePlacementSolution with = solve_probe_placement(skinned, x0.head<3>(), x0.tail<3>());
+    const ProbePlacementSolution without = solve_probe_placement(bare, x0.head<3>(), x0.tail<3>());
+    bool same_set = true;
+    for (int i = 0; i < n; ++i)
+      same_set = same_set && (with.lambda[i] > 0.0) == (without.lambda[i] > 0.0);
+    if (!same_set) continue;
+    ++compared;
+    Vector6 x = x0;
+    for (int i = 0; i < n; ++i) {
+      worst = std::max(worst, std::abs(with.lambda_surface[i] - without.lambda[i]));
+      EXPECT_EQ(with.lambda_surface[i] > 0.0, without.lambda[i] > 0.0) << trial << " " << i;
+      x += with.lambda_surface[i] * bare.g[i];
+    }
+    Vector6 reference;
+    reference << without.a, without.b;
+    EXPECT_LT((x - reference).norm(), 1e-10) << "trial " << trial;
+  }
+  EXPECT_GT(compared, 1000);
+  EXPECT_LT(worst, 1e-10);
+  // And with no skin they are the multipliers themselves.
+  ProbePlacementQp one;
+  EXPECT_TRUE(one.add(Eigen::Vector3d::UnitZ(), 0.5, 0.001));
+  const ProbePlacementSolution s =
+      solve_probe_placement(one, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
+  EXPECT_EQ(s.lambda_surface[0], s.lambda[0]);
+  EXPECT_GT(s.lambda[0], 0.0);
+}
+
 TEST(ProbePlacementQp, OneConstraintIsTheProjectionOnItsHalfSpace) {
   // A point at u = 1/4 held 1 mm above where the goal puts it: the least-squares split moves a
   // by (1 - u) / ((1 - u)^2 + u^2) mm and b by u / (...) mm.

@@ -911,8 +911,9 @@ TEST(SegmentProxy, SweepCacheAgreesExactlyWithTheTrees) {
 constexpr double kLoopStiffnessNPerM = 36.0;
 
 struct LoopWork {
-  double point_j = 0.0;    // the point proxy's, at the segment's middle
-  double segment_j = 0.0;  // the segment proxy's
+  double point_j = 0.0;         // the point proxy's, at the segment's middle
+  double segment_j = 0.0;       // the segment proxy's
+  double segment_peak_n = 0.0;  // its largest force: the loop did press
 };
 
 LoopWork loop_work(double depth_m, SegmentResponse response) {
@@ -945,6 +946,7 @@ LoopWork loop_work(double depth_m, SegmentResponse response) {
       f_point = p.force_W;
       const SegmentProxyOutput s = segment.step({&sphere.object, 1}, x - half, x + half, kDt);
       w.segment_j += 0.5 * (s.force_W + f_segment).dot(dx);
+      w.segment_peak_n = std::max(w.segment_peak_n, s.force_W.norm());
       f_segment = s.force_W;
       x_prev = x;
     }
@@ -958,6 +960,7 @@ TEST(SegmentProxy, WithTheIdealVirtualSpringItGivesBackNoMoreThanItTookOverAClos
   for (const double depth : {0.002, 0.01, 0.02, 0.03}) {
     const LoopWork w = loop_work(depth, SegmentResponse::kIdealVirtualSpring);
     const double stored = 0.5 * kLoopStiffnessNPerM * depth * depth;
+    EXPECT_GT(w.segment_peak_n, 0.5 * kLoopStiffnessNPerM * depth) << "the press is felt";
     std::printf(
         "[ loop ] %4.1f mm deep: point proxy gives back %+.4f mJ, segment proxy (ideal-virtual "
         "spring) %+.4f mJ (½ k d² = %.4f mJ)\n",
