@@ -22,22 +22,21 @@
 /// face. Contacts of one object whose normals agree within θε form one *segment–face* contact
 /// with the contour points A and B of Figure 5-13c, held while |θ| < θε.
 ///
-/// Response (§5.4), two rules (SegmentProxySettings::response). The thesis' (the default): each
-/// contact has an equilibrium point on the probe — the contact point for point–polygon and
+/// Response (§5.4), two rules (SegmentProxySettings::response). The thesis' (kept for comparison):
+/// each contact has an equilibrium point on the probe — the contact point for point–polygon and
 /// segment–edge, equation 5-2 for segment–face — and a spring along its normal from the
 /// penetration of the virtual probe there (the object's ForceLaw). The passive one (Figure 5-4:
-/// "a virtual spring between the ideal and virtual probes"): the force on the two ends is the
-/// object's spring k (ideal − virtual) at each end. The placement
-/// leaves the ideal probe at x = x_virtual + Σ λ_i g_i (probe_placement_qp.h), so that spring is
-/// the sum over constraints of k λ_i n_i acting at u_i: each contact takes its constraints'
-/// share, acting at their λ-weighted point (its equilibrium point; eq. 5-2's for a segment–face
-/// contact that does not press). Forces are split to the two ends by equations 5-1, 5-4 and 5-5
-/// (the lever rule); the net torque is equation 5-3. This departs from the thesis' spring of
-/// each contact from its own penetration (which counts one spot twice when a contact splits in
-/// two, and so gives the hand energy back over a loop: docs/anatomy.md, "Stop 61"): as a spring
-/// from a proxy that moves only towards the device, it is passive. Its stiffness is k at
-/// an end point, and up to 2k at the probe's middle or for a probe lying on a face (both ends
-/// held).
+/// "a virtual spring between the ideal and virtual probes"; the default): the force on the two ends
+/// is the object's spring k (ideal − virtual) at each end. The placement leaves the ideal probe at
+/// x = x_virtual + Σ λ_i g_i (probe_placement_qp.h), so that spring is the sum over constraints of
+/// k λ_i n_i acting at u_i: each contact takes its constraints' share, acting at their λ-weighted
+/// point (its equilibrium point; eq. 5-2's for a segment–face contact that does not press). Forces
+/// are split to the two ends by equations 5-1, 5-4 and 5-5 (the lever rule); the net torque is
+/// equation 5-3. This departs from the thesis' spring of each contact from its own penetration
+/// (which counts one spot twice when a contact splits in two, and so gives the hand energy back
+/// over a loop: docs/anatomy.md, "Stop 61"): as a spring from a proxy that moves only towards the
+/// device, it is passive. Its stiffness is k at an end point, and up to 2k at the probe's middle or
+/// for a probe lying on a face (both ends held).
 ///
 /// Surface properties (chapter 6; the thesis applies them to the ray-based probe too, at its
 /// contact points; segment_proxy_surface.cpp): at each contact, the virtual probe's equilibrium
@@ -95,7 +94,7 @@ struct SegmentContact {
   double theta_rad = 0.0;      ///< probe angle to the face (segment–face)
   double depth_m = 0.0;        ///< penetration of the virtual probe at the equilibrium point
   /// Its spring's stiffness at the equilibrium point in units of the object's k, in [1, 2]: 1
-  /// under the thesis' rule (the default); under kIdealVirtualSpring its stretch over its depth
+  /// under the thesis' rule; under kIdealVirtualSpring (the default) its stretch over its depth
   /// (1 at an end point, 2 at the middle or for both ends held; where the depth is at most 1 nm,
   /// Σ over its pressing constraints of 1 / ((1 − u)² + u²); 1 when none presses). For the
   /// stiffness budget at the handle and the tissue model's reading of force as depth.
@@ -119,9 +118,9 @@ enum class SegmentResponse : uint8_t {
 struct SegmentProxySettings {
   double theta_epsilon_rad = 1.0 * M_PI / 180.0;  ///< θε of §5.3/eq. 5-2 (the thesis: 1°)
   double skin_m = 1e-6;  ///< clearance the ideal probe keeps from a constraint plane
-  /// The thesis' springs stay the default until the sessions' demos and scripted runs that
-  /// rely on them are redone for the passive one (docs/anatomy.md, "Stop 62").
-  SegmentResponse response = SegmentResponse::kContactSprings;
+  /// The passive spring is the default (docs/anatomy.md, "Stop 63"); the thesis' springs stay
+  /// for comparison with §5.4 (not passive: haptics/README.md, "Response").
+  SegmentResponse response = SegmentResponse::kIdealVirtualSpring;
   /// Answer swept checks of slow motions from the sweep cache (exact; off: always the trees).
   bool sweep_cache = true;
 };

@@ -179,20 +179,26 @@ hardware::ScriptedTrajectory tip_path_script(const Scene& scene, int side,
 std::array<std::vector<TipWaypoint>, 2> demo_tip_paths(const std::string& demo) {
   // Each demo's left tool waits, parked clear of everything, unless it has work to do.
   if (demo == "floating_dumbbells") {
-    // The ray lowered onto both dumbbells' front balls at once (Figure 5-15).
+    // The ray lowered onto both dumbbells' front balls at once (Figure 5-15), ending level with
+    // the port (6 mm below the balls' tops): a ray held by a spring at each end (the passive
+    // response, haptics/segment_proxy.h) rests on two bumps near its tip only when it lies along
+    // the line of their tops; tilted, it pivots on the deeper one.
     return {{{{0.0, v(-0.15, 0.07, 0.0)}, {3.0, v(-0.15, 0.07, 0.0)}},
              {{0.0, v(-0.07, 0.03, 0.025)},
               {0.5, v(-0.07, 0.03, 0.025)},
-              {1.5, v(-0.07, 0.004, 0.025)},
-              {3.0, v(-0.07, 0.004, 0.025)}}}};
+              {1.5, v(-0.07, 0.006, 0.025)},
+              {3.0, v(-0.07, 0.006, 0.025)}}}};
   }
   if (demo == "concave_rocket") {
-    // The ray lowered along the rocket, bridging the nozzle's bell and the body (Figure 5-17).
+    // The ray lowered along the rocket, bridging the nozzle's bell and the body (Figure 5-17):
+    // it ends on the line through the bell's rim (x = -0.06, 14 mm) and the far end of the body
+    // (x = 0.03, 12 mm), which clears the throat, the near body and the waist, 2.5 mm below it
+    // (as the dumbbells' ray, level with the tops it rests on).
     return {{{{0.0, v(-0.15, 0.07, 0.0)}, {3.0, v(-0.15, 0.07, 0.0)}},
              {{0.0, v(-0.075, 0.03, 0.0)},
               {0.5, v(-0.075, 0.03, 0.0)},
-              {1.5, v(-0.075, 0.009, 0.0)},
-              {3.0, v(-0.075, 0.009, 0.0)}}}};
+              {1.5, v(-0.075, 0.01183, 0.0)},
+              {3.0, v(-0.075, 0.01183, 0.0)}}}};
   }
   if (demo == "pushed_object") {
     // The point probe comes in along -x, meets the block's face at x = 0.02 and pushes it 3 cm

@@ -192,7 +192,8 @@ TEST(SegmentTwoSided, FromOutsideTheWallPushesOutward) {
   }
   ASSERT_GE(out.contact_count, 1);
   const double depth = kR * std::cos(kPi / kSlices) - 0.0025;
-  EXPECT_NEAR(out.force_W.dot(radial), kK * depth, 1e-6);
+  // Lying along the wall: both ends pushed, a spring of k at each (the passive response), 2 k d.
+  EXPECT_NEAR(out.force_W.dot(radial), 2.0 * kK * depth, 1e-6);
   EXPECT_NEAR((out.force_W - out.force_W.dot(radial) * radial).norm(), 0.0, 1e-6);
   EXPECT_NEAR(out.ideal_a_W.dot(radial), kR * std::cos(kPi / kSlices), 2e-6);
 }

@@ -132,7 +132,10 @@ TEST(CliProbe, PointProbeAgainstABoxGivesStiffnessTimesDepth) {
   EXPECT_EQ(rows, 21);
 }
 
-TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesStiffnessTimesDepth) {
+// The passive response (haptics/segment_proxy.h, "Response") is a spring of k at each end between
+// the ideal and the virtual rod: lying flat, both ends are pressed by the depth, two springs in
+// parallel, 2 k d.
+TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesTwiceStiffnessTimesDepth) {
   TempDir dir;
   const auto mesh = dir.write("box.obj", kBoxObj);
   // A 6 cm rod lying along x, lowered from 60 to 40 mm onto the top face (y = 50 mm).
@@ -159,7 +162,7 @@ TEST(CliProbe, SegmentProbeLyingOnABoxFaceGivesStiffnessTimesDepth) {
     ASSERT_EQ(c.size(), 17U) << line;
     const double y = 0.060 - 0.001 * rows;
     const double depth = std::max(0.0, 0.05 - y);
-    EXPECT_NEAR(std::stod(c[8]), 400.0 * depth, 1e-5) << line;
+    EXPECT_NEAR(std::stod(c[8]), 2.0 * 400.0 * depth, 1e-5) << line;
     if (depth > 0.0) {
       EXPECT_EQ(c[13], "segment-face") << line;
       EXPECT_NEAR(std::stod(c[2]), 0.05, 2e-6) << line;  // the ideal rod lies on the face
@@ -197,8 +200,9 @@ TEST(CliProbe, SegmentProbeAcceptsAnOpenMeshAndFeelsItFromBelow) {
     const std::vector<std::string> c = csv_cells(line);
     ASSERT_EQ(c.size(), 17U) << line;
     const double y = -0.0105 + 0.001 * rows;
-    // Held below the plate: the force pushes down by k times how far above it the rod is.
-    EXPECT_NEAR(std::stod(c[8]), -400.0 * std::max(0.0, y), 1e-5) << line;
+    // Held below the plate: the force pushes down by k at each end times how far above it the
+    // rod is.
+    EXPECT_NEAR(std::stod(c[8]), -2.0 * 400.0 * std::max(0.0, y), 1e-5) << line;
     EXPECT_LE(std::stod(c[2]), 2e-6) << "the ideal rod stays below the plate: " << line;
     ++rows;
   }
