@@ -64,7 +64,7 @@ struct ToolContact {
   /// with it (§4: force / k). 0: not known, the organ's (TissueWorld::stiffness_n_per_m).
   double stiffness_n_per_m = 0.0;
   /// The contact's spring in units of its organ's k (haptics::SegmentContact::stiffness_factor:
-  /// 1 under the thesis' rule, the default, and for a point; under the passive rule a segment is
+  /// 1 under the thesis' rule and for a point; under the passive rule, the default, a segment is
   /// held by k at each end, so 2 at its middle or lying on a face).
   double stiffness_factor = 1.0;
   int32_t segment = -1;  ///< the tool's segment that touches (0 shaft, 1 and 2 the jaws)

@@ -455,7 +455,7 @@ TEST(SegmentProxy, ABumpRisingThroughTheProbesMiddleLeavesNoPartInside) {
   // k at each end, the passive response).
   EXPECT_NEAR(0.5 * (out.ideal_a_W + out.ideal_b_W).y(), kR + 0.003, 0.0003);
   ASSERT_GE(out.contact_count, 1);
-  EXPECT_GT(out.force_W.y(), 0.5 * kK * 0.002);
+  EXPECT_GT(out.force_W.y(), 1.2 * kK * 0.002);  // more than k alone: held at both ends
   for (const SegmentContact& c : proxy.contacts()) {
     EXPECT_LT(c.force_W.norm(), 1.05 * 2.0 * kK * 0.002);
     EXPECT_GT(c.force_W.y(), 0.0);
@@ -983,26 +983,21 @@ TEST(SegmentProxy, WithTheIdealVirtualSpringItGivesBackNoMoreThanItTookOverAClos
   }
 }
 
-// Open for the thesis' rule (stop 61; docs/anatomy.md, "Stop 61"), which is no longer the
-// default (stop 63) and stays only for comparison with §5.4: with it the segment proxy is not
-// passive on a curved surface. Over the loop above it returns more than it took, by
-// 0.068 mJ at 2 mm (½ k d² = 0.072 mJ), 3.5 mJ at 10 mm (½ k d² = 1.8 mJ) and 17.9 mJ at 20 mm
-// (7.2 mJ), where the point proxy on the same path takes at most 6 % of ½ k d² (the facets'
-// corners) and returns nothing extra. Skipped unless LAP_OPEN_DEFECTS is set.
-TEST(SegmentProxy, GivesBackNoMoreThanItTookOverAClosedPath) {
-  if (std::getenv("LAP_OPEN_DEFECTS") == nullptr) {
-    GTEST_SKIP() << "open: with the thesis' springs the segment proxy gives back more than it "
-                    "took over a loop on a sphere (set LAP_OPEN_DEFECTS=1 to see it)";
-  }
-  for (const double depth : {0.002, 0.01, 0.02, 0.03}) {
+// Why the thesis' rule is no longer the default (stop 61; docs/anatomy.md, "Stop 61"; kept for
+// comparison with §5.4): on a curved surface its springs give back more than they took. Over the
+// loop above it returned 0.068 mJ at 2 mm (½ k d² = 0.072 mJ), 3.5 mJ at 10 mm (½ k d² = 1.8 mJ)
+// and 17.9 mJ at 20 mm (7.2 mJ), where the point proxy on the same path takes at most 6 % of
+// ½ k d² (the facets' corners) and returns nothing extra.
+TEST(SegmentProxy, WithTheThesisSpringsItGivesBackMoreThanItTookOverAClosedPath) {
+  for (const double depth : {0.01, 0.02}) {
     const LoopWork w = loop_work(depth, SegmentResponse::kContactSprings);
     const double stored = 0.5 * kLoopStiffnessNPerM * depth * depth;
     std::printf(
-        "[ loop ] %4.1f mm deep: point proxy gives back %+.4f mJ, segment proxy %+.4f mJ "
-        "(½ k d² = %.4f mJ)\n",
+        "[ loop ] %4.1f mm deep: point proxy gives back %+.4f mJ, segment proxy (thesis' "
+        "springs) %+.4f mJ (½ k d² = %.4f mJ)\n",
         depth * 1e3, w.point_j * 1e3, w.segment_j * 1e3, stored * 1e3);
     EXPECT_LE(w.point_j, 0.01 * stored) << depth;
-    EXPECT_LE(w.segment_j, 0.01 * stored) << depth;
+    EXPECT_GT(w.segment_j, stored) << depth;
   }
 }
 

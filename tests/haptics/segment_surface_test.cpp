@@ -26,7 +26,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDt = 0.001;
 constexpr double kK = 1000.0;     // contact stiffness [N/m]
 constexpr double kTop = 0.05;     // the box's top face, y [m]
-constexpr double kDepth = 0.002;  // pressed 2 mm in: Fn = 2 N
+constexpr double kDepth = 0.002;  // pressed 2 mm in: Fn = 2 N at the tip, 4 N lying
 constexpr double kMuS = 0.5;
 constexpr double kMuD = 0.3;
 constexpr double kKs = 2000.0;
@@ -115,7 +115,7 @@ TEST_P(SegmentFriction, StickThenSlipAtMuSFnThenSlideAtMuDFn) {
   const double fn = normal_stiffness(GetParam(), kK) * kDepth;
   EXPECT_NEAR(pressed.force_W.y(), fn, 1e-9);
   EXPECT_NEAR(pressed.force_W.x(), 0.0, 1e-9);
-  const double slip_at = kMuS * fn / kKs;  // 0.5 mm
+  const double slip_at = kMuS * fn / kKs;  // 0.5 mm at the tip, 1 mm lying
   const double step = slip_at / 100.0;
   int slipped_tick = -1;
   for (int i = 1; i <= 2000; ++i) {
@@ -330,7 +330,8 @@ TEST(SegmentShading, TheForceAtTheTipTurnsWithinTheTessellationBoundOnACylinder)
 }
 
 // A sinusoidal texture h(x) = A sin(2 pi x / lambda) on the box's top (§6.3, Fourier texture):
-// the force is K d along the perturbed normal M = normalize(-h'(x), 1, 0) (eq. 6-2) with
+// the force is K d along the perturbed normal M (K the pose's normal stiffness: k at the tip, 2k
+// lying) = normalize(-h'(x), 1, 0) (eq. 6-2) with
 // d = h(x) + depth the depth under the textured surface (eq. 6-4 with K h > d: pure bump
 // mapping), and zero in a trough deeper than the probe.
 constexpr double kA = 0.0005;

@@ -174,8 +174,8 @@ TEST(SegmentTwoSided, AOneSidedTubeLetsTheProbeOut) {
 }
 
 // From outside, the two-sided tube still feels like the outside of a tube: a probe along the
-// axis pushed onto the middle of a facet, to 2.5 mm from the axis, is held on the facet with k
-// times its depth under it, outward.
+// axis pushed onto the middle of a facet, to 2.5 mm from the axis, is held on the facet with 2 k
+// times its depth under it (k at each end), outward.
 TEST(SegmentTwoSided, FromOutsideTheWallPushesOutward) {
   const Tube tube(true);
   const HapticObject o = tube.object();

@@ -5,12 +5,12 @@
 // by more than a stated tolerance, and while the hand holds still against a surface or a grasp the
 // force's fast part dies out. The introductory scene and the four shipped patients each run a
 // shorter script (kCatheterTaut): both tools take the catheter, hold it taut between them, let
-// go, and press the organ nearest their port, twice (the easy patient's is skipped: an open
-// defect, below). Every run twice, with and without the passivity controllers: the grasp
-// couplings are passive by themselves (models/catheter_grasp.h). Fast (lockstep, one thread)
-// runs, 4 s of wall time for the minute in Release, about 1 s for the shorter ones: the suite is
-// named apart from Session* so that the ThreadSanitizer stage, which has no thread to check here,
-// skips it.
+// go, and press the organ nearest their port, twice. Every run twice, with and without the
+// passivity controllers: the grasp couplings are passive by themselves (models/catheter_grasp.h;
+// one exception per hand, the default patient's, bounded for both hands together: below). Fast
+// (lockstep, one thread) runs, 4 s of wall time for the minute in Release, about 1 s for the
+// shorter ones: the suite is named apart from Session* so that the ThreadSanitizer stage, which has
+// no thread to check here, skips it.
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -666,12 +666,21 @@ TEST(PortPassivity, WithoutTheControllersTheSameRunIsPassiveToo) {
 }
 
 // Both tools holding the shipped scenarios' catheter taut between them (kCatheterTaut): each
-// hand gets no more energy than it gave, and no hold keeps a sustained oscillation. Before the
+// hand gets no more energy than it gave (without the controllers, on the default patient, both
+// hands together: below), and no hold keeps a sustained oscillation. Before the
 // grasp was a virtual coupling (the hand felt the model's own 20 kN/m anchors, 200 Hz), the
 // introductory scene's (then the default) taut holds kept a limit cycle of 1.29 N and 1.35 N RMS
 // with the controllers on, and the port gave the hands 29 mJ and 45 mJ more than it took (the
 // hardest patient: 1.02 N and 1.27 N, 4.8 mJ and 1.2 mJ).
-void expect_passive_taut(const Run& run, bool passivity_control) {
+// per_hand_without_controllers false: without the controllers only both hands together are
+// bounded. Open (docs/anatomy.md, "Stop 63"): on the default patient under the passive segment
+// response, the left hand gets 1.878 mJ beyond what it gave between 25 s and 27 s, neither hand
+// holding the catheter, both pressing the liver and the gallbladder, while the right hand gets
+// 11 mJ of its own back; both together 0.41 mJ. Energy passing from one hand to the other
+// through the organs both press is a passive network's right; that it is what happens here is a
+// reading of the trace, not shown.
+void expect_passive_taut(const Run& run, bool passivity_control,
+                         bool per_hand_without_controllers = true) {
   const Outcome o = run_hands(run, passivity_control);
   print(passivity_control ? run.scene : "(without the controllers)", o);
   EXPECT_TRUE(o.metrics.events.empty());
@@ -692,11 +701,7 @@ void expect_passive_taut(const Run& run, bool passivity_control) {
     EXPECT_GT(f.catheter_ticks, 10000);
     EXPECT_GT(*std::max_element(f.organ_ticks.begin(), f.organ_ticks.end()), 1500);
     EXPECT_GT(f.taken_j, 0.01);  // a real exchange, not a tool in free air
-    // With the controllers each port is held passive on its own. Without them the couplings and
-    // the organs are passive as a network: what one hand puts into the taut catheter the other
-    // may take out (a real catheter pulled by one hand and let go by the other does the same),
-    // so the bound holds for both hands together (below).
-    if (passivity_control) {
+    if (passivity_control || per_hand_without_controllers) {
       EXPECT_LE(f.worst_excess_j, kEnergyToleranceJ);
     }
     EXPECT_GE(f.oscillation.holds, 7);
@@ -728,7 +733,7 @@ TEST(PortPassivity, TheIntroductorySceneCatheterHeldTautByBothTools) {
 // (haptics/shading_normals.h).
 TEST(PortPassivity, TheDefaultPatientsCatheterHeldTautByBothTools) {
   expect_passive_taut(kDefaultPatient, true);
-  if (kRunWithoutControllers) expect_passive_taut(kDefaultPatient, false);
+  if (kRunWithoutControllers) expect_passive_taut(kDefaultPatient, false, false);
 }
 
 // The easy patient's left tool holds its second press on the liver's edge with jaw 0 lying along

@@ -106,11 +106,12 @@ TEST(SessionRecording, ReadsBackTheSamplesItRecorded) {
 // The recorded touches against the training metrics' own figures, computed apart in the other
 // loop: on the hardest patient the clumsy trainee pushes on the gallbladder and tears the duct by
 // pulling on it in the jaws. Each modelling step sums the contacts of the haptic tick it read (the
-// recording's steps name it), so for each organ but the duct the largest push over the ticks the
-// steps read is the metric's max_force_<organ>_n (float in the record; the duct's metric adds the
-// pull of the jaws holding it, which is no contact); and a tool holds the duct throughout the
-// tear. (The introductory scene's clumsy run touches no other organ since the segment proxy's
-// passive response: its right shaft's graze of the gallbladder carried no force.)
+// recording's steps name it), so for the gallbladder the largest push over the ticks the steps
+// read is the metric's max_force_gallbladder_n (float in the record), and for every other organ
+// but the duct at most its metric (which adds the catheter's push on it, no tool contact; the
+// duct's adds the pull of the jaws holding it); and a tool holds the duct throughout the tear. (The
+// introductory scene's clumsy run touches no other organ since the segment proxy's passive
+// response: its right shaft's graze of the gallbladder carried no force.)
 TEST(SessionRecording, TheRecordedTouchesAreTheOnesTheMetricsSaw) {
   const test::TempDir dir;
   const SceneLoadResult scene = load_scene_file(test::source_dir() / "scenarios/patient_hard.yaml");
@@ -168,9 +169,10 @@ TEST(SessionRecording, TheRecordedTouchesAreTheOnesTheMetricsSaw) {
       if (read.touch[0].duct_held || read.touch[1].duct_held) ++tear_steps_held;
     }
   }
+  EXPECT_EQ(peak[gallbladder], static_cast<float>(metric[gallbladder]));
   for (size_t o = 0; o < organs; ++o) {
     if (o != duct) {
-      EXPECT_EQ(peak[o], static_cast<float>(metric[o])) << m.organ_names[o];
+      EXPECT_LE(peak[o], static_cast<float>(metric[o])) << m.organ_names[o];
     }
   }
   EXPECT_GT(tear_steps, 100);  // a second at 200 Hz
