@@ -23,7 +23,7 @@
 // (the distance to the nearest triangle). A tick whose modelling step ran after it is skipped
 // (its surfaces are a step newer than the proxies'). The allowance, 0.5 mm, is kept from this
 // check's first version, which compared snapshots up to a modelling step apart; the deepest
-// point found is printed whatever it is.
+// point found is printed whatever it is (LAP_SOAK_TRACE prints the ticks: InsideTrace).
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -375,6 +375,45 @@ uint32_t soak_seed(int side, uint32_t course) {
   return 11U + static_cast<uint32_t>(side) + 2U * course;
 }
 
+/// LAP_SOAK_TRACE=1: a line per tested tick with a proxy more than 0.5 mm inside an organ, and
+/// per tick from LAP_SOAK_TRACE_FROM to LAP_SOAK_TRACE_TO (ticks) whatever the depth, for each
+/// tool: the deepest point's depth [mm], the device's hinge and shaft direction, the ideal shaft's
+/// ends, and each organ contact (organ, segment, force on it [N], stiffness factor). For tracing
+/// a case the check finds (docs/benchmarks.md, "Soak"); off, it costs a branch per sample.
+struct InsideTrace {
+  bool on = std::getenv("LAP_SOAK_TRACE") != nullptr;
+  int64_t from = tick_from_env("LAP_SOAK_TRACE_FROM");
+  int64_t to = tick_from_env("LAP_SOAK_TRACE_TO");
+
+  static int64_t tick_from_env(const char* name) {
+    const char* v = std::getenv(name);
+    return v != nullptr ? std::atoll(v) : -1;
+  }
+  [[nodiscard]] bool wants(int64_t tick, double deepest_m) const {
+    return on && (deepest_m > 0.0005 || (tick >= from && tick <= to));
+  }
+  static void print(const HapticSnapshot& h, double deepest_m) {
+    for (size_t tool = 0; tool < 2; ++tool) {
+      const ToolSnapshot& t = h.tools[tool];
+      const Eigen::Vector3d& p = t.pose.hinge_W;
+      const Eigen::Vector3d& d = t.pose.shaft_dir_W;
+      const Eigen::Vector3d& a = t.proxy_a_W[0];
+      const Eigen::Vector3d& b = t.proxy_b_W[0];
+      std::printf(
+          "trace tick %lld tool %zu deepest %.3f mm hinge %.4f %.4f %.4f dir %.3f %.3f %.3f "
+          "ideal shaft %.4f %.4f %.4f to %.4f %.4f %.4f contacts %d:",
+          static_cast<long long>(h.tick), tool, deepest_m * 1e3, p.x(), p.y(), p.z(), d.x(), d.y(),
+          d.z(), a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), t.contacts);
+      for (int c = 0; c < t.organ_contact_count; ++c) {
+        const ToolContact& k = t.organ_contacts[static_cast<size_t>(c)];
+        std::printf(" [organ %d segment %d %.3f N x%.2f]", k.organ, k.segment,
+                    k.force_on_organ_W.norm(), k.stiffness_factor);
+      }
+      std::printf("\n");
+    }
+  }
+};
+
 /// The soak; `check_proxies`: also fail when a proxy point is found inside an organ (otherwise
 /// the deepest is measured and printed only; NoProxyInsideAnOrgan below asserts it).
 void soak(bool check_proxies) {
@@ -445,6 +484,7 @@ void soak(bool check_proxies) {
   int64_t proxy_every_ticks = every != nullptr ? std::max<int64_t>(1, std::atoll(every))
                                                : std::clamp<int64_t>(total_ticks / 120, 1, 251);
   if (proxy_every_ticks % ticks_per_step == 0) ++proxy_every_ticks;
+  const InsideTrace trace;
   auto test_proxies = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
     // The pair is the proxies' own only when the haptic tick felt the surfaces of this
     // modelling step: the newest step before it (fast mode: one after every
@@ -486,6 +526,7 @@ void soak(bool check_proxies) {
     }
     ++proxy_samples;
     if (sample_deepest > 0.0005) ++inside_samples;
+    if (trace.wants(h.tick, sample_deepest)) trace.print(h, sample_deepest);
   };
   bool catheter_held = false, duct_held = false;
   auto sample = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
