@@ -1086,8 +1086,9 @@ GrooveLoop groove_loop(double beta_deg, double half_width_m, double k_right, dou
 // loop gives back the analytic 2 (K_xz − K_zx) × area one way round; as the groove narrows to a
 // 10° wedge (beta 85°) the multipliers grow as 1 / cos beta and the force with them, far past
 // what the stiffer object alone would push at the deepest corner (k_max |d| at each end). One
-// stiffness gives back nothing. A blended spring that is passive in the groove is on the branch
-// stop65-blend (not merged: it fails the taut holds of PortPassivity).
+// stiffness gives back nothing. A blended spring that is passive in the groove is kept as
+// docs/attempts/stop65-stiffness-blend.patch (not merged: it fails the taut holds of
+// PortPassivity).
 TEST(SegmentProxy, WithEachContactItsOwnObjectsStiffnessAGrooveGivesBackEnergyRoundALoop) {
   const double deepest = std::hypot(0.004, 0.014);
   for (const double beta : {60.0, 85.0}) {
