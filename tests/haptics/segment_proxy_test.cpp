@@ -913,6 +913,21 @@ TEST(SegmentProxy, SweepCacheAgreesExactlyWithTheTrees) {
   EXPECT_EQ(tree_proxy.stats().cached_sweeps, 0);
 }
 
+// Walks a polyline path in `steps` equal ticks a leg, calling tick(x, dx) with each tick's point
+// and its step from the last (the closed-path work tests sum trapezoids over them).
+template <typename Path, typename Tick>
+void walk_path(const Path& path, int steps, Tick&& tick) {
+  Eigen::Vector3d x_prev = path[0];
+  for (size_t leg = 0; leg + 1 < path.size(); ++leg) {
+    for (int i = 1; i <= steps; ++i) {
+      const Eigen::Vector3d x =
+          path[leg] + (path[leg + 1] - path[leg]) * (static_cast<double>(i) / steps);
+      tick(x, Eigen::Vector3d(x - x_prev));
+      x_prev = x;
+    }
+  }
+}
+
 // The work a proxy's force does on the virtual probe (the device's, which the hand moves) over a
 // closed path against a static sphere (r 5 cm, felt 36 N/m: the scenarios' liver): pressed
 // straight down `depth_m` at the pole, slid 2 cm across and 1 cm aside at that height (out of the
@@ -947,23 +962,15 @@ LoopWork loop_work(double depth_m, SegmentResponse response) {
   LoopWork w;
   Eigen::Vector3d f_point = Eigen::Vector3d::Zero();
   Eigen::Vector3d f_segment = Eigen::Vector3d::Zero();
-  Eigen::Vector3d x_prev = path[0];
-  constexpr int kSteps = 2000;
-  for (size_t leg = 0; leg + 1 < path.size(); ++leg) {
-    for (int i = 1; i <= kSteps; ++i) {
-      const Eigen::Vector3d x =
-          path[leg] + (path[leg + 1] - path[leg]) * (static_cast<double>(i) / kSteps);
-      const Eigen::Vector3d dx = x - x_prev;
-      const PointProxyOutput p = point.step({&sphere.object, 1}, x, kDt);
-      w.point_j += 0.5 * (p.force_W + f_point).dot(dx);
-      f_point = p.force_W;
-      const SegmentProxyOutput s = segment.step({&sphere.object, 1}, x - half, x + half, kDt);
-      w.segment_j += 0.5 * (s.force_W + f_segment).dot(dx);
-      w.segment_peak_n = std::max(w.segment_peak_n, s.force_W.norm());
-      f_segment = s.force_W;
-      x_prev = x;
-    }
-  }
+  walk_path(path, 2000, [&](const Eigen::Vector3d& x, const Eigen::Vector3d& dx) {
+    const PointProxyOutput p = point.step({&sphere.object, 1}, x, kDt);
+    w.point_j += 0.5 * (p.force_W + f_point).dot(dx);
+    f_point = p.force_W;
+    const SegmentProxyOutput s = segment.step({&sphere.object, 1}, x - half, x + half, kDt);
+    w.segment_j += 0.5 * (s.force_W + f_segment).dot(dx);
+    w.segment_peak_n = std::max(w.segment_peak_n, s.force_W.norm());
+    f_segment = s.force_W;
+  });
   return w;
 }
 
@@ -1057,21 +1064,13 @@ GrooveLoop groove_loop(double beta_deg, double half_width_m, double k_right, dou
     SegmentProxy proxy;  // the default, passive rule
     proxy.reset(path[0] - half, path[0] + half);
     Eigen::Vector3d f_prev = Eigen::Vector3d::Zero();
-    Eigen::Vector3d x_prev = path[0];
     double work = 0.0;
-    constexpr int kSteps = 2000;
-    for (size_t leg = 0; leg + 1 < path.size(); ++leg) {
-      for (int i = 1; i <= kSteps; ++i) {
-        const Eigen::Vector3d x =
-            path[leg] + (path[leg + 1] - path[leg]) * (static_cast<double>(i) / kSteps);
-        const Eigen::Vector3d dx = x - x_prev;
-        const SegmentProxyOutput s = proxy.step(objects, x - half, x + half, kDt);
-        work += 0.5 * (s.force_W + f_prev).dot(dx);
-        out.peak_n = std::max(out.peak_n, s.force_W.norm());
-        f_prev = s.force_W;
-        x_prev = x;
-      }
-    }
+    walk_path(path, 2000, [&](const Eigen::Vector3d& x, const Eigen::Vector3d& dx) {
+      const SegmentProxyOutput s = proxy.step(objects, x - half, x + half, kDt);
+      work += 0.5 * (s.force_W + f_prev).dot(dx);
+      out.peak_n = std::max(out.peak_n, s.force_W.norm());
+      f_prev = s.force_W;
+    });
     (ccw ? out.work_ccw_j : out.work_cw_j) = work;
   }
   return out;
