@@ -1076,10 +1076,6 @@ GrooveLoop groove_loop(double beta_deg, double half_width_m, double k_right, dou
   return out;
 }
 
-// Round the loop the blended spring gives back nothing either way, in a 60° groove and in a
-// narrow 10° wedge (beta 85°), and never pushes harder than the stiffer object would alone at
-// the deepest corner (each end k_max |d|); one stiffness is the plain spring.
-
 // The open defect (docs/anatomy.md, "Stop 65"): with two stiffnesses the passive rule is not
 // passive. In a 60° groove between 340 and 72 N/m (the scenarios' gallbladder and liver) the
 // loop gives back the analytic 2 (K_xz − K_zx) × area one way round; as the groove narrows to a
