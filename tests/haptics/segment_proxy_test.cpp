@@ -1009,13 +1009,13 @@ TEST(SegmentProxy, WithTheThesisSpringsItGivesBackMoreThanItTookOverAClosedPath)
 }
 
 // Two objects of different stiffness meeting in a groove (a jaw pressed between the gallbladder,
-// 340 N/m, and the liver, 72 N/m, in the scenarios): the faces' normals n1 (the stiff right box)
-// and n2 (the soft left one) make `beta` with the vertical (the groove opens at 180° − 2 beta). A
-// rod along the groove pushed below its floor is held at the floor by both faces, each end's
-// stretch d = λ1 n1 + λ2 n2. Each contact being its own object's spring, the force is
-// k1 λ1 n1 + k2 λ2 n2 = K d per end, K = [k1 n1, k2 n2] [n1 n2]⁻¹: symmetric only when k1 = k2
-// (or the normals are square), so round a loop it does work 2 (K_xz − K_zx) × area (both ends;
-// x across the groove, z up, counter-clockwise), given back to the hand one way round.
+// 340 N/m, and the liver, 72 N/m, in the default patient): the faces' normals n1 (the stiff right
+// box) and n2 (the soft left one) make `beta` with the vertical (the groove opens at 180° − 2
+// beta). A rod along the groove pushed below its floor is held at the floor by both faces, each
+// end's stretch d = λ1 n1 + λ2 n2. Each contact being its own object's spring, the force is k1 λ1
+// n1 + k2 λ2 n2 = K d per end, K = [k1 n1, k2 n2] [n1 n2]⁻¹: symmetric only when k1 = k2 (or the
+// normals are square), so round a loop it does work 2 (K_xz − K_zx) × area (both ends; x across the
+// groove, z up, counter-clockwise), given back to the hand one way round.
 struct GrooveLoop {
   double work_ccw_j = 0.0;  // the proxy's force on the virtual probe, counter-clockwise
   double work_cw_j = 0.0;   // clockwise
@@ -1024,16 +1024,16 @@ struct GrooveLoop {
 };
 
 GrooveLoop groove_loop(double beta_deg, double half_width_m, double k_right, double k_left) {
-  const double kBeta = beta_deg * kPi / 180.0;
-  const Eigen::Vector3d n1(-std::sin(kBeta), 0.0, std::cos(kBeta));  // right face, up-left
-  const Eigen::Vector3d n2(std::sin(kBeta), 0.0, std::cos(kBeta));   // left face, up-right
-  const Eigen::Vector3d t1(std::cos(kBeta), 0.0, std::sin(kBeta));   // along the right face
-  const Eigen::Vector3d t2(-std::cos(kBeta), 0.0, std::sin(kBeta));
+  const double beta = beta_deg * kPi / 180.0;
+  const Eigen::Vector3d n1(-std::sin(beta), 0.0, std::cos(beta));  // right face, up-left
+  const Eigen::Vector3d n2(std::sin(beta), 0.0, std::cos(beta));   // left face, up-right
+  const Eigen::Vector3d t1(std::cos(beta), 0.0, std::sin(beta));   // along the right face
+  const Eigen::Vector3d t2(-std::cos(beta), 0.0, std::sin(beta));
   Body right(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
   Body left(make_box(Eigen::Vector3d(0.2, 0.2, 0.2), 2));
-  right.object.pose_WO.linear() = Eigen::AngleAxisd(-kBeta, Eigen::Vector3d::UnitY()).matrix();
+  right.object.pose_WO.linear() = Eigen::AngleAxisd(-beta, Eigen::Vector3d::UnitY()).matrix();
   right.object.pose_WO.translation() = -0.1 * n1 + 0.05 * t1;  // top face 5 cm past the floor
-  left.object.pose_WO.linear() = Eigen::AngleAxisd(kBeta, Eigen::Vector3d::UnitY()).matrix();
+  left.object.pose_WO.linear() = Eigen::AngleAxisd(beta, Eigen::Vector3d::UnitY()).matrix();
   left.object.pose_WO.translation() = -0.1 * n2 + 0.05 * t2;  // so the boxes overlap under it
   right.object.law.stiffness_n_per_m = k_right;
   left.object.law.stiffness_n_per_m = k_left;
@@ -1048,17 +1048,20 @@ GrooveLoop groove_loop(double beta_deg, double half_width_m, double k_right, dou
   kn << k_right * n1.x(), k_left * n2.x(), k_right * n1.z(), k_left * n2.z();
   const Eigen::Matrix2d stiffness = kn * n.inverse();
   GrooveLoop out;
-  out.predicted_ccw_j = 2.0 * (stiffness(0, 1) - stiffness(1, 0)) * (2.0 * half_width_m * 0.008);
+  constexpr double kDeep = 0.014;     // the square's bottom below the floor [m]
+  constexpr double kShallow = 0.006;  // its top
+  out.predicted_ccw_j =
+      2.0 * (stiffness(0, 1) - stiffness(1, 0)) * (2.0 * half_width_m * (kDeep - kShallow));
   const Eigen::Vector3d half(0.0, 0.01, 0.0);  // a 2 cm rod along the groove
   for (const bool ccw : {true, false}) {
     // From above the floor (in the groove) down to a corner, round a rectangle 2 half_width_m wide
     // 6-14 mm below the floor (inside the cone where both faces hold), and back up the same way.
     const double w = half_width_m;
     std::vector<Eigen::Vector3d> path = {Eigen::Vector3d(0.0, 0.0, 0.010),
-                                         Eigen::Vector3d(-w, 0.0, -0.014)};
+                                         Eigen::Vector3d(-w, 0.0, -kDeep)};
     const std::array<Eigen::Vector3d, 4> square = {
-        Eigen::Vector3d(-w, 0.0, -0.014), Eigen::Vector3d(w, 0.0, -0.014),
-        Eigen::Vector3d(w, 0.0, -0.006), Eigen::Vector3d(-w, 0.0, -0.006)};
+        Eigen::Vector3d(-w, 0.0, -kDeep), Eigen::Vector3d(w, 0.0, -kDeep),
+        Eigen::Vector3d(w, 0.0, -kShallow), Eigen::Vector3d(-w, 0.0, -kShallow)};
     for (int i = 1; i <= 4; ++i) path.push_back(square[ccw ? i % 4 : (4 - i) % 4]);
     path.push_back(path.front());
     SegmentProxy proxy;  // the default, passive rule
@@ -1077,7 +1080,7 @@ GrooveLoop groove_loop(double beta_deg, double half_width_m, double k_right, dou
 }
 
 // The open defect (docs/anatomy.md, "Stop 65"): with two stiffnesses the passive rule is not
-// passive. In a 60° groove between 340 and 72 N/m (the scenarios' gallbladder and liver) the
+// passive. In a 60° groove between 340 and 72 N/m (the default patient's gallbladder and liver) the
 // loop gives back the analytic 2 (K_xz − K_zx) × area one way round; as the groove narrows to a
 // 10° wedge (beta 85°) the multipliers grow as 1 / cos beta and the force with them, far past
 // what the stiffer object alone would push at the deepest corner (k_max |d| at each end). One
