@@ -32,6 +32,11 @@ LocalDeformationModel LocalDeformationModel::build(const haptics::MeshDatabase& 
   if (!(settings.max_displacement_m > 0.0)) {
     throw std::invalid_argument("local deformation: max_displacement_m must be positive");
   }
+  if (!(settings.max_move_per_step_m >= 0.0) || !std::isfinite(settings.max_move_per_step_m)) {
+    throw std::invalid_argument(
+        "local deformation: max_move_per_step_m must be 0 (no limit) or positive, got " +
+        std::to_string(settings.max_move_per_step_m));
+  }
   LocalDeformationModel m;
   m.settings_ = settings;
   const int32_t n = rest.vertex_count();
@@ -220,6 +225,28 @@ int32_t stop_at_obstacles(const LocalDeformationModel& model,
   }
   return stopped;
 }
+
+// The vertices this call moved along their rest normal by more than max_move_per_step_m (from
+// where the last call left them, in or out) held to that; each one held off rest is listed as
+// displaced. Returns how many.
+int32_t limit_speed(const LocalDeformationModel& model, LocalDeformationState* state) {
+  const double max_move = model.settings().max_move_per_step_m;
+  if (!(max_move > 0.0)) return 0;
+  int32_t slowed = 0;
+  for (const int32_t v : state->changed) {
+    const Eigen::Vector3d& n = model.rest_normal(v);
+    Eigen::Vector3d& to = state->positions[v];
+    const double move = (to - state->previous[v]).dot(n);
+    if (!(std::abs(move) > max_move)) continue;
+    to -= (move - std::copysign(max_move, move)) * n;
+    ++slowed;
+    if ((state->flags[v] & kDisplaced) == 0) {
+      state->flags[v] |= kDisplaced;
+      state->displaced.push_back(v);
+    }
+  }
+  return slowed;
+}
 }  // namespace
 
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
@@ -291,17 +318,16 @@ bool deform(const LocalDeformationModel& model, std::span<const DeformationConta
     deepest2 = std::max(deepest2, len2);
   }
   state->deepest_m = std::sqrt(deepest2);
-  // The tools' segments the surface must not pass.
+  // The surface's speed, then the tools' segments it must not pass.
+  state->slowed = ok ? limit_speed(model, state) : 0;
   state->stopped = 0;
-  if (ok && !obstacles.empty()) {
-    state->stopped = stop_at_obstacles(model, obstacles, state);
-    if (state->stopped > 0) {
-      deepest2 = 0.0;
-      for (int32_t v : state->displaced) {
-        deepest2 = std::max(deepest2, (positions[v] - model.rest_position(v)).squaredNorm());
-      }
-      state->deepest_m = std::sqrt(deepest2);
+  if (ok && !obstacles.empty()) state->stopped = stop_at_obstacles(model, obstacles, state);
+  if (ok && state->slowed + state->stopped > 0) {
+    deepest2 = 0.0;
+    for (int32_t v : state->displaced) {
+      deepest2 = std::max(deepest2, (positions[v] - model.rest_position(v)).squaredNorm());
     }
+    state->deepest_m = std::sqrt(deepest2);
   }
   if (!ok) {
     for (int32_t v : state->displaced) {

@@ -56,6 +56,12 @@ struct LocalDeformationSettings {
   double surface_share = 0.5;
   /// Largest displacement of any vertex [m]: a safety bound against a runaway contact.
   double max_displacement_m = 0.02;
+  /// Largest move of a vertex along its rest normal in one call [m], in or out: the surface
+  /// follows its contacts at a bounded speed (this over the modelling step; sim/ sets it from a
+  /// speed: sim/setup/session_model.cpp, kTissueSurfaceMPerS), so that it neither drops from under
+  /// a tool nor springs back onto one by centimetres in one step. 0: no limit (the dent is the
+  /// formula at every call).
+  double max_move_per_step_m = 0.0;
 };
 
 /// One contact, on the rest shape, object frame.
@@ -137,6 +143,7 @@ struct LocalDeformationState {
   std::vector<Eigen::Vector3d> previous;    ///< n_v: the positions the last call left
   int32_t clamped = 0;                      ///< vertices held at max_displacement_m, last call
   int32_t stopped = 0;                      ///< vertices stopped at an obstacle, last call
+  int32_t slowed = 0;                       ///< vertices held to max_move_per_step_m, last call
   double deepest_m = 0.0;  ///< largest displacement of any vertex from rest, last call [m]
   /// Sized and at rest for a model (setup; allocates).
   explicit LocalDeformationState(const LocalDeformationModel& model);
@@ -168,8 +175,9 @@ struct LocalDeformationState {
                                               double stiffness_n_per_m) noexcept;
 
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
-/// rest), each vertex then stopped at the obstacles on its way from where the last call left it
-/// (so with obstacles the result depends on that too). Afterwards `changed` lists every vertex
+/// rest), each vertex then held to max_move_per_step_m along its rest normal and stopped at the
+/// obstacles on its way from where the last call left it (so with either the result depends on
+/// that too). Afterwards `changed` lists every vertex
 /// whose position changed since the previous call (what MeshDatabase::set_positions(positions,
 /// changed) needs) and `deepest_m` the largest displacement. A contact that is not finite or names
 /// no face makes the call return false and leave the surface at rest (`changed` then lists the

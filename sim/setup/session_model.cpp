@@ -122,11 +122,25 @@ Status SessionModel::build_tools(const Scene& scene,
   return {};
 }
 
+namespace {
+// The fastest a locally deformed organ's surface moves along its normal, giving way under a
+// tool or springing back [m/s] (estimate: a soft organ is viscoelastic and recovers from an
+// indentation over tenths of a second, not within one 5 ms step). Without a bound, a soft
+// organ's dent (the liver's 72 N/m reads 5 N as 35 mm, held at max_displacement_m's 20 mm) came
+// and went by centimetres in one modelling step, the probes following it into the organ: the
+// soak's proxies inside an organ (docs/benchmarks.md, "Soak", stop 66). 0.4 m/s is 2 mm a step
+// at 200 Hz: below what the proxies' push-out undoes in a tick (10 mm,
+// haptics/segment_proxy_surface_motion.cpp), and far above how fast a resident's tool moves
+// tissue in a deliberate press.
+constexpr double kTissueSurfaceMPerS = 0.4;
+}  // namespace
+
 Status SessionModel::build_tissue(const Scene& scene) {
   // The tissue (§6.5, §7.7): the catheter (§7.7(3)), its proximal end held where it enters;
   // the organs' and the duct's models.
   const Scenario& sc = scene.scenario;
   TissueWorldSettings ws;
+  ws.local.max_move_per_step_m = kTissueSurfaceMPerS * timing_.model_dt_s;
   if (sc.catheter) {
     ws.catheter.length_m = sc.catheter->length_m;
     ws.catheter.outer_diameter_m = sc.catheter->diameter_m;

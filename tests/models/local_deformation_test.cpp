@@ -519,3 +519,77 @@ TEST(LocalDeformation, TheSurfaceDoesNotPassAToolThatDoesNotPressOnIt) {
 
 }  // namespace
 }  // namespace lap::models
+
+namespace lap::models {
+namespace {
+
+// The surface's speed (max_move_per_step_m, sim's kTissueSurfaceMPerS): pressed 10 mm into the
+// middle of a box's top with share 0.5 (every vertex w(D) 5 mm down at once without the limit),
+// each vertex goes down by at most 2 mm a call: exactly min(w(D) 5 mm, 2 mm × calls), by brute
+// force over the whole mesh. Released, it comes back up the same way, max(0, w(D) 5 mm − 2 mm ×
+// calls), exactly at rest with nothing listed as displaced in the end. Sideways (a move in the
+// surface's plane) nothing is held back.
+TEST(LocalDeformation, TheSurfaceGivesWayAndSpringsBackAtMostItsStepACall) {
+  const haptics::MeshDatabase db =
+      haptics::MeshDatabase::build(haptics::make_box(Eigen::Vector3d(0.1, 0.06, 0.08), 16));
+  LocalDeformationSettings settings;
+  settings.radius_m = 0.015;  // the dent stays 15 mm clear of the top's edges: its normal is +z
+  settings.surface_share = 0.5;
+  settings.max_move_per_step_m = 0.002;
+  const LocalDeformationModel model = LocalDeformationModel::build(db, settings);
+  LocalDeformationState state(model);
+  DeformationContact c;
+  c.face = db.nearest_face(Eigen::Vector3d(0.001, 0.002, 0.05), &c.point_O, nullptr);
+  ASSERT_GE(c.face, 0);
+  ASSERT_NEAR(c.point_O.z(), 0.04, 1e-12);  // on the top
+  c.penetration_O = Eigen::Vector3d(0.0, 0.0, -0.010);
+  // Every vertex's depth below rest against `expected(w(D) 5 mm)`; the deepest.
+  auto check = [&](const char* when, int call, auto expected) {
+    double deepest = 0.0;
+    for (int32_t v = 0; v < model.vertex_count(); ++v) {
+      const Eigen::Vector3d rest = model.rest_position(v);
+      const double depth = expected(model.weight((rest - c.point_O).norm()) * 0.005);
+      EXPECT_LT((state.positions[v] - (rest - depth * Eigen::Vector3d::UnitZ())).norm(), 1e-15)
+          << when << " call " << call << ", vertex " << v;
+      deepest = std::max(deepest, depth);
+    }
+    std::printf("[ local deformation ] %s, call %d: the deepest vertex %.3f mm down, %d held\n",
+                when, call, 1e3 * deepest, state.slowed);
+    EXPECT_NEAR(state.deepest_m, deepest, 1e-15);
+    return deepest;
+  };
+  double full = 0.0;  // the formula's deepest vertex: w(D) 5 mm, a little short of 5 mm
+  for (int32_t v = 0; v < model.vertex_count(); ++v) {
+    full = std::max(full, model.weight((model.rest_position(v) - c.point_O).norm()) * 0.005);
+  }
+  ASSERT_GT(full, 0.004);  // three calls to get there
+  for (int call = 1; call <= 3; ++call) {
+    ASSERT_TRUE(deform(model, {&c, 1}, &state));
+    check("pressed", call, [&](double d) { return std::min(d, 0.002 * call); });
+    EXPECT_EQ(state.slowed > 0, call < 3);
+  }
+  for (int call = 1; call <= 3; ++call) {
+    ASSERT_TRUE(deform(model, {}, &state));
+    check("released", call, [&](double d) { return std::max(0.0, d - 0.002 * call); });
+    EXPECT_EQ(state.slowed > 0, call < 3);
+  }
+  EXPECT_TRUE(state.displaced.empty());
+  // Sideways: a pull in the top's plane moves the surface at once, however far.
+  c.penetration_O = Eigen::Vector3d(0.010, 0.0, 0.0);
+  ASSERT_TRUE(deform(model, {&c, 1}, &state));
+  EXPECT_EQ(state.slowed, 0);
+  EXPECT_NEAR(state.deepest_m, full, 1e-15);
+  // A limit that is negative or not a number is refused, naming the setting.
+  for (const double bad : {-0.001, std::nan("")}) {
+    settings.max_move_per_step_m = bad;
+    try {
+      (void)LocalDeformationModel::build(db, settings);
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("max_move_per_step_m"), std::string::npos);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lap::models

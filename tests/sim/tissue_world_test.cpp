@@ -443,3 +443,70 @@ TEST(TissueWorld, AFastSessionDeformsTheOrgansItsToolsPress) {
 
 }  // namespace
 }  // namespace lap::sim
+
+namespace lap::sim {
+namespace {
+
+// The session's organs follow their tools at a bounded speed (SessionModel: 0.4 m/s, 2 mm a
+// modelling step at the default 200 Hz; models::LocalDeformationSettings::max_move_per_step_m).
+// 5 N on the liver (72 N/m: 69 mm of reading, its share held at max_displacement_m's 20 mm)
+// dents it by about 2 mm a step until the 20 mm, not at once; released, it springs back the
+// same way, not in one step. (Stepped without the limit, the same push makes the whole dent in
+// the first step: checked last.)
+TEST(TissueWorld, TheSessionsLiverGivesWayAndSpringsBackAtItsSpeed) {
+  const Scene& scene = introductory_scene();
+  RuntimeSettings rs;
+  rs.fast = true;
+  const auto session_model =
+      SessionModel::build(scene, rs, {DeviceDescription{"left", {}}, {"right", {}}});
+  ASSERT_TRUE(session_model.ok()) << session_model.message();
+  const double step_m = session_model.value()->tissue().settings().local.max_move_per_step_m;
+  EXPECT_DOUBLE_EQ(step_m, 0.002);
+  const double dt_s = session_model.value()->timing().model_dt_s;
+  EXPECT_DOUBLE_EQ(dt_s, 0.005);
+  for (const double limit_m : {step_m, 0.0}) {
+    auto lw = std::make_unique<LiverWorld>();
+    TissueWorldSettings s = world_settings(lw->cache.path());
+    s.local.max_move_per_step_m = limit_m;
+    lw->world = TissueWorld::build(scene, s, nullptr).value();
+    lw->liver = organ_named(scene, "liver");
+    ASSERT_GE(lw->liver, 0);
+    lw->db = haptics::MeshDatabase::build(lw->world->surface(lw->liver));
+    const double max_dent_m = s.local.max_displacement_m;
+    std::array<ToolModelInput, 2> tools = push_on_face_100(*lw, 5.0);
+    std::vector<double> dents{0.0};  // the deepest dent after each step
+    for (int step = 0; step < 15; ++step) {
+      lw->world->step(tools, dt_s);
+      dents.push_back(lw->world->deepest_dent_m());
+    }
+    tools[0].contact_count = 0;
+    for (int step = 0; step < 15; ++step) {
+      lw->world->step(tools, dt_s);
+      dents.push_back(lw->world->deepest_dent_m());
+    }
+    std::printf("[ tissue world ] limit %.1f mm: the liver's deepest dent, pressed:",
+                1e3 * limit_m);
+    for (size_t i = 1; i < dents.size(); ++i)
+      std::printf("%s %.2f", i == 16 ? "; released:" : "", 1e3 * dents[i]);
+    std::printf(" mm\n");
+    EXPECT_NEAR(dents[15], max_dent_m, 1e-9);  // pressed 15 steps: the whole dent
+    EXPECT_EQ(dents[30], 0.0);                 // released 15 steps: at rest
+    if (limit_m > 0.0) {
+      // Each vertex moves 2 mm a step along its rest normal, and freely across it: where the
+      // liver's normals turn from the push (its edge) the first step goes deeper (4.1 mm), the
+      // rest by little more than 2 mm.
+      EXPECT_LT(dents[1], 0.25 * max_dent_m);
+      for (size_t i = 2; i < dents.size(); ++i) {
+        EXPECT_LE(std::abs(dents[i] - dents[i - 1]), 1.1 * limit_m) << "step " << i;
+      }
+      EXPECT_GT(dents[16], max_dent_m - 1.1 * limit_m);  // one step after the release
+      EXPECT_GT(dents[20], 0.0);
+    } else {
+      EXPECT_NEAR(dents[1], max_dent_m, 1e-9);  // the whole dent in one step
+      EXPECT_EQ(dents[16], 0.0);                // and gone in one
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lap::sim
