@@ -23,7 +23,8 @@
 /// contact, the surface flat over R) sinks the dent's centre s x and feels k (x − s x): the
 /// felt stiffness is (1 − s) k, s being exactly the fraction of the tool's displacement the
 /// surface takes. The dent reaches s x in the first step that sees the contact (P is measured
-/// against the surface the force was): it does not creep towards it. (Had P been force / k
+/// against the surface the force was): it does not creep towards it (unless it is deeper than
+/// max_move_per_step_m, which it then reaches at that speed). (Had P been force / k
 /// alone — the depth below the dented surface — the dent d would settle where d = s (x − d),
 /// d = s x / (1 + s), and the tool feel k / (1 + s).) On a coarse mesh with the linear profile
 /// the surface between vertices lies a little above the dent's centre, so a contact inside a
