@@ -227,11 +227,14 @@ int32_t stop_at_obstacles(const LocalDeformationModel& model,
 }
 
 // The vertices this call moved along their rest normal by more than max_move_per_step_m (from
-// where the last call left them, in or out) held to that; each one held off rest is listed as
-// displaced. Returns how many.
+// where the last call left them, in or out) held to that, their move across the normal kept but
+// shortened where it would take them beyond max_displacement_m from rest (the bound holds: the
+// part along the normal lies between the last call's and the formula's, both within it); each
+// one held off rest is listed as displaced. Returns how many.
 int32_t limit_speed(const LocalDeformationModel& model, LocalDeformationState* state) {
   const double max_move = model.settings().max_move_per_step_m;
   if (!(max_move > 0.0)) return 0;
+  const double max_d = model.settings().max_displacement_m;
   int32_t slowed = 0;
   for (const int32_t v : state->changed) {
     const Eigen::Vector3d& n = model.rest_normal(v);
@@ -239,6 +242,13 @@ int32_t limit_speed(const LocalDeformationModel& model, LocalDeformationState* s
     const double move = (to - state->previous[v]).dot(n);
     if (!(std::abs(move) > max_move)) continue;
     to -= (move - std::copysign(max_move, move)) * n;
+    const Eigen::Vector3d& rest = model.rest_position(v);
+    const double along = (to - rest).dot(n);
+    const Eigen::Vector3d across = (to - rest) - along * n;
+    const double room2 = std::max(0.0, max_d * max_d - along * along);
+    if (across.squaredNorm() > room2) {
+      to = rest + along * n + across * (std::sqrt(room2) / across.norm());
+    }
     ++slowed;
     if ((state->flags[v] & kDisplaced) == 0) {
       state->flags[v] |= kDisplaced;

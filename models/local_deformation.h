@@ -23,8 +23,9 @@
 /// contact, the surface flat over R) sinks the dent's centre s x and feels k (x − s x): the
 /// felt stiffness is (1 − s) k, s being exactly the fraction of the tool's displacement the
 /// surface takes. The dent reaches s x in the first step that sees the contact (P is measured
-/// against the surface the force was): it does not creep towards it (unless it is deeper than
-/// max_move_per_step_m, which it then reaches at that speed). (Had P been force / k
+/// against the surface the force was): it does not creep towards it. (Where a vertex's share is
+/// more than max_move_per_step_m from where it is, it gets there at that much a call, and the tool
+/// feels up to k while it does.) (Had P been force / k
 /// alone — the depth below the dented surface — the dent d would settle where d = s (x − d),
 /// d = s x / (1 + s), and the tool feel k / (1 + s).) On a coarse mesh with the linear profile
 /// the surface between vertices lies a little above the dent's centre, so a contact inside a
@@ -142,9 +143,9 @@ struct LocalDeformationState {
   std::vector<uint8_t> flags;               ///< n_v: bit 0 displaced, bit 1 changed (scratch)
   std::vector<Eigen::Vector3d> conforming;  ///< n_v: the largest conforming displacement (scratch)
   std::vector<Eigen::Vector3d> previous;    ///< n_v: the positions the last call left
-  int32_t clamped = 0;                      ///< vertices held at max_displacement_m, last call
-  int32_t stopped = 0;                      ///< vertices stopped at an obstacle, last call
-  int32_t slowed = 0;                       ///< vertices held to max_move_per_step_m, last call
+  int32_t clamped = 0;  ///< vertices held at max_displacement_m (before the speed limit), last call
+  int32_t stopped = 0;  ///< vertices stopped at an obstacle, last call
+  int32_t slowed = 0;   ///< vertices held to max_move_per_step_m, last call
   double deepest_m = 0.0;  ///< largest displacement of any vertex from rest, last call [m]
   /// Sized and at rest for a model (setup; allocates).
   explicit LocalDeformationState(const LocalDeformationModel& model);

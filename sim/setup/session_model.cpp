@@ -124,14 +124,12 @@ Status SessionModel::build_tools(const Scene& scene,
 
 namespace {
 // The fastest a locally deformed organ's surface moves along its normal, giving way under a
-// tool or springing back [m/s] (estimate: a soft organ is viscoelastic and recovers from an
-// indentation over tenths of a second, not within one 5 ms step). Without a bound, a soft
-// organ's dent (the liver's 72 N/m reads 5 N as 35 mm, held at max_displacement_m's 20 mm) came
-// and went by centimetres in one modelling step, the probes following it into the organ: the
-// soak's proxies inside an organ (docs/benchmarks.md, "Soak", stop 66). 0.4 m/s is 2 mm a step
-// at 200 Hz: below what the proxies' push-out undoes in a tick (10 mm,
-// haptics/segment_proxy_surface_motion.cpp), and far above how fast a resident's tool moves
-// tissue in a deliberate press.
+// tool or springing back [m/s]. An estimate, chosen from the soak (docs/benchmarks.md, "Soak",
+// stop 66), not measured on tissue: 2 mm a step at 200 Hz, below what the proxies' push-out undoes
+// in a tick (10 mm, haptics/segment_proxy_surface_motion.cpp), and above how fast a deliberate
+// press moves tissue. Without a bound a soft organ's dent came and went whole in one modelling
+// step (the liver's 72 N/m reads 5 N as 69 mm, its share held at max_displacement_m's 20 mm),
+// the probes following it into the organ.
 constexpr double kTissueSurfaceMPerS = 0.4;
 }  // namespace
 

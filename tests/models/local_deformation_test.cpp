@@ -517,12 +517,6 @@ TEST(LocalDeformation, TheSurfaceDoesNotPassAToolThatDoesNotPressOnIt) {
       stopped, held_up, held_beside);
 }
 
-}  // namespace
-}  // namespace lap::models
-
-namespace lap::models {
-namespace {
-
 // The surface's speed (max_move_per_step_m, sim's kTissueSurfaceMPerS): pressed 10 mm into the
 // middle of a box's top with share 0.5 (every vertex w(D) 5 mm down at once without the limit),
 // each vertex goes down by at most 2 mm a call: exactly min(w(D) 5 mm, 2 mm × calls), by brute
@@ -579,6 +573,22 @@ TEST(LocalDeformation, TheSurfaceGivesWayAndSpringsBackAtMostItsStepACall) {
   ASSERT_TRUE(deform(model, {&c, 1}, &state));
   EXPECT_EQ(state.slowed, 0);
   EXPECT_NEAR(state.deepest_m, full, 1e-15);
+  // The bound holds with the limit: held 4 mm deep (max_displacement_m), then pulled mostly
+  // sideways, the vertices rise 2 mm and keep their sideways move only as far as the 4 mm allow
+  // (without that, sqrt(2² + 4²) = 4.5 mm from rest).
+  settings.max_displacement_m = 0.004;
+  const LocalDeformationModel bounded = LocalDeformationModel::build(db, settings);
+  LocalDeformationState held(bounded);
+  c.penetration_O = Eigen::Vector3d(0.0, 0.0, -0.010);
+  for (int call = 0; call < 3; ++call) ASSERT_TRUE(deform(bounded, {&c, 1}, &held));
+  EXPECT_NEAR(held.deepest_m, 0.004, 1e-15);
+  c.penetration_O = Eigen::Vector3d(0.020, 0.0, -0.001);
+  ASSERT_TRUE(deform(bounded, {&c, 1}, &held));
+  EXPECT_GT(held.slowed, 0);
+  EXPECT_LE(held.deepest_m, 0.004 * (1.0 + 1e-15));
+  for (int32_t v = 0; v < bounded.vertex_count(); ++v) {
+    ASSERT_LE((held.positions[v] - bounded.rest_position(v)).norm(), 0.004 * (1.0 + 1e-15)) << v;
+  }
   // A limit that is negative or not a number is refused, naming the setting.
   for (const double bad : {-0.001, std::nan("")}) {
     settings.max_move_per_step_m = bad;

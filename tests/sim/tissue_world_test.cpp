@@ -441,14 +441,9 @@ TEST(TissueWorld, AFastSessionDeformsTheOrgansItsToolsPress) {
       1e3 * m.deepest_dent_m);
 }
 
-}  // namespace
-}  // namespace lap::sim
-
-namespace lap::sim {
-namespace {
-
 // The session's organs follow their tools at a bounded speed (SessionModel: 0.4 m/s, 2 mm a
-// modelling step at the default 200 Hz; models::LocalDeformationSettings::max_move_per_step_m).
+// modelling step at the default 200 Hz; models::LocalDeformationSettings::max_move_per_step_m):
+// the session's setting read, then a tissue world of the introductory scene stepped with it.
 // 5 N on the liver (72 N/m: 69 mm of reading, its share held at max_displacement_m's 20 mm)
 // dents it by about 2 mm a step until the 20 mm, not at once; released, it springs back the
 // same way, not in one step. (Stepped without the limit, the same push makes the whole dent in
