@@ -78,7 +78,7 @@ struct DeformationContact {
   /// found against the rest shape so the dent cannot feed back on them — whose particles lie a
   /// few millimetres apart within one radius R: summed, their dents would sink the surface many
   /// times deeper than the catheter lies; combined by the largest, the groove meets the
-  /// catheter.
+  /// catheter (at max_move_per_step_m a call where that is set).
   bool conform = false;
 };
 
