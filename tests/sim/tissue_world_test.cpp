@@ -112,10 +112,12 @@ struct LiverWorld {
   haptics::MeshDatabase db;
 };
 
-std::unique_ptr<LiverWorld> liver_world() {
+// `max_move_per_step_m`: the surface's speed limit (0: none, as world_settings leaves it).
+std::unique_ptr<LiverWorld> liver_world(double max_move_per_step_m = 0.0) {
   auto w = std::make_unique<LiverWorld>();
-  w->world =
-      TissueWorld::build(introductory_scene(), world_settings(w->cache.path()), nullptr).value();
+  TissueWorldSettings s = world_settings(w->cache.path());
+  s.local.max_move_per_step_m = max_move_per_step_m;
+  w->world = TissueWorld::build(introductory_scene(), s, nullptr).value();
   w->liver = organ_named(introductory_scene(), "liver");
   if (w->liver >= 0) w->db = haptics::MeshDatabase::build(w->world->surface(w->liver));
   return w;
@@ -460,14 +462,9 @@ TEST(TissueWorld, TheSessionsLiverGivesWayAndSpringsBackAtItsSpeed) {
   const double dt_s = session_model.value()->timing().model_dt_s;
   EXPECT_DOUBLE_EQ(dt_s, 0.005);
   for (const double limit_m : {step_m, 0.0}) {
-    auto lw = std::make_unique<LiverWorld>();
-    TissueWorldSettings s = world_settings(lw->cache.path());
-    s.local.max_move_per_step_m = limit_m;
-    lw->world = TissueWorld::build(scene, s, nullptr).value();
-    lw->liver = organ_named(scene, "liver");
+    const auto lw = liver_world(limit_m);
     ASSERT_GE(lw->liver, 0);
-    lw->db = haptics::MeshDatabase::build(lw->world->surface(lw->liver));
-    const double max_dent_m = s.local.max_displacement_m;
+    const double max_dent_m = lw->world->settings().local.max_displacement_m;
     std::array<ToolModelInput, 2> tools = push_on_face_100(*lw, 5.0);
     std::vector<double> dents{0.0};  // the deepest dent after each step
     for (int step = 0; step < 15; ++step) {
