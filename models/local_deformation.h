@@ -25,11 +25,10 @@
 /// surface takes. The dent reaches s x in the first step that sees the contact (P is measured
 /// against the surface the force was): it does not creep towards it. (Where a vertex's share is
 /// more than max_move_per_step_m from where it is, it gets there at that much a call, and the tool
-/// feels up to k while it does.) (Had P been force / k
-/// alone — the depth below the dented surface — the dent d would settle where d = s (x − d),
-/// d = s x / (1 + s), and the tool feel k / (1 + s).) On a coarse mesh with the linear profile
-/// the surface between vertices lies a little above the dent's centre, so a contact inside a
-/// face feels slightly stiffer.
+/// feels up to k while it does.) (Had P been force / k alone — the depth below the dented surface
+/// — the dent d would settle where d = s (x − d), d = s x / (1 + s), and the tool feel
+/// k / (1 + s).) On a coarse mesh with the linear profile the surface between vertices lies a
+/// little above the dent's centre, so a contact inside a face feels slightly stiffer.
 ///
 /// Model (immutable: rest shape, lists) apart from state (positions, moved vertices). deform()
 /// allocates nothing once the state is sized; it never throws.
@@ -179,12 +178,12 @@ struct LocalDeformationState {
 /// Recomputes the deformed shape from the rest shape and the given contacts (no contact: back to
 /// rest), each vertex then held to max_move_per_step_m along its rest normal and stopped at the
 /// obstacles on its way from where the last call left it (so with either the result depends on
-/// that too). Afterwards `changed` lists every vertex
-/// whose position changed since the previous call (what MeshDatabase::set_positions(positions,
-/// changed) needs) and `deepest_m` the largest displacement. A contact that is not finite or names
-/// no face makes the call return false and leave the surface at rest (`changed` then lists the
-/// vertices that went back). `obstacles`: the grippers' segments the surface must not pass
-/// (DeformationObstacle); a non-finite one is ignored.
+/// that too). Afterwards `changed` lists every vertex whose position changed since the previous
+/// call (what MeshDatabase::set_positions(positions, changed) needs) and `deepest_m` the largest
+/// displacement. A contact that is not finite or names no face makes the call return false and
+/// leave the surface at rest (`changed` then lists the vertices that went back). `obstacles`: the
+/// grippers' segments the surface must not pass (DeformationObstacle); a non-finite one is
+/// ignored.
 bool deform(const LocalDeformationModel& model, std::span<const DeformationContact> contacts,
             LocalDeformationState* state,
             std::span<const DeformationObstacle> obstacles = {}) noexcept;
