@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -68,8 +69,17 @@ Eigen::Vector3d handle_for_hinge(const Eigen::Vector3d& port_W, double shaft_len
   return hinge_W - shaft_length_m * (hinge_W - port_W).normalized();
 }
 
-/// Keyframes every 0.4 s: the tip within ±20 mm (along the port) and ±25 mm (across it) of the
-/// duct, the jaws open or closed at random.
+/// The tip's depth past its port at the first keyframe [m]: the tool comes in through its port,
+/// as in the procedure, and meets the organs on its way. (A tip set down inside an organ at tick 0
+/// is a probe that starts inside: not in contact until it is clear, by the rule in
+/// haptics/segment_proxy_surface_motion.cpp, and not the case this check is about. Course 4's
+/// left hand started so, its shaft 5.3 mm inside the gallbladder: 200 of the course's 216 ticks
+/// found inside at stop 66.)
+constexpr double kEntryDepthM = 0.03;
+
+/// Keyframes every 0.4 s: the first with the tip kEntryDepthM past the port towards the duct, the
+/// jaws closed; then the tip within ±20 mm (along the port) and ±25 mm (across it) of the duct,
+/// the jaws open or closed at random.
 hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duration_s,
                                     uint32_t seed) {
   const ToolSpec* tool =
@@ -89,8 +99,12 @@ hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duratio
     const double inside = reach - 0.01 + 0.02 * u(rng);  // the tip's depth past the port
     const Eigen::Vector3d tip =
         port->position_m + inside * axis + 0.025 * u(rng) * across + 0.025 * u(rng) * across2;
-    k.position_W = handle_for_hinge(port->position_m, tool->shaft_length_m, tip);
-    k.gripper_angle_rad = u(rng) > 0.0 ? 0.8 : 0.1;
+    const bool open = u(rng) > 0.0;
+    // (The first keyframe's draws are made all the same, so that the later keyframes are those
+    // of the courses before the entry was added.)
+    k.position_W = handle_for_hinge(port->position_m, tool->shaft_length_m,
+                                    i == 0 ? port->position_m + kEntryDepthM * axis : tip);
+    k.gripper_angle_rad = open && i > 0 ? 0.8 : 0.1;
     t.keyframes.push_back(k);
   }
   return t;
@@ -392,7 +406,10 @@ struct InsideTrace {
   [[nodiscard]] bool wants(int64_t tick, double deepest_m) const {
     return on && (deepest_m > 0.0005 || (tick >= from && tick <= to));
   }
-  static void print(const HapticSnapshot& h, double deepest_m) {
+  /// `where`: the deepest point's tool, segment and organ (-1: none inside).
+  static void print(const HapticSnapshot& h, double deepest_m, const std::array<int, 3>& where) {
+    std::printf("trace tick %lld deepest %.3f mm: tool %d segment %d organ %d\n",
+                static_cast<long long>(h.tick), deepest_m * 1e3, where[0], where[1], where[2]);
     for (size_t tool = 0; tool < 2; ++tool) {
       const ToolSnapshot& t = h.tools[tool];
       const Eigen::Vector3d& p = t.pose.hinge_W;
@@ -499,6 +516,7 @@ void soak(bool check_proxies) {
       organs[k].deform(snap.organs[static_cast<size_t>(organ_index[k])]);
     }
     double sample_deepest = 0.0;
+    std::array<int, 3> sample_where{-1, -1, -1};  // its tool, segment and organ
     for (size_t tool = 0; tool < 2; ++tool) {
       for (size_t s = 0; s < 3; ++s) {
         const Eigen::Vector3d a = h.tools[tool].proxy_a_W[s];
@@ -511,7 +529,10 @@ void soak(bool check_proxies) {
           const Eigen::Vector3d x = a + (b - a) * (p / static_cast<double>(points - 1));
           for (size_t k = 0; k < organs.size(); ++k) {
             const double depth = organs[k].depth_inside(x);
-            sample_deepest = std::max(sample_deepest, depth);
+            if (depth > sample_deepest) {
+              sample_deepest = depth;
+              sample_where = {static_cast<int>(tool), static_cast<int>(s), organ_index[k]};
+            }
             if (depth > deepest_m) {
               deepest_m = depth;
               deepest_tick = h.tick;
@@ -526,7 +547,7 @@ void soak(bool check_proxies) {
     }
     ++proxy_samples;
     if (sample_deepest > 0.0005) ++inside_samples;
-    if (trace.wants(h.tick, sample_deepest)) trace.print(h, sample_deepest);
+    if (trace.wants(h.tick, sample_deepest)) trace.print(h, sample_deepest, sample_where);
   };
   bool catheter_held = false, duct_held = false;
   auto sample = [&](const HapticSnapshot& h, const ModelSnapshot& snap) {
