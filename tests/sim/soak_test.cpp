@@ -69,15 +69,15 @@ Eigen::Vector3d handle_for_hinge(const Eigen::Vector3d& port_W, double shaft_len
   return hinge_W - shaft_length_m * (hinge_W - port_W).normalized();
 }
 
-/// The tip's depth past its port at the first keyframe [m]: the tool comes in through its port,
-/// as in the procedure, and meets the organs on its way. (A tip set down inside an organ at tick 0
-/// is a probe that starts inside: not in contact until it is clear, by the rule in
+/// The jaws' hinge's depth past its port at the first keyframe [m]: the tool comes in through its
+/// port, as in the procedure, and meets the organs on its way. (A tip set down inside an organ at
+/// tick 0 is a probe that starts inside: not in contact until it is clear, by the rule in
 /// haptics/segment_proxy_surface_motion.cpp, and not the case this check is about. Course 4's
 /// left hand started so, its shaft 5.3 mm inside the gallbladder: 200 of the course's 216 ticks
 /// found inside at stop 66.)
 constexpr double kEntryDepthM = 0.03;
 
-/// Keyframes every 0.4 s: the first with the tip kEntryDepthM past the port towards the duct, the
+/// Keyframes every 0.4 s: the first with the hinge kEntryDepthM past the port towards the duct, the
 /// jaws closed; then the tip within ±20 mm (along the port) and ±25 mm (across it) of the duct,
 /// the jaws open or closed at random.
 hardware::ScriptedTrajectory wander(const Scene& scene, int side, double duration_s,
