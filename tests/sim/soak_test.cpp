@@ -533,17 +533,17 @@ void soak(bool check_proxies) {
               sample_deepest = depth;
               sample_where = {static_cast<int>(tool), static_cast<int>(s), organ_index[k]};
             }
-            if (depth > deepest_m) {
-              deepest_m = depth;
-              deepest_tick = h.tick;
-              deepest_tool = static_cast<int>(tool);
-              deepest_segment = static_cast<int>(s);
-              deepest_organ = organ_index[k];
-              deepest_contacts = h.tools[tool].contacts;
-            }
           }
         }
       }
+    }
+    if (sample_deepest > deepest_m) {  // the run's deepest so far: this sample's
+      deepest_m = sample_deepest;
+      deepest_tick = h.tick;
+      deepest_tool = sample_where[0];
+      deepest_segment = sample_where[1];
+      deepest_organ = sample_where[2];
+      deepest_contacts = h.tools[static_cast<size_t>(sample_where[0])].contacts;
     }
     ++proxy_samples;
     if (sample_deepest > 0.0005) ++inside_samples;
